@@ -1,0 +1,74 @@
+// Forward shading of receivers: Lambert diffuse from the sun times the cascaded shadow
+// factor, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
+// SHADOW_DEBUG_CASCADES (tint by cascade), and the filter defs of penumbra::shadow.
+#import penumbra::frame::frame
+#import penumbra::mesh::{fetch_instance, INSTANCE_FLAG_RECEIVE_SHADOWS}
+#import penumbra::shadow::{blend_cascade_shadow, cascade_debug_color}
+
+@group(2) @binding(0) var base_color_texture: texture_2d<f32>;
+@group(2) @binding(1) var base_color_sampler: sampler;
+
+struct VertexOutput {
+    @builtin(position) clip_position: vec4<f32>,
+    @location(0) world_position: vec3<f32>,
+    @location(1) world_normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) @interpolate(flat) base_color: vec4<f32>,
+    @location(4) @interpolate(flat) cutoff: f32,
+    @location(5) @interpolate(flat) flags: u32,
+}
+
+@vertex
+fn vs_main(
+    @builtin(instance_index) instance_index: u32,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+) -> VertexOutput {
+    let instance = fetch_instance(instance_index);
+    let world = instance.world_from_local * vec4<f32>(position, 1.0);
+    var out: VertexOutput;
+    out.clip_position = frame.clip_from_world * world;
+    out.world_position = world.xyz;
+    out.world_normal = (instance.normal_from_local * vec4<f32>(normal, 0.0)).xyz;
+    out.uv = uv;
+    out.base_color = instance.base_color;
+    out.cutoff = instance.alpha_cutoff;
+    out.flags = instance.flags;
+    return out;
+}
+
+// ACES filmic curve (Narkowicz 2015 fit): rolls highlights off instead of clipping them.
+fn tonemap(color: vec3<f32>) -> vec3<f32> {
+    let x = color * 0.6;
+    return saturate((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14));
+}
+
+@fragment
+fn fs_main(in: VertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    let texel = textureSample(base_color_texture, base_color_sampler, in.uv);
+    let base = in.base_color * texel;
+#ifdef ALPHA_MASK
+    if base.a < in.cutoff {
+        discard;
+    }
+#endif
+    var normal = normalize(in.world_normal);
+    if !front_facing {
+        normal = -normal;
+    }
+    let to_sun = -frame.sun_direction;
+    let n_dot_l = max(dot(normal, to_sun), 0.0);
+    let view_depth = -(frame.view_from_world * vec4<f32>(in.world_position, 1.0)).z;
+
+    var visibility = 1.0;
+    if (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u && n_dot_l > 0.0 {
+        visibility = blend_cascade_shadow(in.world_position, normal, view_depth, in.clip_position.xy);
+    }
+    let sun = frame.sun_color * frame.sun_illuminance * n_dot_l * visibility;
+    var color = base.rgb * (frame.ambient + sun) * frame.exposure;
+#ifdef SHADOW_DEBUG_CASCADES
+    color = mix(color, color * cascade_debug_color(view_depth) * 1.6, 0.6);
+#endif
+    return vec4<f32>(tonemap(color), 1.0);
+}

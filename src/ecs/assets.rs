@@ -1,0 +1,125 @@
+//! Asset stores for meshes, materials and images, addressed by small copyable handles.
+
+use bevy_ecs::resource::Resource;
+use glam::Vec4;
+
+use crate::mesh::MeshData;
+
+/// Index of a mesh in [`Meshes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MeshHandle(pub u32);
+
+/// Index of a material in [`Materials`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MaterialHandle(pub u32);
+
+/// Index of an image in [`Images`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ImageHandle(pub u32);
+
+/// How a material's alpha is used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    Opaque,
+    /// Texels with alpha below the cutoff are cut out, in the camera view and in the shadow.
+    Mask(f32),
+}
+
+/// A surface description: base colour, optional texture, alpha mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Linear RGBA base colour factor.
+    pub base_color: Vec4,
+    /// Optional sRGB base-colour texture, multiplied with the factor.
+    pub base_color_texture: Option<ImageHandle>,
+    /// Opaque or alpha-masked.
+    pub alpha_mode: AlphaMode,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+        }
+    }
+}
+
+impl Material {
+    /// The alpha cutoff the shaders use: the mask's cutoff, or 0 for opaque materials.
+    pub fn alpha_cutoff(&self) -> f32 {
+        match self.alpha_mode {
+            AlphaMode::Opaque => 0.0,
+            AlphaMode::Mask(c) => c,
+        }
+    }
+
+    /// True for alpha-masked materials.
+    pub fn is_masked(&self) -> bool {
+        matches!(self.alpha_mode, AlphaMode::Mask(_))
+    }
+}
+
+/// An 8-bit sRGB RGBA image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageData {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height * 4` bytes, rows top to bottom.
+    pub rgba: Vec<u8>,
+}
+
+macro_rules! asset_store {
+    ($(#[$doc:meta])* $store:ident, $item:ty, $handle:ident) => {
+        $(#[$doc])*
+        #[derive(Resource, Debug, Default)]
+        pub struct $store {
+            items: Vec<$item>,
+        }
+
+        impl $store {
+            /// Stores an item and returns its handle.
+            pub fn add(&mut self, item: $item) -> $handle {
+                self.items.push(item);
+                $handle((self.items.len() - 1) as u32)
+            }
+
+            /// The item behind a handle, if it exists.
+            pub fn get(&self, handle: $handle) -> Option<&$item> {
+                self.items.get(handle.0 as usize)
+            }
+
+            /// All items, indexed by handle.
+            pub fn as_slice(&self) -> &[$item] {
+                &self.items
+            }
+
+            /// Number of items.
+            pub fn len(&self) -> usize {
+                self.items.len()
+            }
+
+            /// True when nothing is stored.
+            pub fn is_empty(&self) -> bool {
+                self.items.is_empty()
+            }
+        }
+    };
+}
+
+asset_store!(
+    /// All meshes, addressed by [`MeshHandle`].
+    Meshes, MeshData, MeshHandle
+);
+asset_store!(
+    /// All materials, addressed by [`MaterialHandle`].
+    Materials, Material, MaterialHandle
+);
+asset_store!(
+    /// All images, addressed by [`ImageHandle`].
+    Images, ImageData, ImageHandle
+);

@@ -1,0 +1,131 @@
+//! Draw groups: the culled instances of each cascade (and of the camera view), as runs of
+//! instanced draws. The vectors keep their capacity, so culling allocates nothing once the
+//! scene has been seen.
+
+use bevy_ecs::resource::Resource;
+
+use crate::ecs::assets::{MaterialHandle, MeshHandle};
+use crate::ecs::instances::DrawKey;
+use crate::settings::MAX_CASCADES;
+
+/// One instanced draw: `count` instances listed at `first..first + count` of the group's
+/// index list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DrawBatch {
+    /// Mesh drawn.
+    pub mesh: MeshHandle,
+    /// Material (selects the texture for masked draws).
+    pub material: MaterialHandle,
+    /// First entry in the index list.
+    pub first: u32,
+    /// Number of instances.
+    pub count: u32,
+}
+
+/// The draws of one view: opaque first, then alpha-masked.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DrawGroup {
+    /// Draws with opaque materials (depth-only in the shadow pass).
+    pub opaque: Vec<DrawBatch>,
+    /// Draws with alpha-masked materials (alpha-tested).
+    pub masked: Vec<DrawBatch>,
+}
+
+impl DrawGroup {
+    /// Removes all draws, keeping capacity.
+    pub fn clear(&mut self) {
+        self.opaque.clear();
+        self.masked.clear();
+    }
+
+    /// Instances drawn by this group.
+    pub fn instance_count(&self) -> u32 {
+        self.opaque.iter().chain(&self.masked).map(|b| b.count).sum()
+    }
+
+    /// Number of draw calls.
+    pub fn draw_count(&self) -> usize {
+        self.opaque.len() + self.masked.len()
+    }
+}
+
+/// Appends instance `index` with `key` to `indices`, extending the last batch of the right
+/// list when the key matches, else starting a new one.
+pub fn push_instance(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, index: u32) {
+    let list = if key.masked {
+        &mut group.masked
+    } else {
+        &mut group.opaque
+    };
+    let position = indices.len() as u32;
+    indices.push(index);
+    match list.last_mut() {
+        Some(last) if last.mesh == key.mesh && last.material == key.material && last.first + last.count == position => {
+            last.count += 1
+        }
+        _ => list.push(DrawBatch {
+            mesh: key.mesh,
+            material: key.material,
+            first: position,
+            count: 1,
+        }),
+    }
+}
+
+/// The shadow casters of each active cascade.
+#[derive(Resource, Debug, Default)]
+pub struct ShadowDrawGroups {
+    /// Active cascades this frame.
+    pub count: usize,
+    /// Draws per cascade.
+    pub cascades: [DrawGroup; MAX_CASCADES],
+    /// Instance indices referenced by every cascade's batches.
+    pub indices: Vec<u32>,
+}
+
+/// The instances the camera sees.
+#[derive(Resource, Debug, Default)]
+pub struct ViewDrawGroups {
+    /// Draws.
+    pub group: DrawGroup,
+    /// Instance indices referenced by the batches.
+    pub indices: Vec<u32>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(masked: bool, mesh: u32, material: u32) -> DrawKey {
+        DrawKey {
+            masked,
+            mesh: MeshHandle(mesh),
+            material: MaterialHandle(material),
+        }
+    }
+
+    #[test]
+    fn equal_keys_merge_into_one_batch() {
+        let mut g = DrawGroup::default();
+        let mut idx = Vec::new();
+        push_instance(&mut g, &mut idx, key(false, 0, 0), 10);
+        push_instance(&mut g, &mut idx, key(false, 0, 0), 11);
+        push_instance(&mut g, &mut idx, key(false, 1, 0), 12);
+        push_instance(&mut g, &mut idx, key(true, 1, 2), 13);
+        push_instance(&mut g, &mut idx, key(true, 1, 2), 14);
+        assert_eq!(idx, [10, 11, 12, 13, 14]);
+        assert_eq!(g.opaque.len(), 2);
+        assert_eq!(g.opaque[0].count, 2);
+        assert_eq!(
+            g.masked,
+            [DrawBatch {
+                mesh: MeshHandle(1),
+                material: MaterialHandle(2),
+                first: 3,
+                count: 2
+            }]
+        );
+        assert_eq!(g.instance_count(), 5);
+        assert_eq!(g.draw_count(), 3);
+    }
+}

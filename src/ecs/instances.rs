@@ -1,0 +1,170 @@
+//! The flat, sorted list of mesh instances the renderer and the culling work on. It is
+//! rebuilt only when an instance is added, removed or changed, so a static scene costs
+//! nothing per frame here.
+
+use bevy_ecs::change_detection::DetectChanges;
+use bevy_ecs::entity::Entity;
+use bevy_ecs::lifecycle::RemovedComponents;
+use bevy_ecs::query::{Changed, Has, Or};
+use bevy_ecs::resource::Resource;
+use bevy_ecs::system::{Query, Res, ResMut};
+use glam::{Mat4, Vec3};
+use log::warn;
+
+use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
+use crate::ecs::components::{CastShadows, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform};
+use crate::math::aabb::Aabb;
+use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
+
+/// Draw order key: opaque before masked, then by mesh and material, so every run of equal
+/// keys is one instanced draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct DrawKey {
+    /// Alpha-masked material.
+    pub masked: bool,
+    /// Mesh drawn.
+    pub mesh: MeshHandle,
+    /// Material drawn with.
+    pub material: MaterialHandle,
+}
+
+/// Every drawable instance, sorted by [`DrawKey`], in structure-of-arrays form.
+#[derive(Resource, Debug, Default)]
+pub struct RenderInstances {
+    /// GPU data, in draw order; index = instance index.
+    pub gpu: Vec<InstanceGpu>,
+    /// Draw key per instance.
+    pub keys: Vec<DrawKey>,
+    /// World bounding-sphere centre per instance.
+    pub centers: Vec<Vec3>,
+    /// World bounding-sphere radius per instance.
+    pub radii: Vec<f32>,
+    /// Instance indices of shadow casters, in draw order.
+    pub casters: Vec<u32>,
+    /// Bounding-sphere centres of the casters (parallel to `casters`).
+    pub caster_centers: Vec<Vec3>,
+    /// Bounding-sphere radii of the casters (parallel to `casters`).
+    pub caster_radii: Vec<f32>,
+    /// Number of leading casters with opaque materials; the rest are masked.
+    pub opaque_casters: usize,
+    /// World bounds of all casters.
+    pub caster_bounds: Aabb,
+    /// Bumped on every rebuild, so the renderer knows to re-upload.
+    pub generation: u64,
+    /// Entities skipped because of an invalid transform, mesh or material.
+    pub skipped: usize,
+}
+
+type InstanceQueryData = (
+    Entity,
+    &'static Transform,
+    &'static Mesh3d,
+    &'static MeshMaterial3d,
+    Has<CastShadows>,
+    Has<NotShadowReceiver>,
+);
+type InstanceQueryItem<'a> = (Entity, &'a Transform, &'a Mesh3d, &'a MeshMaterial3d, bool, bool);
+
+/// Rebuilds [`RenderInstances`] when any mesh entity, mesh or material changed.
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+pub fn sync_instances(
+    mut instances: ResMut<RenderInstances>,
+    all: Query<InstanceQueryData>,
+    changed: Query<
+        (),
+        Or<(
+            Changed<Transform>,
+            Changed<Mesh3d>,
+            Changed<MeshMaterial3d>,
+            Changed<CastShadows>,
+            Changed<NotShadowReceiver>,
+        )>,
+    >,
+    mut removed_meshes: RemovedComponents<Mesh3d>,
+    mut removed_casters: RemovedComponents<CastShadows>,
+    mut removed_receivers: RemovedComponents<NotShadowReceiver>,
+    meshes: Res<Meshes>,
+    materials: Res<Materials>,
+) {
+    let removed = removed_meshes.read().count() + removed_casters.read().count() + removed_receivers.read().count();
+    let dirty = instances.generation == 0
+        || !changed.is_empty()
+        || removed > 0
+        || meshes.is_changed()
+        || materials.is_changed();
+    if !dirty {
+        return;
+    }
+    rebuild(&mut instances, all.iter(), &meshes, &materials);
+}
+
+/// Rebuilds the instance list from scratch.
+fn rebuild<'a>(
+    out: &mut RenderInstances,
+    items: impl Iterator<Item = InstanceQueryItem<'a>>,
+    meshes: &Meshes,
+    materials: &Materials,
+) {
+    let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb)> = Vec::new();
+    let mut skipped = 0;
+    for (entity, transform, mesh, material, cast, no_receive) in items {
+        let (Some(mesh_data), Some(mat)) = (meshes.get(mesh.0), materials.get(material.0)) else {
+            warn!("entity {entity:?} refers to a missing mesh or material; it is not drawn");
+            skipped += 1;
+            continue;
+        };
+        if !transform.is_valid() {
+            warn!("entity {entity:?} has a non-finite or zero-scale transform {transform:?}; it is not drawn");
+            skipped += 1;
+            continue;
+        }
+        let world_from_local = transform.world_from_local();
+        let bounds = mesh_data.bounds().transformed(&world_from_local);
+        let key = DrawKey {
+            masked: mat.is_masked(),
+            mesh: mesh.0,
+            material: material.0,
+        };
+        rows.push((key, entity, world_from_local, cast, !no_receive, bounds));
+    }
+    // NOTE: sorting by entity as a tie-break keeps the order (and so the image) identical
+    // from run to run.
+    rows.sort_by_key(|r| (r.0, r.1));
+
+    out.gpu.clear();
+    out.keys.clear();
+    out.centers.clear();
+    out.radii.clear();
+    out.casters.clear();
+    out.caster_centers.clear();
+    out.caster_radii.clear();
+    out.caster_bounds = Aabb::EMPTY;
+    out.opaque_casters = 0;
+    for (i, (key, _, world_from_local, cast, receive, bounds)) in rows.iter().enumerate() {
+        let mat = &materials.as_slice()[key.material.0 as usize];
+        let normal = Mat4::from_mat3(glam::Mat3::from_mat4(*world_from_local).inverse().transpose());
+        out.gpu.push(InstanceGpu {
+            world_from_local: *world_from_local,
+            normal_from_local: normal,
+            base_color: mat.base_color,
+            alpha_cutoff: mat.alpha_cutoff(),
+            flags: if *receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 },
+            _pad: [0; 2],
+        });
+        let (center, radius) = bounds.bounding_sphere();
+        out.keys.push(*key);
+        out.centers.push(center);
+        out.radii.push(radius);
+        if *cast {
+            out.casters.push(i as u32);
+            out.caster_centers.push(center);
+            out.caster_radii.push(radius);
+            out.caster_bounds = out.caster_bounds.union(*bounds);
+            if !key.masked {
+                out.opaque_casters += 1;
+            }
+        }
+    }
+    out.skipped = skipped;
+    out.generation += 1;
+}

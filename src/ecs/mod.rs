@@ -1,0 +1,22 @@
+//! The ECS layer: components, asset stores, resources and the thin systems that call the pure
+//! math each frame.
+
+pub mod assets;
+pub mod components;
+pub mod culling;
+pub mod draw_groups;
+pub mod instances;
+pub mod plugin;
+pub mod stats;
+pub mod view;
+
+pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
+pub use components::{
+    AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
+    ViewportSize,
+};
+pub use draw_groups::{DrawBatch, DrawGroup, ShadowDrawGroups, ViewDrawGroups};
+pub use instances::RenderInstances;
+pub use plugin::{ShadowPlugin, ShadowSystems};
+pub use stats::{ShadowDiagnostics, ShadowStats};
+pub use view::{ActiveView, SunView};

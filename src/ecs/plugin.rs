@@ -1,0 +1,58 @@
+//! [`ShadowPlugin`]: registers the shadow resources and the per-frame systems, in a fixed
+//! order: sync instances → compute cascades → cull casters per cascade and cull the view.
+//! Rendering is added by [`RenderPlugin`](crate::render::RenderPlugin).
+
+use bevy_app::{App, Plugin, PostUpdate};
+use bevy_ecs::schedule::{IntoScheduleConfigs, SystemSet};
+
+use crate::ecs::assets::{Images, Materials, Meshes};
+use crate::ecs::components::{AmbientLight, ViewportSize};
+use crate::ecs::culling::{cull_shadow_casters, cull_view};
+use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::instances::{RenderInstances, sync_instances};
+use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::ecs::view::{ActiveView, update_active_view};
+
+/// The stages of the shadow systems, run in this order in `PostUpdate`.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowSystems {
+    /// Mirror mesh entities into [`RenderInstances`].
+    SyncInstances,
+    /// Compute the camera view and the sun's cascades.
+    ComputeCascades,
+    /// Cull casters per cascade and instances for the camera.
+    Cull,
+}
+
+/// Adds directional cascaded shadows to an app: components are in [`crate::ecs`], settings in
+/// [`ShadowSettings`](crate::settings::ShadowSettings).
+#[derive(Default)]
+pub struct ShadowPlugin;
+
+impl Plugin for ShadowPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<Meshes>()
+            .init_resource::<Materials>()
+            .init_resource::<Images>()
+            .init_resource::<AmbientLight>()
+            .init_resource::<ViewportSize>()
+            .init_resource::<RenderInstances>()
+            .init_resource::<ActiveView>()
+            .init_resource::<ShadowDrawGroups>()
+            .init_resource::<ViewDrawGroups>()
+            .init_resource::<ShadowStats>()
+            .init_resource::<ShadowDiagnostics>()
+            .configure_sets(
+                PostUpdate,
+                (
+                    ShadowSystems::SyncInstances,
+                    ShadowSystems::ComputeCascades,
+                    ShadowSystems::Cull,
+                )
+                    .chain(),
+            )
+            .add_systems(PostUpdate, sync_instances.in_set(ShadowSystems::SyncInstances))
+            .add_systems(PostUpdate, update_active_view.in_set(ShadowSystems::ComputeCascades))
+            .add_systems(PostUpdate, (cull_shadow_casters, cull_view).in_set(ShadowSystems::Cull));
+    }
+}

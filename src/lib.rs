@@ -1,0 +1,16 @@
+//! penumbra: cascaded, soft and measured sun shadows for bevy_ecs apps, rendered with wgpu.
+//!
+//! Layers, from the bottom: [`math`] (pure cascade math, no GPU or ECS), [`settings`],
+//! [`mesh`] (CPU meshes), [`ecs`] (components, resources, the per-frame systems and
+//! [`ShadowPlugin`](ecs::ShadowPlugin)), [`shader`] (the WGSL library composed with
+//! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
+#![warn(missing_docs)]
+
+pub mod app;
+pub mod ecs;
+pub mod math;
+pub mod mesh;
+pub mod render;
+pub mod scene;
+pub mod settings;
+pub mod shader;

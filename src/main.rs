@@ -1,0 +1,250 @@
+//! The `penumbra` command: render a scene file headless to a PNG (printing GPU and CPU
+//! timings), or check a scene file for errors.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use penumbra::app::{RenderError, render_scene};
+use penumbra::render::PassTiming;
+use penumbra::scene::SceneDesc;
+use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+
+#[derive(Parser)]
+#[command(name = "penumbra", version, about = "Cascaded soft shadows, rendered and measured")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Mode {
+    Pcf,
+    Pcss,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Quality {
+    Low,
+    Medium,
+    High,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene headless to a PNG and print per-pass GPU times and CPU times.
+    Render {
+        /// Scene file (RON).
+        scene: PathBuf,
+        /// Output PNG.
+        #[arg(long, default_value = "out/render.png")]
+        out: PathBuf,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Shadow filter (default: the scene's).
+        #[arg(long)]
+        mode: Option<Mode>,
+        /// PCSS quality (default: the scene's).
+        #[arg(long)]
+        quality: Option<Quality>,
+        /// PCF radius 0-5 (default: the scene's).
+        #[arg(long)]
+        pcf_radius: Option<u32>,
+        /// Tint pixels by the cascade they sample.
+        #[arg(long)]
+        debug_cascades: bool,
+        /// Frames to render; timings are the median over frames after the first.
+        #[arg(long, default_value_t = 5)]
+        frames: u32,
+    },
+    /// Load a scene file and report every problem in it.
+    Check {
+        /// Scene files (RON).
+        scenes: Vec<PathBuf>,
+    },
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Median time of each pass over the frames after the first (which builds pipelines).
+fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(&'static str, f64)> {
+    let steady = if frames.len() > 1 { &frames[1..] } else { frames };
+    let Some(last) = steady.last() else { return Vec::new() };
+    last.iter()
+        .map(|p| {
+            let samples = steady
+                .iter()
+                .filter_map(|f| f.iter().find(|q| q.name == p.name))
+                .map(|q| q.ms)
+                .collect();
+            (p.name, median(samples))
+        })
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn render(
+    scene: PathBuf,
+    out: PathBuf,
+    width: u32,
+    height: u32,
+    mode: Option<Mode>,
+    quality: Option<Quality>,
+    pcf_radius: Option<u32>,
+    debug_cascades: bool,
+    frames: u32,
+) -> Result<(), RenderError> {
+    let desc = SceneDesc::load(&scene)?;
+    let tweak = |s: &mut ShadowSettings| {
+        if let Some(m) = mode {
+            s.mode = match m {
+                Mode::Pcf => ShadowMode::Pcf,
+                Mode::Pcss => ShadowMode::Pcss,
+            };
+        }
+        if let Some(q) = quality {
+            s.pcss_quality = match q {
+                Quality::Low => PcssQuality::Low,
+                Quality::Medium => PcssQuality::Medium,
+                Quality::High => PcssQuality::High,
+            };
+        }
+        if let Some(r) = pcf_radius {
+            s.pcf_radius = r;
+        }
+        if debug_cascades {
+            s.debug_view = ShadowDebugView::Cascades;
+        }
+    };
+    let result = render_scene(&desc, width, height, frames, Some(&tweak))?;
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| RenderError::Write {
+            path: out.display().to_string(),
+            message: e.to_string(),
+        })?;
+    }
+    result.image.save(&out).map_err(|e| RenderError::Write {
+        path: out.display().to_string(),
+        message: e.to_string(),
+    })?;
+
+    let s = &desc.shadows;
+    println!("scene      {}", scene.display());
+    println!("adapter    {}", result.adapter);
+    println!(
+        "image      {} ({}x{}, {} frames)",
+        out.display(),
+        width,
+        height,
+        frames.max(1)
+    );
+    println!(
+        "instances  {} ({} visible)",
+        result.instances, result.stats.visible_instances
+    );
+    println!(
+        "shadows    {:?}, {} cascades, {}² texels, {:.1} MiB",
+        s.mode,
+        result
+            .stats
+            .casters_per_cascade
+            .iter()
+            .filter(|&&c| c > 0)
+            .count()
+            .max(s.cascade_count as usize),
+        s.resolution,
+        result.report.shadow_memory as f64 / (1024.0 * 1024.0)
+    );
+    let casters: Vec<String> = result.stats.casters_per_cascade.iter().map(|c| c.to_string()).collect();
+    let draws: Vec<String> = result.stats.draws_per_cascade.iter().map(|c| c.to_string()).collect();
+    println!(
+        "casters    per cascade [{}], draws per cascade [{}]",
+        casters.join(", "),
+        draws.join(", ")
+    );
+    println!("draw calls {}", result.report.draw_calls);
+    println!(
+        "cpu        cascades {:.3} ms, culling {:.3} ms, view culling {:.3} ms (last frame)",
+        result.stats.cascades_cpu.as_secs_f64() * 1e3,
+        result.stats.culling_cpu.as_secs_f64() * 1e3,
+        result.stats.view_culling_cpu.as_secs_f64() * 1e3
+    );
+    let passes: Vec<Vec<PassTiming>> = result.frames.iter().map(|f| f.passes.clone()).collect();
+    let medians = median_passes(&passes);
+    if medians.is_empty() {
+        println!("gpu        (the adapter has no timestamp queries)");
+    }
+    for (name, ms) in &medians {
+        println!("gpu        {name:<17} {ms:8.3} ms");
+    }
+    if !medians.is_empty() {
+        println!(
+            "gpu        {:<17} {:8.3} ms",
+            "total",
+            medians.iter().map(|m| m.1).sum::<f64>()
+        );
+    }
+    for w in &result.warnings {
+        println!("warning    {w}");
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render {
+            scene,
+            out,
+            width,
+            height,
+            mode,
+            quality,
+            pcf_radius,
+            debug_cascades,
+            frames,
+        } => render(
+            scene,
+            out,
+            width,
+            height,
+            mode,
+            quality,
+            pcf_radius,
+            debug_cascades,
+            frames,
+        ),
+        Command::Check { scenes } => {
+            let mut failed = false;
+            for path in scenes {
+                match SceneDesc::load(&path) {
+                    Ok(desc) => println!("{}: ok ({} instances)", path.display(), desc.instances().count()),
+                    Err(e) => {
+                        eprintln!("{e}");
+                        failed = true;
+                    }
+                }
+            }
+            return if failed { ExitCode::FAILURE } else { ExitCode::SUCCESS };
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

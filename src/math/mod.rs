@@ -1,0 +1,29 @@
+//! Pure math of the directional shadow system: bounding boxes, reverse-Z projections, the
+//! light frame, camera frusta, cascade splitting, fitting and snapping, PCSS parameters,
+//! caster culling and Poisson-disk kernels. Only `glam` and `std`; no GPU types.
+//!
+//! Conventions: right-handed world with +Y up; cameras look down local −Z; matrices are
+//! named `target_from_source`; depth is reverse-Z in `[0, 1]` (near → 1); NDC +y is up and
+//! texture `uv = (x·0.5 + 0.5, 0.5 − y·0.5)`; a light's `direction` is where its light
+//! travels, and light space looks down −Z.
+
+pub mod aabb;
+pub mod cascades;
+pub mod culling;
+pub mod frustum;
+pub mod light_space;
+pub mod pcss;
+pub mod poisson;
+pub mod projection;
+pub mod snapping;
+pub mod splits;
+
+pub use aabb::Aabb;
+pub use cascades::{Cascade, CascadeInput, CascadeSet, compute_cascades};
+pub use culling::{cull_casters, cull_spheres_frustum};
+pub use frustum::{CameraView, Frustum, Plane, slice_corners};
+pub use light_space::{light_from_world, light_rotation};
+pub use pcss::{PcssParams, pcss_params};
+pub use poisson::{min_pairwise_distance, poisson_disk, standard_sets, wgsl_const_array};
+pub use projection::{ndc_to_uv, ortho_reverse_z, perspective_reverse_z, uv_to_ndc};
+pub use splits::pssm_splits;

@@ -1,0 +1,101 @@
+//! The wgpu device: found for a window surface or for headless rendering, with the optional
+//! features penumbra uses (timestamp queries, unclipped depth) turned on where the adapter
+//! has them.
+
+use thiserror::Error;
+
+/// Why no GPU device could be opened.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum GpuError {
+    /// No adapter (GPU or software rasteriser) was found.
+    #[error(
+        "no GPU adapter found ({0}).\n\
+         penumbra needs Vulkan, Metal or DirectX 12. On a Linux machine without a GPU, install \
+         Mesa's software Vulkan driver (lavapipe):\n    sudo apt-get install -y mesa-vulkan-drivers\n\
+         then run the command again."
+    )]
+    NoAdapter(String),
+    /// The adapter refused to open a device.
+    #[error("the GPU adapter `{adapter}` could not open a device: {message}")]
+    Device {
+        /// Adapter name.
+        adapter: String,
+        /// wgpu's reason.
+        message: String,
+    },
+}
+
+/// An open device and what it can do.
+pub struct GpuContext {
+    /// The wgpu instance.
+    pub instance: wgpu::Instance,
+    /// The adapter the device was opened on.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Adapter name, driver and backend, for reports.
+    pub adapter_info: wgpu::AdapterInfo,
+    /// Timestamp queries are available at pass boundaries.
+    pub timestamps: bool,
+    /// Depth can be left unclipped (casters in front of the near plane are clamped to it).
+    pub unclipped_depth: bool,
+}
+
+impl GpuContext {
+    /// Opens a device for offscreen rendering.
+    pub fn headless() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        pollster::block_on(Self::open(instance, None))
+    }
+
+    /// Opens a device that can present to `surface`, created from `instance`.
+    pub fn for_surface(instance: wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self, GpuError> {
+        pollster::block_on(Self::open(instance, Some(surface)))
+    }
+
+    async fn open(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Self, GpuError> {
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: surface,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let adapter_info = adapter.get_info();
+        let available = adapter.features();
+        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::DEPTH_CLIP_CONTROL;
+        let required_features = available & wanted;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("penumbra"),
+                required_features,
+                required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::Device {
+                adapter: adapter_info.name.clone(),
+                message: e.to_string(),
+            })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            timestamps: required_features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            adapter_info,
+        })
+    }
+
+    /// One line naming the adapter, its driver and backend.
+    pub fn describe(&self) -> String {
+        let i = &self.adapter_info;
+        format!("{} ({:?}, driver {} {})", i.name, i.backend, i.driver, i.driver_info)
+    }
+}

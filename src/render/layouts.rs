@@ -1,0 +1,141 @@
+//! Bind group layouts and samplers shared by the passes. Group numbers follow the WGSL:
+//! group 0 is the view (frame + shadow data, or one cascade's matrix in the shadow pass),
+//! group 1 the instances and the draw's index list, group 2 the material.
+
+use std::num::NonZeroU64;
+
+use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, ShadowUniformsGpu};
+
+/// The layouts and samplers every pass builds its bind groups from.
+pub struct Layouts {
+    /// Forward group 0: frame uniforms, shadow uniforms, shadow map, two samplers.
+    pub view: wgpu::BindGroupLayout,
+    /// Shadow-pass group 0: one cascade's `CascadeView`, bound with a dynamic offset.
+    pub cascade_view: wgpu::BindGroupLayout,
+    /// Group 1: instances and the draw's index list.
+    pub instances: wgpu::BindGroupLayout,
+    /// Group 2: base-colour texture and sampler.
+    pub material: wgpu::BindGroupLayout,
+    /// Hardware comparison sampler for the shadow map (reverse-Z: lit when ref >= stored).
+    pub shadow_compare: wgpu::Sampler,
+    /// Nearest sampler for raw shadow depth reads.
+    pub shadow_point: wgpu::Sampler,
+    /// Trilinear, repeating sampler for material textures.
+    pub material_sampler: wgpu::Sampler,
+}
+
+fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty,
+        count: None,
+    }
+}
+
+fn uniform<T>(dynamic: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: dynamic,
+        min_binding_size: NonZeroU64::new(size_of::<T>() as u64),
+    }
+}
+
+fn storage<T>() -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only: true },
+        has_dynamic_offset: false,
+        min_binding_size: NonZeroU64::new(size_of::<T>() as u64),
+    }
+}
+
+impl Layouts {
+    /// Creates every layout and sampler.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("view"),
+            entries: &[
+                entry(0, vf, uniform::<FrameUniformsGpu>(false)),
+                entry(1, vf, uniform::<ShadowUniformsGpu>(false)),
+                entry(
+                    2,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    3,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                ),
+                entry(
+                    4,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
+                ),
+            ],
+        });
+        let cascade_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cascade view"),
+            entries: &[entry(0, wgpu::ShaderStages::VERTEX, uniform::<CascadeViewGpu>(true))],
+        });
+        let instances = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("instances"),
+            entries: &[
+                entry(0, wgpu::ShaderStages::VERTEX, storage::<InstanceGpu>()),
+                entry(1, wgpu::ShaderStages::VERTEX, storage::<u32>()),
+            ],
+        });
+        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("material"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    1,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+            ],
+        });
+        let shadow_compare = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow compare"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::GreaterEqual),
+            ..Default::default()
+        });
+        let shadow_point = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow point"),
+            ..Default::default()
+        });
+        let material_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("material"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Self {
+            view,
+            cascade_view,
+            instances,
+            material,
+            shadow_compare,
+            shadow_point,
+            material_sampler,
+        }
+    }
+}

@@ -1,0 +1,21 @@
+//! The wgpu renderer: device, render graph, the shadow-map and forward passes, GPU timings
+//! and headless targets.
+
+pub mod context;
+pub mod forward_pass;
+pub mod frame;
+pub mod gpu_types;
+pub mod graph;
+pub mod layouts;
+pub mod plugin;
+pub mod renderer;
+pub mod scene_gpu;
+pub mod shadow_map;
+pub mod shadow_pass;
+pub mod target;
+pub mod timer;
+
+pub use context::{GpuContext, GpuError};
+pub use plugin::RenderPlugin;
+pub use renderer::{FrameReport, Renderer};
+pub use timer::PassTiming;

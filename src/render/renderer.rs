@@ -1,0 +1,212 @@
+//! The renderer: owns the device, the shadow map, the scene's GPU copy and the render graph,
+//! and renders one frame from the ECS data.
+
+use bevy_ecs::resource::Resource;
+use image::RgbaImage;
+
+use crate::ecs::assets::{Images, Materials, Meshes};
+use crate::ecs::components::AmbientLight;
+use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::instances::RenderInstances;
+use crate::ecs::view::ActiveView;
+use crate::render::context::{GpuContext, GpuError};
+use crate::render::forward_pass::ForwardPass;
+use crate::render::frame::FrameContext;
+use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
+use crate::render::graph::RenderGraph;
+use crate::render::layouts::Layouts;
+use crate::render::scene_gpu::{SceneGpu, SceneInputs};
+use crate::render::shadow_map::ShadowMap;
+use crate::render::shadow_pass::ShadowPass;
+use crate::render::target::HeadlessTarget;
+use crate::render::timer::{GpuTimer, PassTiming};
+use crate::settings::ShadowDebugView;
+use crate::shader::ShaderLibrary;
+
+/// What the last frame cost on the GPU.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameReport {
+    /// Time of each timed pass (empty when the adapter has no timestamp queries).
+    pub passes: Vec<PassTiming>,
+    /// Draw calls recorded.
+    pub draw_calls: u32,
+    /// Bytes of shadow-map memory.
+    pub shadow_memory: u64,
+}
+
+impl FrameReport {
+    /// Sum of the shadow-cascade passes, in milliseconds.
+    pub fn shadow_ms(&self) -> f64 {
+        self.passes
+            .iter()
+            .filter(|p| p.name.starts_with("shadow"))
+            .map(|p| p.ms)
+            .sum()
+    }
+}
+
+/// The ECS data one frame is rendered from.
+pub struct FrameInputs<'a> {
+    /// Mesh store.
+    pub meshes: &'a Meshes,
+    /// Material store.
+    pub materials: &'a Materials,
+    /// Image store.
+    pub images: &'a Images,
+    /// Sorted instances.
+    pub instances: &'a RenderInstances,
+    /// Culled casters per cascade.
+    pub shadow_groups: &'a ShadowDrawGroups,
+    /// Culled view instances.
+    pub view_groups: &'a ViewDrawGroups,
+    /// Camera and sun.
+    pub view: &'a ActiveView,
+    /// Ambient light.
+    pub ambient: &'a AmbientLight,
+    /// Frame counter.
+    pub frame_index: u32,
+}
+
+/// A headless renderer; insert it as a resource next to [`RenderPlugin`](crate::render::RenderPlugin).
+#[derive(Resource)]
+pub struct Renderer {
+    /// The device.
+    pub gpu: GpuContext,
+    layouts: Layouts,
+    library: ShaderLibrary,
+    scene: SceneGpu,
+    shadow_map: ShadowMap,
+    timer: GpuTimer,
+    graph: RenderGraph,
+    target: HeadlessTarget,
+    /// The last frame's GPU report.
+    pub last_report: FrameReport,
+}
+
+impl Renderer {
+    /// Opens a headless device and a `width`×`height` target.
+    pub fn headless(width: u32, height: u32) -> Result<Self, GpuError> {
+        Ok(Self::new(GpuContext::headless()?, width.max(1), height.max(1)))
+    }
+
+    /// Builds the renderer on an open device.
+    pub fn new(gpu: GpuContext, width: u32, height: u32) -> Self {
+        let layouts = Layouts::new(&gpu.device);
+        let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
+        let scene = SceneGpu::new(&gpu.device, &layouts);
+        let shadow_map = ShadowMap::new(&gpu.device, 1024);
+        let timer = GpuTimer::new(&gpu.device, &gpu.queue, gpu.timestamps);
+        let mut graph = RenderGraph::default();
+        graph.import("instances");
+        graph.import("shadow_map");
+        graph.add_node(Box::new(ShadowPass::default()));
+        graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
+        graph.compile().expect("the built-in graph is acyclic and complete");
+        let target = HeadlessTarget::new(&gpu.device, width, height);
+        Self {
+            gpu,
+            layouts,
+            library,
+            scene,
+            shadow_map,
+            timer,
+            graph,
+            target,
+            last_report: FrameReport::default(),
+        }
+    }
+
+    /// Size of the render target.
+    pub fn size(&self) -> (u32, u32) {
+        (self.target.views.width, self.target.views.height)
+    }
+
+    /// Names of the graph's nodes in execution order.
+    pub fn graph_order(&self) -> Vec<&'static str> {
+        self.graph.execution_order()
+    }
+
+    /// Renders one frame and waits for its GPU timings.
+    pub fn render(&mut self, input: &FrameInputs<'_>) -> &FrameReport {
+        let sun = input.view.sun.as_ref();
+        if let Some(sun) = sun
+            && sun.settings.resolution != self.shadow_map.resolution
+        {
+            // NOTE: only a resolution change recreates the map; the cascade count is a pure
+            // rendering parameter.
+            self.shadow_map = ShadowMap::new(&self.gpu.device, sun.settings.resolution);
+        }
+        let frame = match input.view.camera {
+            Some((camera, cam)) => FrameUniformsGpu {
+                clip_from_world: camera.clip_from_world(),
+                view_from_world: camera.view_from_world(),
+                camera_position: camera.position(),
+                exposure: cam.exposure,
+                sun_direction: sun.map_or(glam::Vec3::NEG_Y, |s| s.direction),
+                sun_illuminance: sun.map_or(0.0, |s| s.light.illuminance),
+                sun_color: sun.map_or(glam::Vec3::ZERO, |s| s.light.color),
+                frame_index: input.frame_index,
+                ambient: input.ambient.color,
+                debug_view: FrameUniformsGpu::debug_view_code(
+                    sun.map_or(ShadowDebugView::None, |s| s.settings.debug_view),
+                ),
+            },
+            None => FrameUniformsGpu::default(),
+        };
+        let shadow = match sun {
+            Some(s) => ShadowUniformsGpu::new(&s.cascades, &s.settings, s.direction, input.frame_index),
+            None => ShadowUniformsGpu::disabled(),
+        };
+        self.scene.prepare(
+            &self.gpu.device,
+            &self.gpu.queue,
+            &self.layouts,
+            &self.shadow_map,
+            &SceneInputs {
+                meshes: input.meshes,
+                materials: input.materials,
+                images: input.images,
+                instances: input.instances,
+                shadow_groups: input.shadow_groups,
+                view_groups: input.view_groups,
+                frame,
+                shadow,
+            },
+        );
+        self.timer.begin_frame();
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut ctx = FrameContext {
+            gpu: &self.gpu,
+            layouts: &self.layouts,
+            library: &mut self.library,
+            scene: &self.scene,
+            shadow_map: &self.shadow_map,
+            shadow_groups: input.shadow_groups,
+            view_groups: input.view_groups,
+            sun,
+            target: &self.target.views,
+            timer: &mut self.timer,
+            draw_calls: 0,
+        };
+        if input.view.camera.is_some() {
+            self.graph.execute(&mut ctx, &mut encoder);
+        }
+        let draw_calls = ctx.draw_calls;
+        self.timer.resolve(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        self.last_report = FrameReport {
+            passes: self.timer.read(&self.gpu.device),
+            draw_calls,
+            shadow_memory: self.shadow_map.memory_bytes(),
+        };
+        &self.last_report
+    }
+
+    /// Reads the last rendered image back.
+    pub fn read_image(&self) -> RgbaImage {
+        self.target.read(&self.gpu.device, &self.gpu.queue)
+    }
+}

@@ -1,0 +1,380 @@
+//! GPU copies of the scene: the mesh mega-buffers, material textures, the instance buffer
+//! and the per-frame index lists and uniforms. `prepare` uploads only what changed.
+
+use wgpu::util::DeviceExt;
+
+use crate::ecs::assets::{Images, Materials, Meshes};
+use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::instances::RenderInstances;
+use crate::mesh::Vertex;
+use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, ShadowUniformsGpu};
+use crate::render::layouts::Layouts;
+use crate::render::shadow_map::ShadowMap;
+use crate::settings::MAX_CASCADES;
+
+/// Where one mesh lives in the mega-buffers.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshRange {
+    /// First index in the index buffer.
+    pub first_index: u32,
+    /// Number of indices.
+    pub index_count: u32,
+    /// Added to every index.
+    pub base_vertex: i32,
+}
+
+/// A storage buffer that grows (by doubling) and reports when it was replaced.
+struct GrowBuffer {
+    buffer: wgpu::Buffer,
+    label: &'static str,
+}
+
+impl GrowBuffer {
+    fn new(device: &wgpu::Device, label: &'static str, size: u64) -> Self {
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: size.max(256),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self { buffer, label }
+    }
+
+    /// Writes `data`, growing first if needed; returns true when the buffer was replaced.
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &[u8]) -> bool {
+        let mut replaced = false;
+        if data.len() as u64 > self.buffer.size() {
+            *self = Self::new(device, self.label, (data.len() as u64).next_power_of_two());
+            replaced = true;
+        }
+        if !data.is_empty() {
+            queue.write_buffer(&self.buffer, 0, data);
+        }
+        replaced
+    }
+}
+
+/// Everything of the scene that lives on the GPU.
+pub struct SceneGpu {
+    vertex_buffer: Option<wgpu::Buffer>,
+    index_buffer: Option<wgpu::Buffer>,
+    /// Per mesh handle.
+    pub mesh_ranges: Vec<MeshRange>,
+    /// Bind group per material handle (group 2).
+    pub material_groups: Vec<wgpu::BindGroup>,
+    instances: GrowBuffer,
+    shadow_indices: GrowBuffer,
+    view_indices: GrowBuffer,
+    frame_uniforms: wgpu::Buffer,
+    shadow_uniforms: wgpu::Buffer,
+    cascade_views: wgpu::Buffer,
+    /// Group 1 for the shadow pass (instances + shadow index list).
+    pub shadow_instances_group: wgpu::BindGroup,
+    /// Group 1 for the forward pass (instances + view index list).
+    pub view_instances_group: wgpu::BindGroup,
+    /// Group 0 of the shadow pass; bind with offset `cascade * 256`.
+    pub cascade_view_group: wgpu::BindGroup,
+    /// Group 0 of the forward pass (recreated with the shadow map).
+    pub view_group: Option<wgpu::BindGroup>,
+    mesh_count: usize,
+    material_count: usize,
+    instance_generation: u64,
+    shadow_map_resolution: u32,
+}
+
+fn instances_group(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    instances: &wgpu::Buffer,
+    indices: &wgpu::Buffer,
+    label: &str,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &layouts.instances,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: instances.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: indices.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// This frame's ECS data the GPU copy is updated from.
+pub struct SceneInputs<'a> {
+    /// Mesh store.
+    pub meshes: &'a Meshes,
+    /// Material store.
+    pub materials: &'a Materials,
+    /// Image store.
+    pub images: &'a Images,
+    /// Sorted instances.
+    pub instances: &'a RenderInstances,
+    /// Culled casters per cascade.
+    pub shadow_groups: &'a ShadowDrawGroups,
+    /// Culled instances of the camera.
+    pub view_groups: &'a ViewDrawGroups,
+    /// Frame uniforms.
+    pub frame: FrameUniformsGpu,
+    /// Shadow uniforms.
+    pub shadow: ShadowUniformsGpu,
+}
+
+impl SceneGpu {
+    /// Creates empty buffers.
+    pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Self {
+        let instances = GrowBuffer::new(device, "instances", 1 << 16);
+        let shadow_indices = GrowBuffer::new(device, "shadow draw indices", 1 << 14);
+        let view_indices = GrowBuffer::new(device, "view draw indices", 1 << 14);
+        let cascade_views = uniform_buffer(device, "cascade views", size_of::<CascadeViewGpu>() * MAX_CASCADES);
+        let cascade_view_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cascade view"),
+            layout: &layouts.cascade_view,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &cascade_views,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(size_of::<CascadeViewGpu>() as u64),
+                }),
+            }],
+        });
+        Self {
+            vertex_buffer: None,
+            index_buffer: None,
+            mesh_ranges: Vec::new(),
+            material_groups: Vec::new(),
+            shadow_instances_group: instances_group(
+                device,
+                layouts,
+                &instances.buffer,
+                &shadow_indices.buffer,
+                "shadow instances",
+            ),
+            view_instances_group: instances_group(
+                device,
+                layouts,
+                &instances.buffer,
+                &view_indices.buffer,
+                "view instances",
+            ),
+            instances,
+            shadow_indices,
+            view_indices,
+            frame_uniforms: uniform_buffer(device, "frame uniforms", size_of::<FrameUniformsGpu>()),
+            shadow_uniforms: uniform_buffer(device, "shadow uniforms", size_of::<ShadowUniformsGpu>()),
+            cascade_views,
+            cascade_view_group,
+            view_group: None,
+            mesh_count: 0,
+            material_count: 0,
+            instance_generation: 0,
+            shadow_map_resolution: 0,
+        }
+    }
+
+    /// The mesh vertex and index buffers (None before any mesh was uploaded).
+    pub fn mesh_buffers(&self) -> Option<(&wgpu::Buffer, &wgpu::Buffer)> {
+        Some((self.vertex_buffer.as_ref()?, self.index_buffer.as_ref()?))
+    }
+
+    /// Uploads what changed since the last frame and this frame's lists and uniforms.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        layouts: &Layouts,
+        shadow_map: &ShadowMap,
+        input: &SceneInputs<'_>,
+    ) {
+        if input.meshes.len() != self.mesh_count {
+            self.upload_meshes(device, input.meshes);
+        }
+        if input.materials.len() != self.material_count {
+            self.upload_materials(device, queue, layouts, input.materials, input.images);
+        }
+        let mut regroup = false;
+        if input.instances.generation != self.instance_generation {
+            regroup |= self.instances.write(
+                device,
+                queue,
+                bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu),
+            );
+            self.instance_generation = input.instances.generation;
+        }
+        let shadow_replaced =
+            self.shadow_indices
+                .write(device, queue, bytemuck::cast_slice(&input.shadow_groups.indices));
+        let view_replaced = self
+            .view_indices
+            .write(device, queue, bytemuck::cast_slice(&input.view_groups.indices));
+        if regroup || shadow_replaced {
+            self.shadow_instances_group = instances_group(
+                device,
+                layouts,
+                &self.instances.buffer,
+                &self.shadow_indices.buffer,
+                "shadow instances",
+            );
+        }
+        if regroup || view_replaced {
+            self.view_instances_group = instances_group(
+                device,
+                layouts,
+                &self.instances.buffer,
+                &self.view_indices.buffer,
+                "view instances",
+            );
+        }
+        queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&input.frame));
+        queue.write_buffer(&self.shadow_uniforms, 0, bytemuck::bytes_of(&input.shadow));
+        let views: [CascadeViewGpu; MAX_CASCADES] = std::array::from_fn(|c| CascadeViewGpu {
+            clip_from_world: input.shadow.cascades[c].clip_from_world,
+            _pad: [glam::Vec4::ZERO; 12],
+        });
+        queue.write_buffer(&self.cascade_views, 0, bytemuck::cast_slice(&views));
+        if self.view_group.is_none() || self.shadow_map_resolution != shadow_map.resolution {
+            self.view_group = Some(self.create_view_group(device, layouts, shadow_map));
+            self.shadow_map_resolution = shadow_map.resolution;
+        }
+    }
+
+    fn create_view_group(&self, device: &wgpu::Device, layouts: &Layouts, shadow_map: &ShadowMap) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("view"),
+            layout: &layouts.view,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.frame_uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.shadow_uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&shadow_map.array_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&layouts.shadow_compare),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&layouts.shadow_point),
+                },
+            ],
+        })
+    }
+
+    fn upload_meshes(&mut self, device: &wgpu::Device, meshes: &Meshes) {
+        let mut vertices: Vec<Vertex> = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        self.mesh_ranges.clear();
+        for mesh in meshes.as_slice() {
+            self.mesh_ranges.push(MeshRange {
+                first_index: indices.len() as u32,
+                index_count: mesh.indices.len() as u32,
+                base_vertex: vertices.len() as i32,
+            });
+            vertices.extend_from_slice(&mesh.vertices);
+            indices.extend_from_slice(&mesh.indices);
+        }
+        // Never create an empty buffer: pad with one degenerate vertex/index.
+        if vertices.is_empty() {
+            vertices.push(Vertex::default());
+            indices.extend([0, 0, 0]);
+        }
+        self.vertex_buffer = Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mesh vertices"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        }));
+        self.index_buffer = Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mesh indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        }));
+        self.mesh_count = meshes.len();
+    }
+
+    fn upload_materials(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        layouts: &Layouts,
+        materials: &Materials,
+        images: &Images,
+    ) {
+        let white = crate::ecs::assets::ImageData {
+            width: 1,
+            height: 1,
+            rgba: vec![255; 4],
+        };
+        let views: Vec<wgpu::TextureView> = std::iter::once(&white)
+            .chain(images.as_slice())
+            .map(|image| {
+                let texture = device.create_texture_with_data(
+                    queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some("base colour"),
+                        size: wgpu::Extent3d {
+                            width: image.width,
+                            height: image.height,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    },
+                    wgpu::util::TextureDataOrder::LayerMajor,
+                    &image.rgba,
+                );
+                texture.create_view(&wgpu::TextureViewDescriptor::default())
+            })
+            .collect();
+        self.material_groups = materials
+            .as_slice()
+            .iter()
+            .map(|m| {
+                let view = &views[m
+                    .base_color_texture
+                    .map_or(0, |h| h.0 as usize + 1)
+                    .min(views.len() - 1)];
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("material"),
+                    layout: &layouts.material,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::Sampler(&layouts.material_sampler),
+                        },
+                    ],
+                })
+            })
+            .collect();
+        self.material_count = materials.len();
+    }
+}

@@ -1,0 +1,274 @@
+//! The scene description types, as read from a RON scene file.
+//!
+//! Every type here mirrors one construct of the file format (see `docs/scene-format.md`):
+//! the field names are the names written in the file, and every optional field has a serde
+//! default so that simple objects fit on one line.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::{UVec3, Vec2, Vec3, Vec4};
+use serde::de::{MapAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+
+use crate::settings::ShadowSettings;
+
+/// A whole scene: what [`SceneDesc::load`] returns.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Scene", deny_unknown_fields)]
+pub struct SceneDesc {
+    /// The viewpoint.
+    pub camera: CameraDesc,
+    /// The directional light that casts the shadows.
+    pub sun: SunDesc,
+    /// Constant ambient light, linear RGB. Default black.
+    #[serde(default)]
+    pub ambient: Vec3,
+    /// Shadow parameters; every field is optional and defaults to [`ShadowSettings::default`].
+    #[serde(default)]
+    pub shadows: ShadowSettings,
+    /// Materials in file order; [`ObjectInstance::material`](crate::scene::ObjectInstance)
+    /// indexes this list. Written in the file as a map from name to material.
+    #[serde(default, deserialize_with = "materials_in_file_order")]
+    pub materials: Vec<MaterialDesc>,
+    /// Objects and object grids in file order.
+    #[serde(default)]
+    pub objects: Vec<ObjectDesc>,
+    /// Directory that relative paths in the scene (textures, models) are relative to: the
+    /// scene file's directory after [`SceneDesc::load`], empty after
+    /// [`SceneDesc::from_str`](crate::scene::SceneDesc::from_str).
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+/// A perspective camera looking from `position` at `target`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Camera", deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position, world space, metres.
+    pub position: Vec3,
+    /// Point looked at; must differ from `position`.
+    pub target: Vec3,
+    /// Up hint; need not be normalised. Default `(0, 1, 0)`.
+    #[serde(default = "unit_y")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub fov: f32,
+    /// Near plane distance in metres, > 0.
+    pub near: f32,
+    /// Far plane distance in metres, > `near`.
+    pub far: f32,
+}
+
+/// The sun: a directional light with an angular size (for soft shadows).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Sun", deny_unknown_fields)]
+pub struct SunDesc {
+    /// Direction the light travels (from the sun towards the ground); finite and non-zero,
+    /// need not be normalised.
+    pub direction: Vec3,
+    /// Linear RGB colour. Default white.
+    #[serde(default = "one3")]
+    pub color: Vec3,
+    /// Linear intensity multiplier applied to `color`. Default 1.
+    #[serde(default = "one")]
+    pub illuminance: f32,
+    /// Angular diameter of the sun disc in degrees, 0–30. Default 0.53 (the real sun).
+    #[serde(default = "sun_diameter")]
+    pub angular_diameter: f32,
+}
+
+/// A named surface description.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Material", deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// The material's name: its key in the file's `materials` map.
+    #[serde(skip)]
+    pub name: String,
+    /// Linear RGBA base colour, multiplied with the texture. Default opaque white.
+    #[serde(default = "one4")]
+    pub base_color: Vec4,
+    /// Base-colour texture, relative to the scene file's directory; resolve it with
+    /// [`SceneDesc::resolve_path`].
+    #[serde(default)]
+    pub texture: Option<PathBuf>,
+    /// How alpha is treated. Default [`AlphaMode::Opaque`].
+    #[serde(default)]
+    pub alpha: AlphaMode,
+}
+
+/// How a material's alpha (base colour alpha × texture alpha) is used.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff, in (0, 1], are discarded (in the shadow pass
+    /// too).
+    Mask(f32),
+}
+
+/// The geometry of an object, in its local space.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Shape {
+    /// A horizontal rectangle facing +Y, centred on the origin; `size` is its (x, z) extent.
+    Plane {
+        /// Extent along x and z, metres, both > 0.
+        size: Vec2,
+    },
+    /// An axis-aligned box centred on the origin.
+    Cuboid {
+        /// Extent along x, y and z, metres, all > 0.
+        size: Vec3,
+    },
+    /// A sphere centred on the origin.
+    Sphere {
+        /// Radius in metres, > 0.
+        radius: f32,
+    },
+    /// A glTF model (reserved: parsed and checked for a non-empty path only).
+    Gltf {
+        /// Model file, relative to the scene file's directory.
+        path: PathBuf,
+    },
+}
+
+/// One object of the file, or a grid of copies of it.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Object", deny_unknown_fields)]
+pub struct ObjectDesc {
+    /// The geometry.
+    pub shape: Shape,
+    /// Name of a material in [`SceneDesc::materials`].
+    pub material: String,
+    /// Position in metres (of the first copy, for a grid). Default origin.
+    #[serde(default)]
+    pub translation: Vec3,
+    /// Rotation as Euler angles in degrees, glam's `EulerRot::XYZ` order
+    /// (`q = qx * qy * qz`). Default none.
+    #[serde(default)]
+    pub rotation: Vec3,
+    /// Per-axis scale, all > 0. Default `(1, 1, 1)`.
+    #[serde(default = "one3")]
+    pub scale: Vec3,
+    /// Whether the object is drawn into the shadow maps. Default true.
+    #[serde(default = "yes")]
+    pub cast_shadows: bool,
+    /// Whether the object samples the shadow maps when shaded. Default true.
+    #[serde(default = "yes")]
+    pub receive_shadows: bool,
+    /// Repeat the object on a grid. Default: a single object.
+    #[serde(default)]
+    pub grid: Option<GridDesc>,
+}
+
+/// A regular 3D grid of copies of one object.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename = "Grid", deny_unknown_fields)]
+pub struct GridDesc {
+    /// Copies along x, y and z, each ≥ 1; at most 10 million in all.
+    pub count: UVec3,
+    /// Offset between neighbouring copies along each axis, metres (may be negative).
+    pub spacing: Vec3,
+    /// Deterministic per-copy variation. Default none.
+    #[serde(default)]
+    pub jitter: Option<Jitter>,
+}
+
+/// Deterministic random variation of grid copies.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Jitter {
+    /// Seed of the generator; the same seed gives the same scene. Default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// Largest offset along each axis, metres, ≥ 0: each copy moves by up to ± this.
+    #[serde(default)]
+    pub offset: Vec3,
+    /// Largest extra rotation about world +Y, degrees, 0–180: each copy turns by up to ± this.
+    #[serde(default)]
+    pub yaw: f32,
+    /// Range `(min, max)` of a uniform scale factor, 0 < min ≤ max. Default `(1, 1)`.
+    #[serde(default = "one2")]
+    pub scale: Vec2,
+}
+
+impl SceneDesc {
+    /// Resolves a path written in the scene (a texture or model) against
+    /// [`base_dir`](Self::base_dir): absolute paths are returned unchanged.
+    pub fn resolve_path(&self, path: &Path) -> PathBuf {
+        self.base_dir.join(path)
+    }
+
+    /// Index of the material called `name` in [`materials`](Self::materials).
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+}
+
+impl GridDesc {
+    /// Total number of copies (saturating; no overflow on absurd counts).
+    pub fn len(&self) -> u64 {
+        let c = self.count;
+        (c.x as u64).saturating_mul(c.y as u64).saturating_mul(c.z as u64)
+    }
+
+    /// Whether a count is zero, so the grid has no copies.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+fn unit_y() -> Vec3 {
+    Vec3::Y
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+fn one2() -> Vec2 {
+    Vec2::ONE
+}
+
+fn one3() -> Vec3 {
+    Vec3::ONE
+}
+
+fn one4() -> Vec4 {
+    Vec4::ONE
+}
+
+fn sun_diameter() -> f32 {
+    0.53
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Reads the `materials` map into a list, keeping file order and duplicate keys (duplicates
+/// are reported by validation, with their position).
+fn materials_in_file_order<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<MaterialDesc>, D::Error> {
+    struct InOrder;
+
+    impl<'de> Visitor<'de> for InOrder {
+        type Value = Vec<MaterialDesc>;
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a map from material name to material")
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut list = Vec::new();
+            while let Some((name, mut material)) = map.next_entry::<String, MaterialDesc>()? {
+                material.name = name;
+                list.push(material);
+            }
+            Ok(list)
+        }
+    }
+
+    d.deserialize_map(InOrder)
+}

@@ -1,0 +1,47 @@
+//! Reading a scene from a file or a string: parse with ron, then validate.
+
+use std::path::{Path, PathBuf};
+
+use ron::extensions::Extensions;
+use ron::options::Options;
+
+use crate::scene::desc::SceneDesc;
+use crate::scene::error::{SceneError, parse_error};
+use crate::scene::validate::validate;
+
+impl SceneDesc {
+    /// Reads, parses and validates the scene file at `path`. Relative texture and model
+    /// paths in it are relative to its directory, which becomes
+    /// [`base_dir`](SceneDesc::base_dir); textures must exist.
+    pub fn load(path: impl AsRef<Path>) -> Result<SceneDesc, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let base_dir = path.parent().map(Path::to_owned).unwrap_or_default();
+        parse(&text, &path.display().to_string(), Some(base_dir))
+    }
+
+    /// Parses and validates scene text; `origin` names it in error messages (a file name,
+    /// say). Texture files are not checked, and [`base_dir`](SceneDesc::base_dir) is empty.
+    pub fn from_str(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
+        parse(text, origin, None)
+    }
+}
+
+fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>) -> Result<SceneDesc, SceneError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // `implicit_some` lets optional fields be written without `Some(...)`.
+    let options = Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+    let mut scene: SceneDesc = options.from_str(text).map_err(|err| parse_error(origin, text, &err))?;
+    let problems = validate(&scene, text, base_dir.as_deref());
+    if !problems.is_empty() {
+        return Err(SceneError::Invalid {
+            origin: origin.to_owned(),
+            problems,
+        });
+    }
+    scene.base_dir = base_dir.unwrap_or_default();
+    Ok(scene)
+}

@@ -1,0 +1,324 @@
+//! Checks on a parsed scene: every out-of-range value or dangling reference is collected
+//! (not just the first), then located in the text and sorted into file order.
+
+use std::path::Path;
+
+use glam::{UVec3, Vec2, Vec3, Vec4};
+
+use crate::scene::desc::{AlphaMode, CameraDesc, GridDesc, MaterialDesc, ObjectDesc, SceneDesc, Shape, SunDesc};
+use crate::scene::error::Problem;
+use crate::scene::locate::{Node, Seg};
+
+/// The most copies one grid may hold.
+pub const MAX_GRID_INSTANCES: u64 = 10_000_000;
+
+/// The largest sun angular diameter accepted, degrees.
+const MAX_SUN_DIAMETER: f32 = 30.0;
+
+/// Every problem in `scene`, positioned in `text`, in file order. Texture files are checked
+/// for existence only when `base_dir` is given (the scene was loaded from a file).
+pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>) -> Vec<Problem> {
+    let mut c = Checks::default();
+    let root = FieldPath::default();
+    check_camera(&mut c, &scene.camera, &root.field("camera"));
+    check_sun(&mut c, &scene.sun, &root.field("sun"));
+    if !is_colour(scene.ambient) {
+        let expected = "linear RGB with finite components ≥ 0";
+        c.add(root.field("ambient"), expected, scene.ambient.shown());
+    }
+    for p in scene.shadows.problems() {
+        c.add(root.field("shadows").field(p.field), p.expected, p.found);
+    }
+    let materials = root.field("materials");
+    for (i, m) in scene.materials.iter().enumerate() {
+        check_material(&mut c, scene, i, m, &materials, base_dir);
+    }
+    for (i, o) in scene.objects.iter().enumerate() {
+        check_object(&mut c, scene, o, &root.field("objects").item(i));
+    }
+    if c.found.is_empty() {
+        return Vec::new();
+    }
+    let tree = Node::parse(text);
+    let mut problems: Vec<Problem> = (c.found.into_iter())
+        .map(|(at, expected, found)| {
+            let pos = tree.find(&at.segs);
+            let (line, column, field) = (pos.line, pos.column, at.text);
+            Problem {
+                line,
+                column,
+                field,
+                expected,
+                found,
+            }
+        })
+        .collect();
+    problems.sort_by_key(|p| (p.line, p.column));
+    problems
+}
+
+/// A field path, both as steps for the locator and as text for messages.
+#[derive(Clone, Debug, Default)]
+struct FieldPath {
+    segs: Vec<Seg>,
+    text: String,
+}
+
+impl FieldPath {
+    fn then(&self, seg: Seg, text: &str) -> FieldPath {
+        let mut next = self.clone();
+        next.segs.push(seg);
+        next.text.push_str(text);
+        next
+    }
+
+    fn field(&self, name: &'static str) -> FieldPath {
+        let dot = if self.text.is_empty() { "" } else { "." };
+        self.then(Seg::Field(name), &format!("{dot}{name}"))
+    }
+
+    fn item(&self, i: usize) -> FieldPath {
+        self.then(Seg::Item(i), &format!("[{i}]"))
+    }
+}
+
+/// The problems found so far: where, what was expected, what was found.
+#[derive(Default)]
+struct Checks {
+    found: Vec<(FieldPath, String, String)>,
+}
+
+impl Checks {
+    fn add(&mut self, at: FieldPath, expected: impl Into<String>, found: String) {
+        self.found.push((at, expected.into(), found));
+    }
+}
+
+fn check_camera(c: &mut Checks, cam: &CameraDesc, at: &FieldPath) {
+    let (pos, target, up) = (cam.position, cam.target, cam.up);
+    if !pos.is_finite() {
+        c.add(at.field("position"), "a finite point", pos.shown());
+    }
+    let apart = (target - pos).length_squared() > 1e-12;
+    if !target.is_finite() {
+        c.add(at.field("target"), "a finite point", target.shown());
+    } else if pos.is_finite() && !apart {
+        let expected = "a point different from `camera.position`";
+        c.add(at.field("target"), expected, target.shown());
+    }
+    if !is_direction(up) {
+        c.add(at.field("up"), "a finite, non-zero vector", up.shown());
+    } else if pos.is_finite() && target.is_finite() && apart {
+        let forward = (target - pos).normalize();
+        if forward.cross(up.normalize()).length() < 1e-4 {
+            let expected = "an up vector not parallel to the view direction";
+            c.add(at.field("up"), expected, up.shown());
+        }
+    }
+    if !(cam.fov > 0.0 && cam.fov < 180.0) {
+        let expected = "vertical degrees between 0 and 180 (exclusive)";
+        c.add(at.field("fov"), expected, cam.fov.shown());
+    }
+    let near_ok = cam.near.is_finite() && cam.near > 0.0;
+    if !near_ok {
+        c.add(at.field("near"), "a distance greater than 0", cam.near.shown());
+    }
+    if !(cam.far.is_finite() && cam.far > 0.0 && (cam.far > cam.near || !near_ok)) {
+        let expected = match near_ok {
+            true => format!("a distance greater than `near` ({})", cam.near),
+            false => "a distance greater than `near`".to_owned(),
+        };
+        c.add(at.field("far"), expected, cam.far.shown());
+    }
+}
+
+fn check_sun(c: &mut Checks, sun: &SunDesc, at: &FieldPath) {
+    if !is_direction(sun.direction) {
+        let expected = "a finite, non-zero direction (the way the light travels)";
+        c.add(at.field("direction"), expected, sun.direction.shown());
+    }
+    if !is_colour(sun.color) {
+        let expected = "linear RGB with finite components ≥ 0";
+        c.add(at.field("color"), expected, sun.color.shown());
+    }
+    if !(sun.illuminance.is_finite() && sun.illuminance >= 0.0) {
+        let expected = "a finite multiplier ≥ 0";
+        c.add(at.field("illuminance"), expected, sun.illuminance.shown());
+    }
+    if !(0.0..=MAX_SUN_DIAMETER).contains(&sun.angular_diameter) {
+        let expected = "degrees from 0 to 30";
+        c.add(at.field("angular_diameter"), expected, sun.angular_diameter.shown());
+    }
+}
+
+fn check_material(
+    c: &mut Checks,
+    scene: &SceneDesc,
+    i: usize,
+    m: &MaterialDesc,
+    materials: &FieldPath,
+    base_dir: Option<&Path>,
+) {
+    let name = format!("{:?}", m.name);
+    let at = materials.then(Seg::Entry(i), &format!("[{name}]"));
+    if scene.material_index(&m.name) != Some(i) {
+        let key = materials.then(Seg::Key(i), &format!("[{name}]"));
+        c.add(key, "a material name not used before", format!("{name} again"));
+    }
+    if !is_rgba(m.base_color) {
+        let expected = "linear RGBA with finite components ≥ 0 and alpha from 0 to 1";
+        c.add(at.field("base_color"), expected, m.base_color.shown());
+    }
+    if let Some(texture) = &m.texture {
+        let shown = format!("{:?}", texture.display().to_string());
+        if texture.as_os_str().is_empty() {
+            c.add(at.field("texture"), "a non-empty path", shown);
+        } else if let Some(file) = base_dir.map(|dir| dir.join(texture))
+            && !file.is_file()
+        {
+            let expected = "an existing image file (the path is relative to the scene file)";
+            let found = format!("{shown} (no file at {:?})", file.display().to_string());
+            c.add(at.field("texture"), expected, found);
+        }
+    }
+    if let AlphaMode::Mask(cutoff) = m.alpha
+        && !(cutoff > 0.0 && cutoff <= 1.0)
+    {
+        let expected = "an alpha cutoff greater than 0 and at most 1";
+        // Points at the number inside `Mask(...)`.
+        let cutoff_at = at.field("alpha").then(Seg::Item(0), "");
+        c.add(cutoff_at, expected, cutoff.shown());
+    }
+}
+
+fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPath) {
+    let shape = at.field("shape");
+    let sizes = "sizes greater than 0 (metres)";
+    match &o.shape {
+        Shape::Plane { size } if !is_size2(*size) => c.add(shape.field("size"), sizes, size.shown()),
+        Shape::Cuboid { size } if !is_size3(*size) => {
+            c.add(shape.field("size"), sizes, size.shown());
+        }
+        Shape::Sphere { radius } if !(radius.is_finite() && *radius > 0.0) => {
+            let expected = "a radius greater than 0 (metres)";
+            c.add(shape.field("radius"), expected, radius.shown());
+        }
+        Shape::Gltf { path } if path.as_os_str().is_empty() => {
+            c.add(shape.field("path"), "a non-empty path", "\"\"".to_owned());
+        }
+        _ => {}
+    }
+    if scene.material_index(&o.material).is_none() {
+        let found = format!("{:?}", o.material);
+        c.add(at.field("material"), material_names(scene), found);
+    }
+    if !o.translation.is_finite() {
+        c.add(at.field("translation"), "a finite position", o.translation.shown());
+    }
+    if !o.rotation.is_finite() {
+        let expected = "finite Euler angles in degrees";
+        c.add(at.field("rotation"), expected, o.rotation.shown());
+    }
+    if !is_size3(o.scale) {
+        c.add(at.field("scale"), "scale factors greater than 0", o.scale.shown());
+    }
+    if let Some(grid) = &o.grid {
+        check_grid(c, grid, &at.field("grid"));
+    }
+}
+
+fn check_grid(c: &mut Checks, grid: &GridDesc, at: &FieldPath) {
+    let n = grid.count;
+    if n.min_element() == 0 {
+        let expected = "counts of at least 1 along each axis";
+        c.add(at.field("count"), expected, n.shown());
+    } else if grid.len() > MAX_GRID_INSTANCES {
+        let expected = format!("at most {MAX_GRID_INSTANCES} copies in all");
+        let found = format!("{} = {} copies", n.shown(), grid.len());
+        c.add(at.field("count"), expected, found);
+    }
+    // The farthest copy must be at a finite position too.
+    let farthest = grid.spacing * (n.max(UVec3::ONE) - UVec3::ONE).as_vec3();
+    if !(grid.spacing.is_finite() && farthest.is_finite()) {
+        let expected = "finite offsets in metres";
+        c.add(at.field("spacing"), expected, grid.spacing.shown());
+    }
+    if let Some(j) = &grid.jitter {
+        let at = at.field("jitter");
+        if !(j.offset.is_finite() && j.offset.min_element() >= 0.0) {
+            let expected = "finite offsets ≥ 0 (metres)";
+            c.add(at.field("offset"), expected, j.offset.shown());
+        }
+        if !(0.0..=180.0).contains(&j.yaw) {
+            c.add(at.field("yaw"), "degrees from 0 to 180", j.yaw.shown());
+        }
+        if !(j.scale.is_finite() && j.scale.x > 0.0 && j.scale.x <= j.scale.y) {
+            let expected = "a range (min, max) with 0 < min ≤ max";
+            c.add(at.field("scale"), expected, j.scale.shown());
+        }
+    }
+}
+
+/// What `material` must be: one of the defined names.
+fn material_names(scene: &SceneDesc) -> String {
+    if scene.materials.is_empty() {
+        return "the name of a material defined in `materials` (none are)".to_owned();
+    }
+    let names: Vec<String> = scene.materials.iter().map(|m| format!("{:?}", m.name)).collect();
+    format!("a material defined in `materials` ({})", names.join(", "))
+}
+
+fn is_direction(v: Vec3) -> bool {
+    v.is_finite() && v.length_squared() > 0.0 && v.length_squared().is_finite()
+}
+
+fn is_colour(v: Vec3) -> bool {
+    v.is_finite() && v.min_element() >= 0.0
+}
+
+fn is_rgba(v: Vec4) -> bool {
+    v.is_finite() && v.min_element() >= 0.0 && v.w <= 1.0
+}
+
+fn is_size2(v: Vec2) -> bool {
+    v.is_finite() && v.min_element() > 0.0
+}
+
+fn is_size3(v: Vec3) -> bool {
+    v.is_finite() && v.min_element() > 0.0
+}
+
+/// A value as a scene file would write it: `0.5`, `(1, 0, 2)`.
+trait Shown {
+    fn shown(&self) -> String;
+}
+
+impl Shown for f32 {
+    fn shown(&self) -> String {
+        format!("{self}")
+    }
+}
+
+impl Shown for Vec2 {
+    fn shown(&self) -> String {
+        format!("({}, {})", self.x, self.y)
+    }
+}
+
+impl Shown for Vec3 {
+    fn shown(&self) -> String {
+        format!("({}, {}, {})", self.x, self.y, self.z)
+    }
+}
+
+impl Shown for Vec4 {
+    fn shown(&self) -> String {
+        format!("({}, {}, {}, {})", self.x, self.y, self.z, self.w)
+    }
+}
+
+impl Shown for UVec3 {
+    fn shown(&self) -> String {
+        format!("({}, {}, {})", self.x, self.y, self.z)
+    }
+}

@@ -1,0 +1,103 @@
+//! Shader variants: which shader defs a forward pipeline is composed with.
+
+use std::collections::HashMap;
+
+use naga_oil::compose::ShaderDefValue;
+
+use crate::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+
+/// How the forward shader filters the directional shadow map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowFilter {
+    /// `(2R+1)²` comparison grid; the radius is a uniform.
+    Pcf,
+    /// PCSS with the sample counts of a quality level.
+    Pcss(PcssQuality),
+}
+
+/// One forward-shader variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ForwardVariant {
+    /// Shadow filter.
+    pub filter: ShadowFilter,
+    /// Tint fragments by cascade.
+    pub debug_cascades: bool,
+    /// Discard fragments below the material's alpha cutoff.
+    pub alpha_mask: bool,
+}
+
+impl ForwardVariant {
+    /// The variant the given settings need for opaque or masked materials.
+    pub fn for_settings(settings: &ShadowSettings, alpha_mask: bool) -> Self {
+        let filter = match settings.mode {
+            ShadowMode::Pcf => ShadowFilter::Pcf,
+            ShadowMode::Pcss => ShadowFilter::Pcss(settings.pcss_quality),
+        };
+        Self {
+            filter,
+            debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
+            alpha_mask,
+        }
+    }
+
+    /// Every variant the renderer can ask for.
+    pub fn all() -> Vec<ForwardVariant> {
+        let filters = [
+            ShadowFilter::Pcf,
+            ShadowFilter::Pcss(PcssQuality::Low),
+            ShadowFilter::Pcss(PcssQuality::Medium),
+            ShadowFilter::Pcss(PcssQuality::High),
+        ];
+        let mut all = Vec::new();
+        for filter in filters {
+            for debug_cascades in [false, true] {
+                for alpha_mask in [false, true] {
+                    all.push(ForwardVariant {
+                        filter,
+                        debug_cascades,
+                        alpha_mask,
+                    });
+                }
+            }
+        }
+        all
+    }
+
+    /// The naga_oil shader defs of this variant.
+    pub fn shader_defs(&self) -> HashMap<String, ShaderDefValue> {
+        let (blocker, filter) = match self.filter {
+            ShadowFilter::Pcf => (16, 16),
+            ShadowFilter::Pcss(q) => (q.blocker_samples(), q.filter_samples()),
+        };
+        let mut defs = HashMap::new();
+        // NOTE: the sample counts are always defined, so `#if` lines inside inactive blocks
+        // still evaluate.
+        defs.insert("PCSS_BLOCKER_SAMPLES".to_string(), ShaderDefValue::UInt(blocker));
+        defs.insert("PCSS_FILTER_SAMPLES".to_string(), ShaderDefValue::UInt(filter));
+        if matches!(self.filter, ShadowFilter::Pcss(_)) {
+            defs.insert("SHADOW_FILTER_PCSS".to_string(), ShaderDefValue::Bool(true));
+        }
+        if self.debug_cascades {
+            defs.insert("SHADOW_DEBUG_CASCADES".to_string(), ShaderDefValue::Bool(true));
+        }
+        if self.alpha_mask {
+            defs.insert("ALPHA_MASK".to_string(), ShaderDefValue::Bool(true));
+        }
+        defs
+    }
+
+    /// A short label for pipeline names and logs, e.g. `pcss-high+mask`.
+    pub fn label(&self) -> String {
+        let mut s = match self.filter {
+            ShadowFilter::Pcf => "pcf".to_string(),
+            ShadowFilter::Pcss(q) => format!("pcss-{}", format!("{q:?}").to_lowercase()),
+        };
+        if self.debug_cascades {
+            s.push_str("+cascades");
+        }
+        if self.alpha_mask {
+            s.push_str("+mask");
+        }
+        s
+    }
+}

@@ -1,0 +1,217 @@
+//! Reference-image tests on a real wgpu device (Mesa's lavapipe in CI): shadows land under
+//! casters and not on open ground, the PCSS penumbra widens with the caster's height, the
+//! cascade debug view orders cascades by distance, and the default scene matches its
+//! reference image within a tolerance.
+//!
+//! Regenerate the reference image with `PENUMBRA_BLESS=1 cargo test --test render`.
+
+use glam::{Vec3, Vec4};
+use image::RgbaImage;
+use penumbra::app::{HeadlessFrame, render_scene};
+use penumbra::math::frustum::CameraView;
+use penumbra::scene::SceneDesc;
+
+/// Renders, or fails with the driver-install hint when there is no adapter.
+fn render(desc: &SceneDesc, width: u32, height: u32) -> HeadlessFrame {
+    render_scene(desc, width, height, 2, None).unwrap_or_else(|e| panic!("rendering failed: {e}"))
+}
+
+fn scene(text: &str) -> SceneDesc {
+    SceneDesc::from_str(text, "test.ron").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Pixel position of a world point for the scene's camera.
+fn project(desc: &SceneDesc, width: u32, height: u32, p: Vec3) -> (u32, u32) {
+    let c = &desc.camera;
+    let forward = (c.target - c.position).normalize();
+    let right = forward.cross(c.up).normalize();
+    let up = right.cross(forward);
+    let world_from_view = glam::Mat4::from_cols(
+        right.extend(0.0),
+        up.extend(0.0),
+        (-forward).extend(0.0),
+        c.position.extend(1.0),
+    );
+    let view = CameraView {
+        world_from_view,
+        fov_y: c.fov.to_radians(),
+        aspect: width as f32 / height as f32,
+        near: c.near,
+        far: c.far,
+    };
+    let clip = view.clip_from_world() * Vec4::new(p.x, p.y, p.z, 1.0);
+    let ndc = clip.truncate() / clip.w;
+    let x = ((ndc.x * 0.5 + 0.5) * width as f32) as u32;
+    let y = ((0.5 - ndc.y * 0.5) * height as f32) as u32;
+    (x.min(width - 1), y.min(height - 1))
+}
+
+fn luma(image: &RgbaImage, (x, y): (u32, u32)) -> f32 {
+    let p = image.get_pixel(x, y).0;
+    (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0
+}
+
+const SHADOW_SCENE: &str = r#"Scene(
+    camera: (position: (0, 12, 10), target: (0, 0, 0), fov: 50, near: 0.1, far: 100),
+    sun: (direction: (0, -1, 0), illuminance: 2.0, angular_diameter: 0.53),
+    ambient: (0.1, 0.1, 0.1),
+    shadows: (mode: Pcf, pcf_radius: 1, cascade_count: 2, resolution: 1024, max_distance: 40),
+    materials: { "ground": (base_color: (0.7, 0.7, 0.7, 1)), "box": (base_color: (0.8, 0.3, 0.2, 1)) },
+    objects: [
+        (shape: Plane(size: (40, 40)), material: "ground", cast_shadows: false),
+        (shape: Cuboid(size: (2, 0.2, 2)), material: "box", translation: (0, 2, 0)),
+    ],
+)"#;
+
+#[test]
+fn shadow_falls_under_the_caster_and_not_on_open_ground() {
+    let desc = scene(SHADOW_SCENE);
+    let (w, h) = (160, 120);
+    let frame = render(&desc, w, h);
+    // The slab hovers 2 m above the ground and the sun is overhead: its shadow is the 2×2 m
+    // square under it. The camera looks down from the front, so the ground at z = +0.9 is
+    // in shadow but visible past the slab's front edge.
+    let shadowed = luma(&frame.image, project(&desc, w, h, Vec3::new(0.0, 0.0, 0.9)));
+    let open = luma(&frame.image, project(&desc, w, h, Vec3::new(5.0, 0.0, 3.0)));
+    assert!(open > 0.5, "open ground should be lit, luma {open}");
+    assert!(
+        shadowed < 0.25 * open,
+        "ground under the slab should be shadowed: {shadowed} vs lit {open}"
+    );
+    assert!(
+        frame.stats.casters_per_cascade[0] >= 1,
+        "the slab is culled into cascade 0"
+    );
+    assert!(frame.warnings.is_empty(), "{:?}", frame.warnings);
+}
+
+/// Width in pixels of the transition from shadow to light along a horizontal row.
+fn penumbra_width(image: &RgbaImage, y: u32, x0: u32, x1: u32, dark: f32, lit: f32) -> u32 {
+    let lo = dark + 0.1 * (lit - dark);
+    let hi = dark + 0.9 * (lit - dark);
+    (x0..x1).filter(|&x| (lo..hi).contains(&luma(image, (x, y)))).count() as u32
+}
+
+#[test]
+fn pcss_penumbra_grows_with_caster_height() {
+    // Two boards with edges along z, under a 45° sun with a wide (4°) disc: shadows fall
+    // towards +x, displaced by the board's height. The low board is 0.5 m up, the high one
+    // 3 m: the high board's penumbra must be much wider.
+    let text = r#"Scene(
+        camera: (position: (0, 14, 0.01), target: (0, 0, 0), fov: 40, near: 0.5, far: 100),
+        sun: (direction: (1, -1, 0), illuminance: 2.0, angular_diameter: 4.0),
+        ambient: (0.05, 0.05, 0.05),
+        shadows: (mode: Pcss, pcss_quality: High, cascade_count: 1, resolution: 2048, max_distance: 30, blocker_early_out: false),
+        materials: { "ground": (base_color: (0.8, 0.8, 0.8, 1)), "wall": (base_color: (0.5, 0.5, 0.5, 1)) },
+        objects: [
+            (shape: Plane(size: (40, 40)), material: "ground", cast_shadows: false),
+            (shape: Cuboid(size: (2, 0.1, 3)), material: "wall", translation: (-3, 0.5, -2.5)),
+            (shape: Cuboid(size: (2, 0.1, 3)), material: "wall", translation: (-3, 3.0, 2.5)),
+        ],
+    )"#;
+    let desc = scene(text);
+    let (w, h) = (256, 256);
+    let frame = render(&desc, w, h);
+    let img = &frame.image;
+    let px = |x: f32, z: f32| project(&desc, w, h, Vec3::new(x, 0.0, z));
+    let lit = luma(img, px(3.5, 0.0));
+    // Low board: shadow spans x in [-3.5, -1.5], visible right of the board (x > -2).
+    let dark_low = luma(img, px(-1.75, -2.5));
+    let low = penumbra_width(img, px(0.0, -2.5).1, px(-1.7, 0.0).0, px(0.5, 0.0).0, dark_low, lit);
+    // High board: shadow spans x in [-1, 1].
+    let dark_high = luma(img, px(0.0, 2.5));
+    let high = penumbra_width(img, px(0.0, 2.5).1, px(0.2, 0.0).0, px(3.0, 0.0).0, dark_high, lit);
+    eprintln!("penumbra widths: low {low} px, high {high} px; lit {lit:.3}, umbrae {dark_low:.3} {dark_high:.3}");
+    assert!(
+        dark_low < 0.5 * lit && dark_high < 0.5 * lit,
+        "umbrae dark: {dark_low} {dark_high} vs lit {lit}"
+    );
+    // 3 m above the ground along a 45° ray, a 4° disc spreads ≈ 0.42 m ≈ 10 px here;
+    // 0.5 m gives ≈ 2 px.
+    assert!(
+        high >= 5,
+        "high caster penumbra is {high} px wide, expected a visible penumbra"
+    );
+    assert!(
+        high >= 2 * low.max(1),
+        "penumbra should widen with height: low {low} px, high {high} px"
+    );
+}
+
+/// Index of the debug colour a pixel is closest to: red, green, blue, yellow.
+fn cascade_of(image: &RgbaImage, p: (u32, u32)) -> usize {
+    let c = image.get_pixel(p.0, p.1).0;
+    let (r, g, b) = (c[0] as f32, c[1] as f32, c[2] as f32);
+    let scores = [r - g.max(b), g - r.max(b), b - r.max(g), r.min(g) - b];
+    (0..4).max_by(|&a, &b| scores[a].total_cmp(&scores[b])).unwrap()
+}
+
+#[test]
+fn cascade_debug_colours_follow_distance() {
+    let text = r#"Scene(
+        camera: (position: (0, 3, 0), target: (0, 2.2, -20), fov: 60, near: 0.1, far: 300),
+        sun: (direction: (0.3, -1, 0.2)),
+        ambient: (0.3, 0.3, 0.3),
+        shadows: (cascade_count: 4, resolution: 512, max_distance: 120, split_lambda: 0.7, debug_view: Cascades, blend_width: 0.0),
+        materials: { "ground": (base_color: (0.8, 0.8, 0.8, 1)) },
+        objects: [ (shape: Plane(size: (400, 400)), material: "ground", cast_shadows: false) ],
+    )"#;
+    let desc = scene(text);
+    let (w, h) = (96, 160);
+    let frame = render(&desc, w, h);
+    let mut seen = Vec::new();
+    for z in [2.0f32, 5.0, 9.0, 16.0, 28.0, 45.0, 70.0, 100.0] {
+        let p = project(&desc, w, h, Vec3::new(0.0, 0.0, -z));
+        seen.push(cascade_of(&frame.image, p));
+    }
+    assert!(
+        seen.windows(2).all(|w| w[0] <= w[1]),
+        "cascade index must not decrease with distance: {seen:?}"
+    );
+    assert_eq!(seen.first(), Some(&0), "{seen:?}");
+    assert_eq!(seen.last(), Some(&3), "{seen:?}");
+    for c in 0..4 {
+        assert!(seen.contains(&c), "cascade {c} never seen: {seen:?}");
+    }
+}
+
+/// Mean absolute difference and the fraction of channels differing by more than 16/255.
+fn image_difference(a: &RgbaImage, b: &RgbaImage) -> (f64, f64) {
+    let mut sum = 0.0;
+    let mut big = 0usize;
+    for (pa, pb) in a.pixels().zip(b.pixels()) {
+        for c in 0..3 {
+            let d = (pa.0[c] as i32 - pb.0[c] as i32).abs();
+            sum += d as f64;
+            big += (d > 16) as usize;
+        }
+    }
+    let n = (a.width() * a.height() * 3) as f64;
+    (sum / n / 255.0, big as f64 / n)
+}
+
+#[test]
+fn default_scene_matches_its_reference_image() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/default.ron");
+    let desc = SceneDesc::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let frame = render_scene(&desc, 320, 180, 2, Some(&|s| s.resolution = 1024))
+        .unwrap_or_else(|e| panic!("rendering failed: {e}"));
+    let reference_path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/default_320x180.png");
+    if std::env::var_os("PENUMBRA_BLESS").is_some() {
+        frame.image.save(reference_path).unwrap();
+    }
+    let reference = image::open(reference_path)
+        .unwrap_or_else(|e| panic!("{reference_path}: {e}; run with PENUMBRA_BLESS=1 to create it"))
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), frame.image.dimensions());
+    let (mean, big) = image_difference(&frame.image, &reference);
+    if mean > 0.01 || big > 0.01 {
+        let out = std::env::temp_dir().join("penumbra_default_actual.png");
+        frame.image.save(&out).unwrap();
+        panic!(
+            "image differs from the reference: mean {mean:.4}, {:.2}% channels off by >16; actual saved to {}",
+            big * 100.0,
+            out.display()
+        );
+    }
+}

@@ -1,0 +1,77 @@
+//! Every WGSL variant composes with naga_oil and passes naga's validator.
+
+use penumbra::shader::{ForwardVariant, ShaderLibrary};
+
+#[test]
+fn every_forward_variant_validates() {
+    let mut library = ShaderLibrary::new().expect("shared modules compose");
+    let variants = ForwardVariant::all();
+    assert_eq!(
+        variants.len(),
+        16,
+        "PCF + 3 PCSS qualities, each with and without debug view and alpha mask"
+    );
+    for variant in variants {
+        let module = library
+            .forward(variant)
+            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["vs_main", "fs_main"], "{}", variant.label());
+    }
+}
+
+#[test]
+fn caster_shader_validates_with_both_entry_points() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library.caster().unwrap_or_else(|e| panic!("{e}"));
+    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entry_points, ["vs_main", "fs_masked"]);
+}
+
+#[test]
+fn a_user_material_can_import_the_shadow_module() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let material = r#"
+#import penumbra::shadow::blend_cascade_shadow
+
+@fragment
+fn fs_main(@builtin(position) p: vec4<f32>, @location(0) world: vec3<f32>, @location(1) n: vec3<f32>) -> @location(0) vec4<f32> {
+    let visibility = blend_cascade_shadow(world, normalize(n), p.w, p.xy);
+    return vec4<f32>(vec3<f32>(visibility), 1.0);
+}
+"#;
+    let defs = ForwardVariant::all()[0].shader_defs();
+    library
+        .compose("my_material.wgsl", material, defs)
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn a_broken_shader_reports_the_file_and_the_problem() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let err = library
+        .compose(
+            "broken.wgsl",
+            "@fragment fn fs() -> @location(0) vec4<f32> { return vec4<f32>(undefined_name); }",
+            Default::default(),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("broken.wgsl"), "{err}");
+    assert!(err.contains("undefined_name"), "{err}");
+}
+
+#[test]
+fn the_generated_poisson_module_holds_every_pattern() {
+    let library = ShaderLibrary::new().unwrap();
+    let source = library.poisson_source();
+    for name in [
+        "BLOCKER_16_TAPS",
+        "BLOCKER_32_TAPS",
+        "FILTER_16_TAPS",
+        "FILTER_25_TAPS",
+        "FILTER_49_TAPS",
+    ] {
+        assert!(source.contains(&format!("const {name}")), "{name} missing");
+    }
+}
