@@ -1,15 +1,22 @@
 //! Per-frame CPU cost of the directional shadow: computing 4 cascades and culling 1k, 10k
-//! and 100k casters against them into a reused mask buffer.
+//! and 100k casters against them into a reused mask buffer (`cascades_and_culling`), and the
+//! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
+//! camera culling — on a static scene (`shadow_plugin_frame`).
 
 use std::hint::black_box;
 
+use bevy_app::App;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
+use penumbra::ecs::{
+    Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
+    Transform,
+};
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
 use penumbra::math::culling::cull_casters;
 use penumbra::math::frustum::CameraView;
-use penumbra::settings::CascadeFit;
+use penumbra::settings::{CascadeFit, ShadowSettings};
 
 /// SplitMix64 step mapped to `[0, 1)`; deterministic scene generation.
 fn next_unit(state: &mut u64) -> f32 {
@@ -83,5 +90,57 @@ fn cascades_and_culling(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, cascades_and_culling);
+/// One frame of the shadow systems (no rendering) for `n` casters.
+fn shadow_plugin_frame(c: &mut Criterion) {
+    let input = frame_input();
+    let mut group = c.benchmark_group("shadow_plugin_frame");
+    group.sample_size(30);
+    for n in [1_000usize, 10_000, 100_000] {
+        let (centers, radii) = casters(n, 0x5EED + n as u64);
+        let mut app = App::new();
+        app.add_plugins(ShadowPlugin);
+        let world = app.world_mut();
+        let mesh = world.resource_mut::<Meshes>().add(penumbra::mesh::cuboid(Vec3::ONE));
+        let material = world.resource_mut::<Materials>().add(Material::default());
+        let camera = input.camera;
+        let (_, rotation, translation) = camera.world_from_view.to_scale_rotation_translation();
+        world.spawn((
+            Camera3d {
+                fov_y: camera.fov_y,
+                near: camera.near,
+                far: camera.far,
+                exposure: 1.0,
+            },
+            Transform {
+                translation,
+                rotation,
+                scale: Vec3::ONE,
+            },
+        ));
+        world.spawn((
+            DirectionalLight::default(),
+            Transform::default().looking_at(input.light_direction, Vec3::Y),
+            ShadowSettings {
+                max_distance: input.max_distance,
+                ..Default::default()
+            },
+        ));
+        for (center, radius) in centers.iter().zip(&radii) {
+            let transform = Transform {
+                translation: *center,
+                rotation: Quat::IDENTITY,
+                scale: Vec3::splat(*radius),
+            };
+            world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material), CastShadows));
+        }
+        for _ in 0..3 {
+            app.update();
+        }
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| app.update()));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, cascades_and_culling, shadow_plugin_frame);
 criterion_main!(benches);

@@ -47,8 +47,7 @@ fn project(desc: &SceneDesc, width: u32, height: u32, p: Vec3) -> (u32, u32) {
 }
 
 fn luma(image: &RgbaImage, (x, y): (u32, u32)) -> f32 {
-    let p = image.get_pixel(x, y).0;
-    (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0
+    lum(image.get_pixel(x, y))
 }
 
 const SHADOW_SCENE: &str = r#"Scene(
@@ -214,4 +213,59 @@ fn default_scene_matches_its_reference_image() {
             out.display()
         );
     }
+}
+
+/// Renders a scene file twice, with and without the sun's shadows.
+fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u32) -> (RgbaImage, RgbaImage) {
+    use penumbra::app::{headless_app, spawn_scene};
+    use penumbra::ecs::DirectionalLight;
+    use penumbra::render::Renderer;
+
+    let mut desc = SceneDesc::load(path).unwrap_or_else(|e| panic!("{e}"));
+    desc.shadows.resolution = 1024;
+    let mut images = Vec::new();
+    for shadows in [true, false] {
+        let renderer = Renderer::headless(width, height).unwrap_or_else(|e| panic!("{e}"));
+        let mut app = headless_app(renderer);
+        spawn_scene(app.world_mut(), &desc).unwrap_or_else(|e| panic!("{e}"));
+        let world = app.world_mut();
+        let mut lights = world.query::<&mut DirectionalLight>();
+        for mut light in lights.iter_mut(world) {
+            light.shadows_enabled = shadows;
+        }
+        app.update();
+        images.push(app.world().resource::<Renderer>().read_image());
+    }
+    let without = images.pop().unwrap();
+    (images.pop().unwrap(), without)
+}
+
+#[test]
+fn every_shipped_scene_renders_with_visible_shadows() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    paths.sort();
+    assert!(paths.len() >= 4);
+    for path in paths {
+        let (with, without) = render_with_and_without_shadows(&path, 192, 108);
+        let mut darker = 0;
+        let mut brighter = 0;
+        for (a, b) in with.pixels().zip(without.pixels()) {
+            let (la, lb) = (lum(a), lum(b));
+            if la < lb - 0.1 {
+                darker += 1;
+            }
+            if la > lb + 2.0 / 255.0 {
+                brighter += 1;
+            }
+        }
+        let n = (with.width() * with.height()) as f64;
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        assert!(darker as f64 / n > 0.01, "{name}: only {darker} pixels are shadowed");
+        assert_eq!(brighter, 0, "{name}: shadows must only darken");
+    }
+}
+
+fn lum(p: &image::Rgba<u8>) -> f32 {
+    (0.2126 * p.0[0] as f32 + 0.7152 * p.0[1] as f32 + 0.0722 * p.0[2] as f32) / 255.0
 }
