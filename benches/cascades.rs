@@ -6,8 +6,11 @@
 use std::hint::black_box;
 
 use bevy_app::App;
+use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
+use penumbra::ecs::culling::cull_shadow_casters;
+use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
     Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
     Transform,
@@ -90,57 +93,86 @@ fn cascades_and_culling(c: &mut Criterion) {
     });
 }
 
-/// One frame of the shadow systems (no rendering) for `n` casters.
-fn shadow_plugin_frame(c: &mut Criterion) {
+/// An app with `ShadowPlugin` and `n` static casters, already run for a few frames.
+fn plugin_app(n: usize) -> App {
     let input = frame_input();
+    let (centers, radii) = casters(n, 0x5EED + n as u64);
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    let world = app.world_mut();
+    let mesh = world.resource_mut::<Meshes>().add(penumbra::mesh::cuboid(Vec3::ONE));
+    let material = world.resource_mut::<Materials>().add(Material::default());
+    let camera = input.camera;
+    let (_, rotation, translation) = camera.world_from_view.to_scale_rotation_translation();
+    world.spawn((
+        Camera3d {
+            fov_y: camera.fov_y,
+            near: camera.near,
+            far: camera.far,
+            exposure: 1.0,
+        },
+        Transform {
+            translation,
+            rotation,
+            scale: Vec3::ONE,
+        },
+    ));
+    world.spawn((
+        DirectionalLight::default(),
+        Transform::default().looking_at(input.light_direction, Vec3::Y),
+        ShadowSettings {
+            max_distance: input.max_distance,
+            ..Default::default()
+        },
+    ));
+    for (center, radius) in centers.iter().zip(&radii) {
+        // A unit cube scaled by r has a bounding sphere of radius r·√3/2.
+        let transform = Transform {
+            translation: *center,
+            rotation: Quat::IDENTITY,
+            scale: Vec3::splat(*radius),
+        };
+        world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material), CastShadows));
+    }
+    for _ in 0..3 {
+        app.update();
+    }
+    app
+}
+
+/// The per-frame work the speed target is about, as ECS systems: compute the cascades, then
+/// cull every caster per cascade into draw groups (no camera culling, no rendering).
+fn cascade_and_culling_systems(c: &mut Criterion) {
+    let mut group = c.benchmark_group("cascade_and_culling_systems");
+    group.sample_size(40);
+    for n in [1_000usize, 10_000, 100_000] {
+        let mut app = plugin_app(n);
+        let mut schedule = Schedule::default();
+        schedule.add_systems((update_active_view, cull_shadow_casters).chain());
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| schedule.run(app.world_mut()))
+        });
+    }
+    group.finish();
+}
+
+/// One whole frame of `ShadowPlugin` (sync, cascades, caster culling, camera culling).
+fn shadow_plugin_frame(c: &mut Criterion) {
     let mut group = c.benchmark_group("shadow_plugin_frame");
     group.sample_size(30);
     for n in [1_000usize, 10_000, 100_000] {
-        let (centers, radii) = casters(n, 0x5EED + n as u64);
-        let mut app = App::new();
-        app.add_plugins(ShadowPlugin);
-        let world = app.world_mut();
-        let mesh = world.resource_mut::<Meshes>().add(penumbra::mesh::cuboid(Vec3::ONE));
-        let material = world.resource_mut::<Materials>().add(Material::default());
-        let camera = input.camera;
-        let (_, rotation, translation) = camera.world_from_view.to_scale_rotation_translation();
-        world.spawn((
-            Camera3d {
-                fov_y: camera.fov_y,
-                near: camera.near,
-                far: camera.far,
-                exposure: 1.0,
-            },
-            Transform {
-                translation,
-                rotation,
-                scale: Vec3::ONE,
-            },
-        ));
-        world.spawn((
-            DirectionalLight::default(),
-            Transform::default().looking_at(input.light_direction, Vec3::Y),
-            ShadowSettings {
-                max_distance: input.max_distance,
-                ..Default::default()
-            },
-        ));
-        for (center, radius) in centers.iter().zip(&radii) {
-            let transform = Transform {
-                translation: *center,
-                rotation: Quat::IDENTITY,
-                scale: Vec3::splat(*radius),
-            };
-            world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material), CastShadows));
-        }
-        for _ in 0..3 {
-            app.update();
-        }
+        let mut app = plugin_app(n);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| app.update()));
     }
     group.finish();
 }
 
-criterion_group!(benches, cascades_and_culling, shadow_plugin_frame);
+criterion_group!(
+    benches,
+    cascades_and_culling,
+    cascade_and_culling_systems,
+    shadow_plugin_frame
+);
 criterion_main!(benches);

@@ -4,6 +4,7 @@
 use glam::{DVec3, Mat4, Quat, Vec3, Vec4};
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
+use penumbra::math::chunks::{SphereChunks, cull_casters_chunked, cull_spheres_frustum_chunked};
 use penumbra::math::culling::{cull_casters, cull_spheres_frustum};
 use penumbra::math::frustum::{CameraView, Frustum, slice_corners};
 use penumbra::math::poisson::{min_pairwise_distance, poisson_disk, poisson_disk_with_distance};
@@ -431,6 +432,46 @@ proptest! {
                 }
             }
         }
+    }
+
+    #[test]
+    fn chunked_culling_agrees_with_the_exact_tests(
+        inp in input(),
+        spheres in prop::collection::vec(
+            (prop::array::uniform3(-1.0f32..1.0), 0.0f32..1.0), 1..300),
+        nan_at in prop::option::of(0usize..300),
+    ) {
+        let set = compute_cascades(&inp);
+        let cam = inp.camera.position();
+        let reach = set.splits[set.count];
+        // A random walk keeps neighbours close, like a spatially sorted instance list.
+        let mut p = Vec3::ZERO;
+        let mut centers = Vec::new();
+        for (o, _) in &spheres {
+            p = (p + Vec3::from_array(*o) * 0.1).clamp(Vec3::splat(-1.5), Vec3::splat(1.5));
+            centers.push(cam + p * reach);
+        }
+        let mut radii: Vec<f32> = spheres.iter().map(|(_, r)| r * r * reach * 0.05).collect();
+        if let Some(i) = nan_at {
+            let i = i % centers.len();
+            radii[i] = f32::NAN;
+        }
+        let chunks = SphereChunks::build(&centers, &radii);
+        let mut exact = vec![0u8; centers.len()];
+        let mut chunked = vec![0u8; centers.len()];
+        cull_casters(&set, &centers, &radii, &mut exact);
+        cull_casters_chunked(&set, &centers, &radii, &chunks, &mut chunked);
+        for (i, (e, c)) in exact.iter().zip(&chunked).enumerate() {
+            prop_assert_eq!(e & !c, 0, "caster {}: chunked culling dropped an exact hit", i);
+        }
+        let frustum = Frustum::from_clip_from_world(inp.camera.clip_from_world());
+        let (mut a, mut b, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+        cull_spheres_frustum(&frustum, &centers, &radii, &mut a);
+        cull_spheres_frustum_chunked(&frustum, &centers, &radii, &chunks, &mut b, &mut scratch);
+        for i in &a {
+            prop_assert!(b.contains(i), "sphere {} visible exactly but culled by its chunk", i);
+        }
+        prop_assert!(b.windows(2).all(|w| w[0] < w[1]));
     }
 
     #[test]

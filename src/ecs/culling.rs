@@ -9,43 +9,76 @@ use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups, push_instance};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
-use crate::math::culling::{cull_casters, cull_spheres_frustum};
+use crate::math::chunks::{cull_casters_chunked, cull_spheres_frustum_chunked};
 use crate::math::frustum::Frustum;
+use crate::settings::MAX_CASCADES;
+
+/// Reused buffers of [`cull_shadow_casters`].
+#[derive(Default)]
+pub struct CullScratch {
+    /// Cascade bit mask per caster.
+    masks: Vec<u8>,
+    /// Instance indices per cascade, in draw order.
+    indices: [Vec<u32>; MAX_CASCADES],
+}
 
 /// Culls every caster against every active cascade and groups the survivors into instanced
-/// draws per cascade. Steady state allocates nothing: the mask buffer and the groups keep
-/// their capacity.
+/// draws per cascade, in one pass over the casters (they are sorted by draw key, so each
+/// cascade's list comes out in draw order). Steady state allocates nothing: every buffer
+/// keeps its capacity.
 pub fn cull_shadow_casters(
     view: Res<ActiveView>,
     instances: Res<RenderInstances>,
     mut groups: ResMut<ShadowDrawGroups>,
     mut stats: ResMut<ShadowStats>,
-    mut masks: Local<Vec<u8>>,
+    mut scratch: Local<CullScratch>,
 ) {
     let start = Instant::now();
     let groups = &mut *groups;
     groups.indices.clear();
     groups.cascades.iter_mut().for_each(|g| g.clear());
     groups.count = 0;
-    stats.casters_per_cascade = [0; 4];
-    stats.draws_per_cascade = [0; 4];
+    stats.casters_per_cascade = [0; MAX_CASCADES];
+    stats.draws_per_cascade = [0; MAX_CASCADES];
     let Some(sun) = view.sun.filter(|s| s.cascades.count > 0) else {
         stats.culling_cpu = start.elapsed();
         return;
     };
     let set = &sun.cascades;
+    let CullScratch { masks, indices } = &mut *scratch;
     masks.resize(instances.casters.len(), 0);
-    cull_casters(set, &instances.caster_centers, &instances.caster_radii, &mut masks);
-    groups.count = set.count;
-    for c in 0..set.count {
-        let bit = 1u8 << c;
-        let group = &mut groups.cascades[c];
-        for (&instance, &mask) in instances.casters.iter().zip(masks.iter()) {
-            if mask & bit != 0 {
-                push_instance(group, &mut groups.indices, instances.keys[instance as usize], instance);
-            }
+    cull_casters_chunked(
+        set,
+        &instances.caster_centers,
+        &instances.caster_radii,
+        &instances.caster_chunks,
+        masks,
+    );
+    indices.iter_mut().for_each(Vec::clear);
+    for (&instance, &mask) in instances.casters.iter().zip(masks.iter()) {
+        if mask == 0 {
+            continue;
         }
-        stats.casters_per_cascade[c] = group.instance_count();
+        let key = instances.keys[instance as usize];
+        let mut bits = mask;
+        while bits != 0 {
+            let c = bits.trailing_zeros() as usize;
+            push_instance(&mut groups.cascades[c], &mut indices[c], key, instance);
+            bits &= bits - 1;
+        }
+    }
+    // Concatenate the per-cascade lists; batch starts move by the list's offset.
+    groups.count = set.count;
+    for (c, list) in indices.iter().enumerate().take(set.count) {
+        let offset = groups.indices.len() as u32;
+        groups.indices.extend_from_slice(list);
+        let group = &mut groups.cascades[c];
+        group
+            .opaque
+            .iter_mut()
+            .chain(group.masked.iter_mut())
+            .for_each(|b| b.first += offset);
+        stats.casters_per_cascade[c] = list.len() as u32;
         stats.draws_per_cascade[c] = group.draw_count() as u32;
     }
     stats.culling_cpu = start.elapsed();
@@ -57,7 +90,7 @@ pub fn cull_view(
     instances: Res<RenderInstances>,
     mut groups: ResMut<ViewDrawGroups>,
     mut stats: ResMut<ShadowStats>,
-    mut visible: Local<Vec<u32>>,
+    mut visible: Local<(Vec<u32>, Vec<u32>)>,
 ) {
     let start = Instant::now();
     let groups = &mut *groups;
@@ -65,7 +98,15 @@ pub fn cull_view(
     groups.indices.clear();
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        cull_spheres_frustum(&frustum, &instances.centers, &instances.radii, &mut visible);
+        let (visible, scratch) = &mut *visible;
+        cull_spheres_frustum_chunked(
+            &frustum,
+            &instances.centers,
+            &instances.radii,
+            &instances.chunks,
+            visible,
+            scratch,
+        );
         for &i in visible.iter() {
             push_instance(&mut groups.group, &mut groups.indices, instances.keys[i as usize], i);
         }

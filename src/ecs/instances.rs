@@ -14,6 +14,7 @@ use log::warn;
 use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
 use crate::ecs::components::{CastShadows, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform};
 use crate::math::aabb::Aabb;
+use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
 
 /// Draw order key: opaque before masked, then by mesh and material, so every run of equal
@@ -28,7 +29,9 @@ pub struct DrawKey {
     pub material: MaterialHandle,
 }
 
-/// Every drawable instance, sorted by [`DrawKey`], in structure-of-arrays form.
+/// Every drawable instance, sorted by [`DrawKey`] and, within a key, along a Morton curve
+/// through the scene (so consecutive instances are close in space and cull together), in
+/// structure-of-arrays form.
 #[derive(Resource, Debug, Default)]
 pub struct RenderInstances {
     /// GPU data, in draw order; index = instance index.
@@ -47,6 +50,10 @@ pub struct RenderInstances {
     pub caster_radii: Vec<f32>,
     /// Number of leading casters with opaque materials; the rest are masked.
     pub opaque_casters: usize,
+    /// Chunk spheres of the casters (for chunked cascade culling).
+    pub caster_chunks: SphereChunks,
+    /// Chunk spheres of all instances (for chunked camera culling).
+    pub chunks: SphereChunks,
     /// World bounds of all casters.
     pub caster_bounds: Aabb,
     /// Bumped on every rebuild, so the renderer knows to re-upload.
@@ -127,9 +134,11 @@ fn rebuild<'a>(
         };
         rows.push((key, entity, world_from_local, cast, !no_receive, bounds));
     }
-    // NOTE: sorting by entity as a tie-break keeps the order (and so the image) identical
-    // from run to run.
-    rows.sort_by_key(|r| (r.0, r.1));
+    // NOTE: within a draw key, instances follow a Morton curve through the scene bounds so
+    // culling chunks are compact; the entity tie-break keeps the order (and so the image)
+    // identical from run to run.
+    let scene = rows.iter().fold(Aabb::EMPTY, |b, r| b.union(r.5));
+    rows.sort_by_cached_key(|r| (r.0, morton_code(&scene, r.5.center()), r.1));
 
     out.gpu.clear();
     out.keys.clear();
@@ -165,6 +174,41 @@ fn rebuild<'a>(
             }
         }
     }
+    out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
+    out.chunks = SphereChunks::build(&out.centers, &out.radii);
     out.skipped = skipped;
     out.generation += 1;
+}
+
+/// Position of `p` along a 3D Morton (Z-order) curve over `bounds`, 10 bits per axis.
+fn morton_code(bounds: &Aabb, p: Vec3) -> u32 {
+    let size = (bounds.max - bounds.min).max(Vec3::splat(1e-6));
+    let q = ((p - bounds.min) / size * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
+    let spread = |v: f32| {
+        let mut x = v as u32 & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    spread(q.x) | (spread(q.y) << 1) | (spread(q.z) << 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn morton_codes_interleave_axes_and_stay_in_range() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::splat(1023.0));
+        assert_eq!(morton_code(&b, Vec3::ZERO), 0);
+        assert_eq!(morton_code(&b, Vec3::new(1.0, 0.0, 0.0)), 0b001);
+        assert_eq!(morton_code(&b, Vec3::new(0.0, 1.0, 0.0)), 0b010);
+        assert_eq!(morton_code(&b, Vec3::new(0.0, 0.0, 1.0)), 0b100);
+        assert_eq!(morton_code(&b, Vec3::splat(1023.0)), (1 << 30) - 1);
+        // Outside the bounds clamps; a degenerate box does not divide by zero.
+        assert_eq!(morton_code(&b, Vec3::splat(-5.0)), 0);
+        let flat = Aabb::new(Vec3::ZERO, Vec3::new(10.0, 0.0, 10.0));
+        assert!(morton_code(&flat, Vec3::new(5.0, 0.0, 5.0)) > 0);
+    }
 }

@@ -1,7 +1,7 @@
 //! Bounding-sphere culling of shadow casters: against all cascade boxes at once (in the
 //! shared light frame), and against the camera frustum.
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 use crate::math::cascades::CascadeSet;
 use crate::math::frustum::Frustum;
@@ -21,18 +21,18 @@ const LANES: usize = 8;
 
 /// The cascade boxes as plain arrays. Unused cascades hold an empty box (`min = +∞`,
 /// `max = −∞`), which no sphere reaches.
-struct CascadeBoxes {
+pub(crate) struct CascadeBoxes {
     /// Per-cascade `light_min` (x, y, z).
-    min: [[f32; 3]; MAX_CASCADES],
+    pub(crate) min: [[f32; 3]; MAX_CASCADES],
     /// Per-cascade `light_max` (x, y; z, the near side, is never tested).
-    max: [[f32; 2]; MAX_CASCADES],
+    pub(crate) max: [[f32; 2]; MAX_CASCADES],
     /// Bits of the active cascades.
-    active: u8,
+    pub(crate) active: u8,
 }
 
 impl CascadeBoxes {
     /// Gathers the boxes of `set`.
-    fn new(set: &CascadeSet) -> Self {
+    pub(crate) fn new(set: &CascadeSet) -> Self {
         let count = set.count.min(MAX_CASCADES);
         let mut min = [[f32::INFINITY; 3]; MAX_CASCADES];
         let mut max = [[f32::NEG_INFINITY; 2]; MAX_CASCADES];
@@ -132,26 +132,59 @@ pub fn cull_casters(set: &CascadeSet, centers: &[Vec3], radii: &[f32], masks: &m
     mask_tail.copy_from_slice(&m[..mask_tail.len()]);
 }
 
+/// Visibility bits of one batch of `LANES` spheres against the six frustum planes.
+#[inline]
+fn frustum_batch(planes: &[[f32; 4]; 6], centers: &[Vec3; LANES], radii: &[f32; LANES]) -> u32 {
+    let mut min_distance = [f32::INFINITY; LANES];
+    for plane in planes {
+        for j in 0..LANES {
+            let c = centers[j];
+            let d = plane[0] * c.x + plane[1] * c.y + plane[2] * c.z + plane[3];
+            min_distance[j] = min_distance[j].min(d);
+        }
+    }
+    let mut bits = 0u32;
+    for j in 0..LANES {
+        let c = centers[j];
+        let r = radii[j].max(0.0);
+        // NOTE: `f32::min` and `f32::max` skip NaN, so finiteness is checked explicitly on the
+        // inputs (non-short-circuit `&` keeps the loop branch-free).
+        let finite = c.x.is_finite() & c.y.is_finite() & c.z.is_finite() & radii[j].is_finite();
+        let visible = (min_distance[j] >= -r) & finite;
+        bits |= u32::from(visible) << j;
+    }
+    bits
+}
+
 /// Clears `out` and fills it with the indices of the spheres that
 /// [`Frustum::intersects_sphere`] accepts (non-finite ones are rejected). `out` keeps its
 /// capacity, so reusing it across frames does not allocate once it is large enough.
 ///
-/// Processes `min(centers.len(), radii.len())` spheres; indices must fit in `u32`.
+/// Processes `min(centers.len(), radii.len())` spheres, in batches of 8 the compiler
+/// vectorises; indices must fit in `u32`.
 pub fn cull_spheres_frustum(frustum: &Frustum, centers: &[Vec3], radii: &[f32], out: &mut Vec<u32>) {
     debug_assert_eq!(centers.len(), radii.len());
     debug_assert!(u32::try_from(centers.len()).is_ok());
     out.clear();
-    let [a, b] = frustum.soa();
-    for (i, (center, &radius)) in centers.iter().zip(radii).enumerate() {
-        let (x, y, z) = (Vec4::splat(center.x), Vec4::splat(center.y), Vec4::splat(center.z));
-        let neg_r = Vec4::splat(-radius.max(0.0));
-        let da = a[0] * x + a[1] * y + a[2] * z + a[3];
-        let db = b[0] * x + b[1] * y + b[2] * z + b[3];
-        let inside = (da.cmpge(neg_r) & db.cmpge(neg_r)).all();
-        if inside && center.is_finite() && radius.is_finite() {
-            out.push(i as u32);
+    let n = centers.len().min(radii.len());
+    let planes = frustum.planes.map(|p| [p.normal.x, p.normal.y, p.normal.z, p.d]);
+    let (center_batches, center_tail) = centers[..n].as_chunks::<LANES>();
+    let (radius_batches, radius_tail) = radii[..n].as_chunks::<LANES>();
+    let mut push_bits = |base: usize, mut bits: u32| {
+        while bits != 0 {
+            out.push((base + bits.trailing_zeros() as usize) as u32);
+            bits &= bits - 1;
         }
+    };
+    for (b, (c, r)) in center_batches.iter().zip(radius_batches).enumerate() {
+        push_bits(b * LANES, frustum_batch(&planes, c, r));
     }
+    // The tail goes through the same kernel, padded with NaN spheres (never visible).
+    let mut c = [Vec3::NAN; LANES];
+    let mut r = [f32::NAN; LANES];
+    c[..center_tail.len()].copy_from_slice(center_tail);
+    r[..radius_tail.len()].copy_from_slice(radius_tail);
+    push_bits(center_batches.len() * LANES, frustum_batch(&planes, &c, &r));
 }
 
 #[cfg(test)]
@@ -218,6 +251,26 @@ mod tests {
         // Unused cascades never get a bit, even for a huge sphere.
         cull_casters(&set, &[p], &[1e30], &mut masks);
         assert_eq!(masks[0], 0b11);
+    }
+
+    #[test]
+    fn frustum_culling_never_reports_padding_lanes() {
+        let (_, cam) = set(1);
+        let frustum = Frustum::from_clip_from_world(cam.clip_from_world());
+        // Ten spheres (one full batch of 8 and a tail of 2) all in view, and a NaN radius.
+        let centers: Vec<Vec3> = (0..10)
+            .map(|i| cam.position() + cam.forward() * (5.0 + i as f32))
+            .collect();
+        let mut radii = vec![0.5; 10];
+        radii[9] = f32::NAN;
+        let mut out = Vec::new();
+        cull_spheres_frustum(&frustum, &centers, &radii, &mut out);
+        assert_eq!(out, (0..9).collect::<Vec<u32>>());
+        let brute: Vec<u32> = (0..10)
+            .filter(|&i| frustum.intersects_sphere(centers[i], radii[i]))
+            .map(|i| i as u32)
+            .collect();
+        assert_eq!(out, brute);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The camera: its view and projection, the world-space corners of a depth slice of its
 //! frustum, and frustum planes extracted from a clip matrix for culling.
 
-use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4};
+use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 
 use crate::math::aabb::Aabb;
 use crate::math::projection::perspective_reverse_z;
@@ -256,21 +256,6 @@ impl Frustum {
             let p = Vec3::select(pl.normal.cmpge(Vec3::ZERO), aabb.max, aabb.min);
             pl.distance(p) >= 0.0
         })
-    }
-
-    /// The planes regrouped for testing many spheres: `(nx, ny, nz, d)` for planes 0–3, then
-    /// for planes 4, 5 (padded by repeating them).
-    pub(crate) fn soa(&self) -> [[Vec4; 4]; 2] {
-        let p = &self.planes;
-        let group = |ids: [usize; 4]| {
-            [
-                Vec4::from_array(ids.map(|i| p[i].normal.x)),
-                Vec4::from_array(ids.map(|i| p[i].normal.y)),
-                Vec4::from_array(ids.map(|i| p[i].normal.z)),
-                Vec4::from_array(ids.map(|i| p[i].d)),
-            ]
-        };
-        [group([0, 1, 2, 3]), group([4, 5, 4, 5])]
     }
 }
 

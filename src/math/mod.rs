@@ -9,6 +9,7 @@
 
 pub mod aabb;
 pub mod cascades;
+pub mod chunks;
 pub mod culling;
 pub mod frustum;
 pub mod light_space;

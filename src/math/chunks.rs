@@ -1,0 +1,245 @@
+//! Chunked culling: consecutive runs of [`CHUNK`] bounding spheres share one bounding sphere,
+//! tested first. A chunk wholly outside a view (or a cascade box) rejects all its members at
+//! once, a chunk wholly inside accepts them all, and only chunks that straddle a boundary
+//! test their members one by one. When the spheres are ordered spatially (the instance list
+//! is sorted along a Morton curve within each draw key), most chunks are decided whole, so a
+//! frame touches a fraction of the spheres.
+
+use glam::Vec3;
+
+use crate::math::cascades::CascadeSet;
+use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
+use crate::math::frustum::Frustum;
+use crate::settings::MAX_CASCADES;
+
+/// Spheres per chunk.
+pub const CHUNK: usize = 64;
+
+/// One bounding sphere per chunk of [`CHUNK`] consecutive spheres.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SphereChunks {
+    /// Chunk centres.
+    pub centers: Vec<Vec3>,
+    /// Chunk radii: every member sphere lies inside. Infinite when a member is not finite,
+    /// so such chunks are always tested member by member.
+    pub radii: Vec<f32>,
+}
+
+impl SphereChunks {
+    /// Builds the chunk spheres of `centers`/`radii` (equal lengths).
+    pub fn build(centers: &[Vec3], radii: &[f32]) -> Self {
+        let mut chunks = SphereChunks::default();
+        for (c, r) in centers.chunks(CHUNK).zip(radii.chunks(CHUNK)) {
+            let finite = c.iter().all(|p| p.is_finite()) && r.iter().all(|r| r.is_finite());
+            if !finite {
+                chunks.centers.push(Vec3::ZERO);
+                chunks.radii.push(f32::INFINITY);
+                continue;
+            }
+            let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+            let center = (lo + hi) * 0.5;
+            let reach = c
+                .iter()
+                .zip(r)
+                .map(|(p, r)| p.distance(center) + r.max(0.0))
+                .fold(0.0, f32::max);
+            // NOTE: pad by a relative 1e-5 so f32 rounding of the distances can never leave a
+            // member poking out of its chunk.
+            chunks.centers.push(center);
+            chunks.radii.push(reach * (1.0 + 1e-5) + 1e-6);
+        }
+        chunks
+    }
+
+    /// Number of chunks.
+    pub fn len(&self) -> usize {
+        self.centers.len()
+    }
+
+    /// True when there are no chunks.
+    pub fn is_empty(&self) -> bool {
+        self.centers.is_empty()
+    }
+}
+
+/// Cascade bits a chunk sphere overlaps, and those whose box contains it entirely.
+fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], center: Vec3, radius: f32) -> (u8, u8) {
+    let p = [0, 1, 2].map(|i| rows[i][0] * center.x + rows[i][1] * center.y + rows[i][2] * center.z);
+    // Generous padding: chunk decisions must never be stricter than the member test.
+    let r = radius + 4.0 * CULL_PADDING * (p[0].abs() + p[1].abs() + p[2].abs() + radius);
+    let (mut overlap, mut inside) = (0u8, 0u8);
+    for k in 0..MAX_CASCADES {
+        let [min_x, min_y, min_z] = boxes.min[k];
+        let [max_x, max_y] = boxes.max[k];
+        let dx = (min_x - p[0]).max(p[0] - max_x).max(0.0);
+        let dy = (min_y - p[1]).max(p[1] - max_y).max(0.0);
+        let dz = (min_z - p[2]).max(0.0);
+        if dx * dx + dy * dy + dz * dz <= r * r {
+            overlap |= 1 << k;
+        }
+        if p[0] - r >= min_x && p[0] + r <= max_x && p[1] - r >= min_y && p[1] + r <= max_y && p[2] - r >= min_z {
+            inside |= 1 << k;
+        }
+    }
+    (overlap & boxes.active, inside & boxes.active)
+}
+
+/// [`cull_casters`] with chunk-level early decisions; `chunks` must be built from the same
+/// `centers`/`radii`. A caster gets at least the bits the exact test gives; a chunk accepted
+/// whole may add a bit for a member within its chunk's reach of a box edge.
+pub fn cull_casters_chunked(
+    set: &CascadeSet,
+    centers: &[Vec3],
+    radii: &[f32],
+    chunks: &SphereChunks,
+    masks: &mut [u8],
+) {
+    let n = centers.len().min(radii.len()).min(masks.len());
+    let boxes = CascadeBoxes::new(set);
+    let rows = set.light_rotation.transpose().to_cols_array_2d();
+    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
+        let start = k * CHUNK;
+        if start >= n {
+            break;
+        }
+        let end = (start + CHUNK).min(n);
+        let (overlap, inside) = if radius.is_finite() {
+            classify_cascades(&boxes, &rows, center, radius)
+        } else {
+            (boxes.active, 0)
+        };
+        if overlap == 0 || overlap == inside {
+            masks[start..end].fill(overlap);
+        } else {
+            cull_casters(set, &centers[start..end], &radii[start..end], &mut masks[start..end]);
+        }
+    }
+}
+
+/// [`cull_spheres_frustum`] with chunk-level early decisions; `chunks` must be built from the
+/// same `centers`/`radii`. Fills `out` (cleared first) with visible indices in ascending order.
+pub fn cull_spheres_frustum_chunked(
+    frustum: &Frustum,
+    centers: &[Vec3],
+    radii: &[f32],
+    chunks: &SphereChunks,
+    out: &mut Vec<u32>,
+    scratch: &mut Vec<u32>,
+) {
+    out.clear();
+    let n = centers.len().min(radii.len());
+    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
+        let start = k * CHUNK;
+        if start >= n {
+            break;
+        }
+        let end = (start + CHUNK).min(n);
+        let mut min_distance = f32::INFINITY;
+        for plane in &frustum.planes {
+            min_distance = min_distance.min(plane.distance(center));
+        }
+        let r = radius * (1.0 + 1e-5) + 1e-5 * center.abs().max_element();
+        if radius.is_finite() && min_distance < -r {
+            continue;
+        }
+        if radius.is_finite() && min_distance >= r {
+            out.extend(start as u32..end as u32);
+            continue;
+        }
+        cull_spheres_frustum(frustum, &centers[start..end], &radii[start..end], scratch);
+        out.extend(scratch.iter().map(|&i| i + start as u32));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::aabb::Aabb;
+    use crate::math::cascades::{CascadeInput, compute_cascades};
+    use crate::math::frustum::CameraView;
+    use crate::settings::CascadeFit;
+    use glam::{Mat4, Quat};
+
+    /// A grid of spheres over a 400 m square, in row order (spatially coherent chunks).
+    fn grid() -> (Vec<Vec3>, Vec<f32>) {
+        let mut centers = Vec::new();
+        let mut radii = Vec::new();
+        for i in 0..200 {
+            for j in 0..200 {
+                centers.push(Vec3::new(
+                    i as f32 * 2.0 - 200.0,
+                    0.5 + (j % 7) as f32,
+                    j as f32 * 2.0 - 200.0,
+                ));
+                radii.push(0.3 + (i % 5) as f32 * 0.2);
+            }
+        }
+        (centers, radii)
+    }
+
+    fn camera() -> CameraView {
+        CameraView {
+            world_from_view: Mat4::from_rotation_translation(Quat::from_rotation_y(0.7), Vec3::new(10.0, 2.0, 30.0)),
+            fov_y: 1.0,
+            aspect: 1.7,
+            near: 0.1,
+            far: 300.0,
+        }
+    }
+
+    #[test]
+    fn chunk_spheres_contain_their_members() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        assert_eq!(chunks.len(), centers.len().div_ceil(CHUNK));
+        for (i, (c, r)) in centers.iter().zip(&radii).enumerate() {
+            let k = i / CHUNK;
+            assert!(c.distance(chunks.centers[k]) + r <= chunks.radii[k]);
+        }
+        let mut bad = centers.clone();
+        bad[70] = Vec3::NAN;
+        assert_eq!(SphereChunks::build(&bad, &radii).radii[1], f32::INFINITY);
+    }
+
+    #[test]
+    fn chunked_cascade_culling_keeps_every_exact_hit() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        let set = compute_cascades(&CascadeInput {
+            camera: camera(),
+            light_direction: Vec3::new(0.3, -0.8, 0.2),
+            scene_bounds: Aabb::new(Vec3::splat(-210.0), Vec3::splat(210.0)),
+            count: 4,
+            split_lambda: 0.6,
+            max_distance: 150.0,
+            resolution: 2048,
+            fit: CascadeFit::Tight,
+            angular_diameter: 0.01,
+        });
+        let mut exact = vec![0u8; centers.len()];
+        let mut chunked = vec![0u8; centers.len()];
+        cull_casters(&set, &centers, &radii, &mut exact);
+        cull_casters_chunked(&set, &centers, &radii, &chunks, &mut chunked);
+        let mut extra = 0;
+        for (e, c) in exact.iter().zip(&chunked) {
+            assert_eq!(e & !c, 0, "a chunk dropped an exact hit");
+            extra += (c & !e).count_ones();
+        }
+        // Whole-chunk acceptance only happens when the chunk is inside the box, where every
+        // member is inside too: no extra bits at all.
+        assert_eq!(extra, 0);
+        assert!(exact.iter().any(|&m| m != 0) && exact.contains(&0));
+    }
+
+    #[test]
+    fn chunked_frustum_culling_matches_the_exact_test() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        let frustum = Frustum::from_clip_from_world(camera().clip_from_world());
+        let (mut exact, mut chunked, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+        cull_spheres_frustum(&frustum, &centers, &radii, &mut exact);
+        cull_spheres_frustum_chunked(&frustum, &centers, &radii, &chunks, &mut chunked, &mut scratch);
+        assert_eq!(exact, chunked);
+        assert!(!exact.is_empty() && exact.len() < centers.len());
+    }
+}
