@@ -14,3 +14,4 @@ pub mod render;
 pub mod scene;
 pub mod settings;
 pub mod shader;
+pub mod viewer;

@@ -62,6 +62,22 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         frames: u32,
     },
+    /// Open a scene in a window with a fly camera and the egui inspector (needs the
+    /// `viewer` feature).
+    #[cfg(feature = "viewer")]
+    View {
+        /// Scene file (RON).
+        scene: PathBuf,
+        /// Window width.
+        #[arg(long, default_value_t = 1600)]
+        width: u32,
+        /// Window height.
+        #[arg(long, default_value_t = 900)]
+        height: u32,
+        /// Close after this many frames.
+        #[arg(long)]
+        exit_after: Option<u32>,
+    },
     /// Load a scene file and report every problem in it.
     Check {
         /// Scene files (RON).
@@ -226,6 +242,29 @@ fn main() -> ExitCode {
             debug_cascades,
             frames,
         ),
+        #[cfg(feature = "viewer")]
+        Command::View {
+            scene,
+            width,
+            height,
+            exit_after,
+        } => {
+            let result = SceneDesc::load(&scene).map_err(|e| e.to_string()).and_then(|desc| {
+                let options = penumbra::viewer::ViewerOptions {
+                    width,
+                    height,
+                    exit_after,
+                };
+                penumbra::viewer::run(&desc, options).map_err(|e| e.to_string())
+            });
+            return match result {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            };
+        }
         Command::Check { scenes } => {
             let mut failed = false;
             for path in scenes {

@@ -2,6 +2,7 @@
 //! and renders one frame from the ECS data.
 
 use bevy_ecs::resource::Resource;
+use bevy_ecs::world::World;
 use image::RgbaImage;
 
 use crate::ecs::assets::{Images, Materials, Meshes};
@@ -18,7 +19,7 @@ use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::{SceneGpu, SceneInputs};
 use crate::render::shadow_map::ShadowMap;
 use crate::render::shadow_pass::ShadowPass;
-use crate::render::target::HeadlessTarget;
+use crate::render::target::{HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
 use crate::settings::ShadowDebugView;
 use crate::shader::ShaderLibrary;
@@ -67,6 +68,23 @@ pub struct FrameInputs<'a> {
     pub frame_index: u32,
 }
 
+impl<'a> FrameInputs<'a> {
+    /// Borrows the inputs from a world that runs [`ShadowPlugin`](crate::ecs::ShadowPlugin).
+    pub fn from_world(world: &'a World, frame_index: u32) -> Self {
+        Self {
+            meshes: world.resource::<Meshes>(),
+            materials: world.resource::<Materials>(),
+            images: world.resource::<Images>(),
+            instances: world.resource::<RenderInstances>(),
+            shadow_groups: world.resource::<ShadowDrawGroups>(),
+            view_groups: world.resource::<ViewDrawGroups>(),
+            view: world.resource::<ActiveView>(),
+            ambient: world.resource::<AmbientLight>(),
+            frame_index,
+        }
+    }
+}
+
 /// A headless renderer; insert it as a resource next to [`RenderPlugin`](crate::render::RenderPlugin).
 #[derive(Resource)]
 pub struct Renderer {
@@ -78,7 +96,7 @@ pub struct Renderer {
     shadow_map: ShadowMap,
     timer: GpuTimer,
     graph: RenderGraph,
-    target: HeadlessTarget,
+    target: Option<HeadlessTarget>,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -89,7 +107,15 @@ impl Renderer {
         Ok(Self::new(GpuContext::headless()?, width.max(1), height.max(1)))
     }
 
-    /// Builds the renderer on an open device.
+    /// Builds a renderer without an offscreen target, for drawing into a window with
+    /// [`render_to`](Self::render_to).
+    pub fn for_window(gpu: GpuContext) -> Self {
+        let mut renderer = Self::new(gpu, 1, 1);
+        renderer.target = None;
+        renderer
+    }
+
+    /// Builds the renderer on an open device, with a `width`×`height` offscreen target.
     pub fn new(gpu: GpuContext, width: u32, height: u32) -> Self {
         let layouts = Layouts::new(&gpu.device);
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
@@ -102,7 +128,7 @@ impl Renderer {
         graph.add_node(Box::new(ShadowPass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         graph.compile().expect("the built-in graph is acyclic and complete");
-        let target = HeadlessTarget::new(&gpu.device, width, height);
+        let target = Some(HeadlessTarget::new(&gpu.device, width, height));
         Self {
             gpu,
             layouts,
@@ -118,7 +144,7 @@ impl Renderer {
 
     /// Size of the render target.
     pub fn size(&self) -> (u32, u32) {
-        (self.target.views.width, self.target.views.height)
+        self.target.as_ref().map_or((0, 0), |t| (t.views.width, t.views.height))
     }
 
     /// Names of the graph's nodes in execution order.
@@ -126,8 +152,26 @@ impl Renderer {
         self.graph.execution_order()
     }
 
-    /// Renders one frame and waits for its GPU timings.
+    /// Renders one frame into the headless target and waits for its GPU timings.
     pub fn render(&mut self, input: &FrameInputs<'_>) -> &FrameReport {
+        // NOTE: the target is taken out for the call so `render_to` can borrow `self` whole;
+        // it always goes back.
+        if let Some(target) = self.target.take() {
+            self.render_to(input, &target.views, &mut |_, _| {});
+            self.target = Some(target);
+        }
+        &self.last_report
+    }
+
+    /// Renders one frame into `target` (for example a window's swapchain image) and waits for
+    /// its GPU timings. `overlay` records extra work (a UI) into the same encoder after the
+    /// graph, before submission.
+    pub fn render_to(
+        &mut self,
+        input: &FrameInputs<'_>,
+        target: &TargetViews,
+        overlay: &mut dyn FnMut(&GpuContext, &mut wgpu::CommandEncoder),
+    ) -> &FrameReport {
         let sun = input.view.sun.as_ref();
         if let Some(sun) = sun
             && sun.settings.resolution != self.shadow_map.resolution
@@ -187,7 +231,7 @@ impl Renderer {
             shadow_groups: input.shadow_groups,
             view_groups: input.view_groups,
             sun,
-            target: &self.target.views,
+            target,
             timer: &mut self.timer,
             draw_calls: 0,
         };
@@ -195,6 +239,7 @@ impl Renderer {
             self.graph.execute(&mut ctx, &mut encoder);
         }
         let draw_calls = ctx.draw_calls;
+        overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         self.last_report = FrameReport {
@@ -207,6 +252,9 @@ impl Renderer {
 
     /// Reads the last rendered image back.
     pub fn read_image(&self) -> RgbaImage {
-        self.target.read(&self.gpu.device, &self.gpu.queue)
+        match &self.target {
+            Some(target) => target.read(&self.gpu.device, &self.gpu.queue),
+            None => RgbaImage::new(1, 1),
+        }
     }
 }
