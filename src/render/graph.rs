@@ -110,3 +110,70 @@ impl RenderGraph {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A node that only declares resources (never recorded in these tests).
+    struct Declared {
+        name: &'static str,
+        reads: &'static [&'static str],
+        writes: &'static [&'static str],
+    }
+
+    impl RenderNode for Declared {
+        fn name(&self) -> &'static str {
+            self.name
+        }
+        fn reads(&self) -> &'static [&'static str] {
+            self.reads
+        }
+        fn writes(&self) -> &'static [&'static str] {
+            self.writes
+        }
+        fn record(&mut self, _: &mut FrameContext<'_>, _: &mut wgpu::CommandEncoder) {
+            unreachable!("not recorded in graph tests")
+        }
+    }
+
+    fn node(
+        name: &'static str,
+        reads: &'static [&'static str],
+        writes: &'static [&'static str],
+    ) -> Box<dyn RenderNode> {
+        Box::new(Declared { name, reads, writes })
+    }
+
+    #[test]
+    fn readers_run_after_writers_whatever_the_insertion_order() {
+        let mut graph = RenderGraph::default();
+        graph.import("instances");
+        graph.add_node(node("post", &["color"], &["final"]));
+        graph.add_node(node("forward", &["shadow_map", "instances"], &["color"]));
+        graph.add_node(node("shadow", &["instances"], &["shadow_map"]));
+        graph.compile().unwrap();
+        assert_eq!(graph.execution_order(), ["shadow", "forward", "post"]);
+    }
+
+    #[test]
+    fn unknown_reads_and_cycles_are_errors() {
+        let mut graph = RenderGraph::default();
+        graph.add_node(node("forward", &["shadow_map"], &["color"]));
+        assert_eq!(
+            graph.compile(),
+            Err(GraphError::UnknownResource {
+                node: "forward",
+                resource: "shadow_map"
+            })
+        );
+        // Importing the persistent resource makes the read legal.
+        graph.import("shadow_map");
+        graph.compile().unwrap();
+
+        let mut cyclic = RenderGraph::default();
+        cyclic.add_node(node("a", &["y"], &["x"]));
+        cyclic.add_node(node("b", &["x"], &["y"]));
+        assert!(matches!(cyclic.compile(), Err(GraphError::Cycle(_))));
+    }
+}

@@ -21,7 +21,7 @@ use crate::render::shadow_map::ShadowMap;
 use crate::render::shadow_pass::ShadowPass;
 use crate::render::target::{HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
-use crate::settings::ShadowDebugView;
+use crate::settings::{MIN_RESOLUTION, ShadowDebugView};
 use crate::shader::ShaderLibrary;
 
 /// What the last frame cost on the GPU.
@@ -93,7 +93,7 @@ pub struct Renderer {
     layouts: Layouts,
     library: ShaderLibrary,
     scene: SceneGpu,
-    shadow_map: ShadowMap,
+    shadow_map: Option<ShadowMap>,
     timer: GpuTimer,
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
@@ -120,7 +120,6 @@ impl Renderer {
         let layouts = Layouts::new(&gpu.device);
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
         let scene = SceneGpu::new(&gpu.device, &layouts);
-        let shadow_map = ShadowMap::new(&gpu.device, 1024);
         let timer = GpuTimer::new(&gpu.device, &gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
         graph.import("instances");
@@ -134,7 +133,7 @@ impl Renderer {
             layouts,
             library,
             scene,
-            shadow_map,
+            shadow_map: None,
             timer,
             graph,
             target,
@@ -173,13 +172,18 @@ impl Renderer {
         overlay: &mut dyn FnMut(&GpuContext, &mut wgpu::CommandEncoder),
     ) -> &FrameReport {
         let sun = input.view.sun.as_ref();
-        if let Some(sun) = sun
-            && sun.settings.resolution != self.shadow_map.resolution
-        {
-            // NOTE: only a resolution change recreates the map; the cascade count is a pure
-            // rendering parameter.
-            self.shadow_map = ShadowMap::new(&self.gpu.device, sun.settings.resolution);
+        // NOTE: the map is created on first use at the sun's resolution and recreated only when
+        // that changes; the cascade count is a pure rendering parameter. Without a sun, the
+        // smallest map is made once, because the forward pass binds one anyway.
+        let wanted = sun.map(|s| s.settings.resolution);
+        let current = self.shadow_map.as_ref().map(|m| m.resolution);
+        if current.is_none() || (wanted.is_some() && wanted != current) {
+            let resolution = wanted.unwrap_or(MIN_RESOLUTION);
+            self.shadow_map = Some(ShadowMap::new(&self.gpu.device, resolution));
         }
+        let Some(shadow_map) = &self.shadow_map else {
+            return &self.last_report;
+        };
         let frame = match input.view.camera {
             Some((camera, cam)) => FrameUniformsGpu {
                 clip_from_world: camera.clip_from_world(),
@@ -205,7 +209,7 @@ impl Renderer {
             &self.gpu.device,
             &self.gpu.queue,
             &self.layouts,
-            &self.shadow_map,
+            shadow_map,
             &SceneInputs {
                 meshes: input.meshes,
                 materials: input.materials,
@@ -227,7 +231,7 @@ impl Renderer {
             layouts: &self.layouts,
             library: &mut self.library,
             scene: &self.scene,
-            shadow_map: &self.shadow_map,
+            shadow_map,
             shadow_groups: input.shadow_groups,
             view_groups: input.view_groups,
             sun,
@@ -245,7 +249,7 @@ impl Renderer {
         self.last_report = FrameReport {
             passes: self.timer.read(&self.gpu.device),
             draw_calls,
-            shadow_memory: self.shadow_map.memory_bytes(),
+            shadow_memory: shadow_map.memory_bytes(),
         };
         &self.last_report
     }
