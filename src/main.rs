@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use penumbra::app::{RenderError, render_scene};
 use penumbra::render::PassTiming;
@@ -31,53 +31,62 @@ enum Quality {
     High,
 }
 
+/// Options of `penumbra render`.
+#[derive(Args)]
+struct RenderArgs {
+    /// Scene file (RON).
+    scene: PathBuf,
+    /// Output PNG.
+    #[arg(long, default_value = "out/render.png")]
+    out: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1280)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 720)]
+    height: u32,
+    /// Shadow filter (default: the scene's).
+    #[arg(long)]
+    mode: Option<Mode>,
+    /// PCSS quality (default: the scene's).
+    #[arg(long)]
+    quality: Option<Quality>,
+    /// PCF radius 0-5 (default: the scene's).
+    #[arg(long)]
+    pcf_radius: Option<u32>,
+    /// Tint pixels by the cascade they sample.
+    #[arg(long)]
+    debug_cascades: bool,
+    /// Frames to render; timings are the median over frames after the first.
+    #[arg(long, default_value_t = 5)]
+    frames: u32,
+}
+
+/// Options of `penumbra view`.
+#[cfg(feature = "viewer")]
+#[derive(Args)]
+struct ViewArgs {
+    /// Scene file (RON).
+    scene: PathBuf,
+    /// Window width.
+    #[arg(long, default_value_t = 1600)]
+    width: u32,
+    /// Window height.
+    #[arg(long, default_value_t = 900)]
+    height: u32,
+    /// Close after this many frames.
+    #[arg(long)]
+    exit_after: Option<u32>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene headless to a PNG and print per-pass GPU times and CPU times.
-    Render {
-        /// Scene file (RON).
-        scene: PathBuf,
-        /// Output PNG.
-        #[arg(long, default_value = "out/render.png")]
-        out: PathBuf,
-        /// Image width in pixels.
-        #[arg(long, default_value_t = 1280)]
-        width: u32,
-        /// Image height in pixels.
-        #[arg(long, default_value_t = 720)]
-        height: u32,
-        /// Shadow filter (default: the scene's).
-        #[arg(long)]
-        mode: Option<Mode>,
-        /// PCSS quality (default: the scene's).
-        #[arg(long)]
-        quality: Option<Quality>,
-        /// PCF radius 0-5 (default: the scene's).
-        #[arg(long)]
-        pcf_radius: Option<u32>,
-        /// Tint pixels by the cascade they sample.
-        #[arg(long)]
-        debug_cascades: bool,
-        /// Frames to render; timings are the median over frames after the first.
-        #[arg(long, default_value_t = 5)]
-        frames: u32,
-    },
+    Render(RenderArgs),
     /// Open a scene in a window with a fly camera and the egui inspector (needs the
     /// `viewer` feature).
     #[cfg(feature = "viewer")]
-    View {
-        /// Scene file (RON).
-        scene: PathBuf,
-        /// Window width.
-        #[arg(long, default_value_t = 1600)]
-        width: u32,
-        /// Window height.
-        #[arg(long, default_value_t = 900)]
-        height: u32,
-        /// Close after this many frames.
-        #[arg(long)]
-        exit_after: Option<u32>,
-    },
+    View(ViewArgs),
     /// Load a scene file and report every problem in it.
     Check {
         /// Scene files (RON).
@@ -109,18 +118,18 @@ fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(&'static str, f64)> {
         .collect()
 }
 
-#[allow(clippy::too_many_arguments)]
-fn render(
-    scene: PathBuf,
-    out: PathBuf,
-    width: u32,
-    height: u32,
-    mode: Option<Mode>,
-    quality: Option<Quality>,
-    pcf_radius: Option<u32>,
-    debug_cascades: bool,
-    frames: u32,
-) -> Result<(), RenderError> {
+fn render(args: RenderArgs) -> Result<(), RenderError> {
+    let RenderArgs {
+        scene,
+        out,
+        width,
+        height,
+        mode,
+        quality,
+        pcf_radius,
+        debug_cascades,
+        frames,
+    } = args;
     let desc = SceneDesc::load(&scene)?;
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
@@ -217,67 +226,42 @@ fn render(
     Ok(())
 }
 
+#[cfg(feature = "viewer")]
+fn view(args: ViewArgs) -> Result<(), String> {
+    let desc = SceneDesc::load(&args.scene).map_err(|e| e.to_string())?;
+    let options = penumbra::viewer::ViewerOptions {
+        width: args.width,
+        height: args.height,
+        exit_after: args.exit_after,
+    };
+    penumbra::viewer::run(&desc, options).map_err(|e| e.to_string())
+}
+
+fn check(scenes: Vec<PathBuf>) -> Result<(), String> {
+    let mut failed = 0;
+    for path in &scenes {
+        match SceneDesc::load(path) {
+            Ok(desc) => println!("{}: ok ({} instances)", path.display(), desc.instance_count()),
+            Err(e) => {
+                eprintln!("{e}");
+                failed += 1;
+            }
+        }
+    }
+    if failed > 0 {
+        Err(format!("{failed} of {} scene files have errors", scenes.len()))
+    } else {
+        Ok(())
+    }
+}
+
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Render {
-            scene,
-            out,
-            width,
-            height,
-            mode,
-            quality,
-            pcf_radius,
-            debug_cascades,
-            frames,
-        } => render(
-            scene,
-            out,
-            width,
-            height,
-            mode,
-            quality,
-            pcf_radius,
-            debug_cascades,
-            frames,
-        ),
+    let result = match Cli::parse().command {
+        Command::Render(args) => render(args).map_err(|e| e.to_string()),
         #[cfg(feature = "viewer")]
-        Command::View {
-            scene,
-            width,
-            height,
-            exit_after,
-        } => {
-            let result = SceneDesc::load(&scene).map_err(|e| e.to_string()).and_then(|desc| {
-                let options = penumbra::viewer::ViewerOptions {
-                    width,
-                    height,
-                    exit_after,
-                };
-                penumbra::viewer::run(&desc, options).map_err(|e| e.to_string())
-            });
-            return match result {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::FAILURE
-                }
-            };
-        }
-        Command::Check { scenes } => {
-            let mut failed = false;
-            for path in scenes {
-                match SceneDesc::load(&path) {
-                    Ok(desc) => println!("{}: ok ({} instances)", path.display(), desc.instances().count()),
-                    Err(e) => {
-                        eprintln!("{e}");
-                        failed = true;
-                    }
-                }
-            }
-            return if failed { ExitCode::FAILURE } else { ExitCode::SUCCESS };
-        }
+        Command::View(args) => view(args),
+        Command::Check { scenes } => check(scenes),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,6 +1,13 @@
-//! What a render-graph node sees while recording one frame.
+//! What one frame is rendered from: the ECS data ([`FrameInputs`]) and what a render-graph
+//! node sees while recording ([`FrameContext`]).
 
+use bevy_ecs::world::World;
+
+use crate::ecs::assets::{Images, Materials, Meshes};
+use crate::ecs::components::AmbientLight;
 use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::instances::RenderInstances;
+use crate::ecs::view::ActiveView;
 use crate::ecs::view::SunView;
 use crate::render::context::GpuContext;
 use crate::render::layouts::Layouts;
@@ -34,4 +41,43 @@ pub struct FrameContext<'a> {
     pub timer: &'a mut GpuTimer,
     /// Draw calls recorded so far this frame.
     pub draw_calls: u32,
+}
+
+/// The ECS data one frame is rendered from.
+pub struct FrameInputs<'a> {
+    /// Mesh store.
+    pub meshes: &'a Meshes,
+    /// Material store.
+    pub materials: &'a Materials,
+    /// Image store.
+    pub images: &'a Images,
+    /// Sorted instances.
+    pub instances: &'a RenderInstances,
+    /// Culled casters per cascade.
+    pub shadow_groups: &'a ShadowDrawGroups,
+    /// Culled view instances.
+    pub view_groups: &'a ViewDrawGroups,
+    /// Camera and sun.
+    pub view: &'a ActiveView,
+    /// Ambient light.
+    pub ambient: &'a AmbientLight,
+    /// Frame counter.
+    pub frame_index: u32,
+}
+
+impl<'a> FrameInputs<'a> {
+    /// Borrows the inputs from a world that runs [`ShadowPlugin`](crate::ecs::ShadowPlugin).
+    pub fn from_world(world: &'a World, frame_index: u32) -> Self {
+        Self {
+            meshes: world.resource::<Meshes>(),
+            materials: world.resource::<Materials>(),
+            images: world.resource::<Images>(),
+            instances: world.resource::<RenderInstances>(),
+            shadow_groups: world.resource::<ShadowDrawGroups>(),
+            view_groups: world.resource::<ViewDrawGroups>(),
+            view: world.resource::<ActiveView>(),
+            ambient: world.resource::<AmbientLight>(),
+            frame_index,
+        }
+    }
 }

@@ -9,7 +9,8 @@ use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::view::ActiveView;
-use crate::render::renderer::{FrameInputs, Renderer};
+use crate::render::frame::FrameInputs;
+use crate::render::renderer::Renderer;
 
 /// Adds the render system. Requires [`ShadowPlugin`](crate::ecs::ShadowPlugin) and a
 /// [`Renderer`] resource; frames without a renderer are skipped.

@@ -2,21 +2,15 @@
 //! and renders one frame from the ECS data.
 
 use bevy_ecs::resource::Resource;
-use bevy_ecs::world::World;
 use image::RgbaImage;
 
-use crate::ecs::assets::{Images, Materials, Meshes};
-use crate::ecs::components::AmbientLight;
-use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
-use crate::ecs::instances::RenderInstances;
-use crate::ecs::view::ActiveView;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::forward_pass::ForwardPass;
-use crate::render::frame::FrameContext;
+use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
 use crate::render::graph::RenderGraph;
 use crate::render::layouts::Layouts;
-use crate::render::scene_gpu::{SceneGpu, SceneInputs};
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadow_map::ShadowMap;
 use crate::render::shadow_pass::ShadowPass;
 use crate::render::target::{HeadlessTarget, TargetViews};
@@ -43,45 +37,6 @@ impl FrameReport {
             .filter(|p| p.name.starts_with("shadow"))
             .map(|p| p.ms)
             .sum()
-    }
-}
-
-/// The ECS data one frame is rendered from.
-pub struct FrameInputs<'a> {
-    /// Mesh store.
-    pub meshes: &'a Meshes,
-    /// Material store.
-    pub materials: &'a Materials,
-    /// Image store.
-    pub images: &'a Images,
-    /// Sorted instances.
-    pub instances: &'a RenderInstances,
-    /// Culled casters per cascade.
-    pub shadow_groups: &'a ShadowDrawGroups,
-    /// Culled view instances.
-    pub view_groups: &'a ViewDrawGroups,
-    /// Camera and sun.
-    pub view: &'a ActiveView,
-    /// Ambient light.
-    pub ambient: &'a AmbientLight,
-    /// Frame counter.
-    pub frame_index: u32,
-}
-
-impl<'a> FrameInputs<'a> {
-    /// Borrows the inputs from a world that runs [`ShadowPlugin`](crate::ecs::ShadowPlugin).
-    pub fn from_world(world: &'a World, frame_index: u32) -> Self {
-        Self {
-            meshes: world.resource::<Meshes>(),
-            materials: world.resource::<Materials>(),
-            images: world.resource::<Images>(),
-            instances: world.resource::<RenderInstances>(),
-            shadow_groups: world.resource::<ShadowDrawGroups>(),
-            view_groups: world.resource::<ViewDrawGroups>(),
-            view: world.resource::<ActiveView>(),
-            ambient: world.resource::<AmbientLight>(),
-            frame_index,
-        }
     }
 }
 
@@ -205,22 +160,8 @@ impl Renderer {
             Some(s) => ShadowUniformsGpu::new(&s.cascades, &s.settings, s.direction, input.frame_index),
             None => ShadowUniformsGpu::disabled(),
         };
-        self.scene.prepare(
-            &self.gpu.device,
-            &self.gpu.queue,
-            &self.layouts,
-            shadow_map,
-            &SceneInputs {
-                meshes: input.meshes,
-                materials: input.materials,
-                images: input.images,
-                instances: input.instances,
-                shadow_groups: input.shadow_groups,
-                view_groups: input.view_groups,
-                frame,
-                shadow,
-            },
-        );
+        self.scene
+            .prepare(&self.gpu, &self.layouts, shadow_map, input, &frame, &shadow);
         self.timer.begin_frame();
         let mut encoder = self
             .gpu

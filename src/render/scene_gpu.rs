@@ -3,10 +3,10 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::ecs::assets::{Images, Materials, Meshes};
-use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
-use crate::ecs::instances::RenderInstances;
+use crate::ecs::assets::{ImageData, Images, Materials, Meshes};
 use crate::mesh::Vertex;
+use crate::render::context::GpuContext;
+use crate::render::frame::FrameInputs;
 use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, ShadowUniformsGpu};
 use crate::render::layouts::Layouts;
 use crate::render::shadow_map::ShadowMap;
@@ -114,26 +114,6 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buff
     })
 }
 
-/// This frame's ECS data the GPU copy is updated from.
-pub struct SceneInputs<'a> {
-    /// Mesh store.
-    pub meshes: &'a Meshes,
-    /// Material store.
-    pub materials: &'a Materials,
-    /// Image store.
-    pub images: &'a Images,
-    /// Sorted instances.
-    pub instances: &'a RenderInstances,
-    /// Culled casters per cascade.
-    pub shadow_groups: &'a ShadowDrawGroups,
-    /// Culled instances of the camera.
-    pub view_groups: &'a ViewDrawGroups,
-    /// Frame uniforms.
-    pub frame: FrameUniformsGpu,
-    /// Shadow uniforms.
-    pub shadow: ShadowUniformsGpu,
-}
-
 impl SceneGpu {
     /// Creates empty buffers.
     pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Self {
@@ -195,12 +175,14 @@ impl SceneGpu {
     /// Uploads what changed since the last frame and this frame's lists and uniforms.
     pub fn prepare(
         &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        gpu: &GpuContext,
         layouts: &Layouts,
         shadow_map: &ShadowMap,
-        input: &SceneInputs<'_>,
+        input: &FrameInputs<'_>,
+        frame: &FrameUniformsGpu,
+        shadow: &ShadowUniformsGpu,
     ) {
+        let (device, queue) = (&gpu.device, &gpu.queue);
         if input.meshes.len() != self.mesh_count {
             self.upload_meshes(device, input.meshes);
         }
@@ -240,10 +222,10 @@ impl SceneGpu {
                 "view instances",
             );
         }
-        queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&input.frame));
-        queue.write_buffer(&self.shadow_uniforms, 0, bytemuck::bytes_of(&input.shadow));
+        queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(frame));
+        queue.write_buffer(&self.shadow_uniforms, 0, bytemuck::bytes_of(shadow));
         let views: [CascadeViewGpu; MAX_CASCADES] = std::array::from_fn(|c| CascadeViewGpu {
-            clip_from_world: input.shadow.cascades[c].clip_from_world,
+            clip_from_world: shadow.cascades[c].clip_from_world,
             _pad: [glam::Vec4::ZERO; 12],
         });
         queue.write_buffer(&self.cascade_views, 0, bytemuck::cast_slice(&views));
@@ -321,7 +303,7 @@ impl SceneGpu {
         materials: &Materials,
         images: &Images,
     ) {
-        let white = crate::ecs::assets::ImageData {
+        let white = ImageData {
             width: 1,
             height: 1,
             rgba: vec![255; 4],

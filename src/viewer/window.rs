@@ -15,8 +15,8 @@ use winit::window::{Window, WindowId};
 use crate::app::{SpawnError, spawn_scene};
 use crate::ecs::components::{Camera3d, Transform, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
-use crate::render::renderer::FrameInputs;
-use crate::render::target::TargetViews;
+use crate::render::frame::FrameInputs;
+use crate::render::target::{TargetViews, texture_2d};
 use crate::render::{GpuContext, GpuError, Renderer};
 use crate::scene::SceneDesc;
 use crate::viewer::fly_camera::{FlyCamera, MoveKeys};
@@ -290,22 +290,14 @@ impl Viewer {
 fn depth_target(device: &wgpu::Device, config: &wgpu::SurfaceConfiguration) -> TargetViews {
     let format = config.format.add_srgb_suffix();
     // Only the depth view is used; the colour view is replaced by each swapchain image.
-    let placeholder = device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("unused colour"),
-            size: wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        })
-        .create_view(&wgpu::TextureViewDescriptor::default());
+    let placeholder = texture_2d(
+        device,
+        "unused colour",
+        (1, 1),
+        format,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    )
+    .create_view(&wgpu::TextureViewDescriptor::default());
     TargetViews::for_color(device, placeholder, format, config.width, config.height)
 }
 
