@@ -279,6 +279,15 @@ fn blend_cascade_shadow(
     return mix(1.0, visibility, shadow_distance_fade(view_depth));
 }
 
+// The cascade a fragment at `view_depth` samples, or -1 when shadows are off or it lies past
+// max_distance (for analysis outputs and debug views).
+fn shadow_cascade_index(view_depth: f32) -> i32 {
+    if (shadow.flags & SHADOW_FLAG_ENABLED) == 0u || view_depth >= shadow.max_distance {
+        return -1;
+    }
+    return i32(select_cascade(view_depth).index);
+}
+
 // Debug colour of the cascade a fragment samples (red, green, blue, yellow), blended like
 // the shadow itself; grey beyond max_distance.
 fn cascade_debug_color(view_depth: f32) -> vec3<f32> {

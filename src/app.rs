@@ -17,6 +17,7 @@ use crate::ecs::components::{
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::mesh::{MeshData, cuboid, plane, sphere};
+use crate::render::target::AnalysisImage;
 use crate::render::{FrameReport, GpuError, RenderPlugin, Renderer};
 use crate::scene::{self, SceneDesc, Shape};
 use crate::settings::ShadowSettings;
@@ -56,6 +57,9 @@ pub enum RenderError {
     /// No GPU.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// The shadow image could not be written.
+    #[error(transparent)]
+    Export(#[from] crate::export::ExportError),
     /// The PNG could not be written.
     #[error("cannot write `{path}`: {message}")]
     Write {
@@ -224,6 +228,8 @@ pub type SettingsOverride<'a> = &'a dyn Fn(&mut ShadowSettings);
 pub struct HeadlessFrame {
     /// The final image.
     pub image: RgbaImage,
+    /// The analysis targets of the final frame, when requested.
+    pub analysis: Option<AnalysisImage>,
     /// GPU report of the last frame.
     pub report: FrameReport,
     /// Statistics of the last frame.
@@ -246,11 +252,44 @@ pub fn render_scene(
     frames: u32,
     tweak: Option<SettingsOverride<'_>>,
 ) -> Result<HeadlessFrame, RenderError> {
+    render_scene_with(
+        desc,
+        &RenderRequest {
+            width,
+            height,
+            frames,
+            tweak,
+            analysis: false,
+        },
+    )
+}
+
+/// What [`render_scene_with`] renders.
+pub struct RenderRequest<'a> {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frames to render (at least one).
+    pub frames: u32,
+    /// Changes to the scene's shadow settings.
+    pub tweak: Option<SettingsOverride<'a>>,
+    /// Also record the per-pixel shadow factor, position and normal.
+    pub analysis: bool,
+}
+
+/// Renders a scene as requested and returns the last frame.
+pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Result<HeadlessFrame, RenderError> {
+    let (width, height, frames) = (request.width, request.height, request.frames);
     let mut desc = desc.clone();
-    if let Some(tweak) = tweak {
+    if let Some(tweak) = request.tweak {
         tweak(&mut desc.shadows);
     }
-    let renderer = Renderer::headless(width, height)?;
+    let renderer = if request.analysis {
+        Renderer::headless_with_analysis(width, height)?
+    } else {
+        Renderer::headless(width, height)?
+    };
     let adapter = renderer.gpu.describe();
     let mut app = headless_app(renderer);
     let instances = spawn_scene(app.world_mut(), &desc)?;
@@ -263,6 +302,7 @@ pub fn render_scene(
     let renderer = world.resource::<Renderer>();
     Ok(HeadlessFrame {
         image: renderer.read_image(),
+        analysis: renderer.read_analysis(),
         report: renderer.last_report.clone(),
         stats: world.resource::<ShadowStats>().clone(),
         frames: reports,

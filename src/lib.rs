@@ -8,6 +8,7 @@
 
 pub mod app;
 pub mod ecs;
+pub mod export;
 pub mod math;
 pub mod mesh;
 pub mod render;

@@ -6,7 +6,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use penumbra::app::{RenderError, render_scene};
+use penumbra::app::{RenderError, RenderRequest, render_scene_with};
+use penumbra::export::write_scalar_image;
 use penumbra::render::PassTiming;
 use penumbra::scene::SceneDesc;
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
@@ -60,6 +61,11 @@ struct RenderArgs {
     /// Frames to render; timings are the median over frames after the first.
     #[arg(long, default_value_t = 5)]
     frames: u32,
+    /// Also write the per-pixel sun shadow factor (the visibility the material multiplied in,
+    /// 1 where not evaluated), aligned with the colour image: a `.png` path gives 16-bit
+    /// greyscale, a `.pfm` path 32-bit float (Portable Float Map).
+    #[arg(long)]
+    shadow_out: Option<PathBuf>,
 }
 
 /// Options of `penumbra view`.
@@ -129,6 +135,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         pcf_radius,
         debug_cascades,
         frames,
+        shadow_out,
     } = args;
     let desc = SceneDesc::load(&scene)?;
     let tweak = |s: &mut ShadowSettings| {
@@ -152,7 +159,17 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             s.debug_view = ShadowDebugView::Cascades;
         }
     };
-    let result = render_scene(&desc, width, height, frames, Some(&tweak))?;
+    let request = RenderRequest {
+        width,
+        height,
+        frames,
+        tweak: Some(&tweak),
+        analysis: shadow_out.is_some(),
+    };
+    let result = render_scene_with(&desc, &request)?;
+    if let (Some(path), Some(analysis)) = (&shadow_out, &result.analysis) {
+        write_scalar_image(path, analysis.width, analysis.height, &analysis.shadow)?;
+    }
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| RenderError::Write {
             path: out.display().to_string(),

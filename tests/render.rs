@@ -269,3 +269,71 @@ fn every_shipped_scene_renders_with_visible_shadows() {
 fn lum(p: &image::Rgba<u8>) -> f32 {
     (0.2126 * p.0[0] as f32 + 0.7152 * p.0[1] as f32 + 0.0722 * p.0[2] as f32) / 255.0
 }
+
+#[test]
+fn analysis_targets_and_probes_agree_with_the_image() {
+    use penumbra::app::spawn_scene;
+    use penumbra::ecs::ShadowPlugin;
+    use penumbra::render::Renderer;
+    use penumbra::render::frame::FrameInputs;
+    use penumbra::render::probe::ProbeGpu;
+
+    for mode in ["Pcf", "Pcss"] {
+        let desc = scene(&SHADOW_SCENE.replace("mode: Pcf", &format!("mode: {mode}")));
+        let (w, h) = (96, 72);
+        let mut renderer = Renderer::headless_with_analysis(w, h).unwrap_or_else(|e| panic!("{e}"));
+        let mut app = bevy_app::App::new();
+        app.add_plugins(ShadowPlugin);
+        app.world_mut()
+            .insert_resource(penumbra::ecs::ViewportSize { width: w, height: h });
+        spawn_scene(app.world_mut(), &desc).unwrap();
+        app.update();
+        renderer.render(&FrameInputs::from_world(app.world(), 0));
+        let a = renderer.read_analysis().expect("analysis targets");
+        let at = |p: Vec3| {
+            let (x, y) = project(&desc, w, h, p);
+            (y * w + x) as usize
+        };
+        let under = at(Vec3::new(0.0, 0.0, 0.9));
+        let open = at(Vec3::new(5.0, 0.0, 3.0));
+        assert!(a.evaluated[under] && a.evaluated[open], "{mode}");
+        assert!(
+            a.shadow[under] < 0.05,
+            "{mode}: shadow factor under the slab is {}",
+            a.shadow[under]
+        );
+        assert!(
+            a.shadow[open] > 0.95,
+            "{mode}: shadow factor on open ground is {}",
+            a.shadow[open]
+        );
+        assert!(
+            (a.position[open] - Vec3::new(5.0, 0.0, 3.0)).length() < 0.3,
+            "{:?}",
+            a.position[open]
+        );
+        assert!(a.normal[open].abs_diff_eq(Vec3::Y, 1e-3));
+        assert!(
+            a.cascade[open] < 2 && a.cascade[under] < 2,
+            "two cascades: {} {}",
+            a.cascade[open],
+            a.cascade[under]
+        );
+        // The probe pass evaluates the same function at the same points: same values.
+        let pixels: Vec<usize> = (0..a.shadow.len()).filter(|&i| a.evaluated[i]).collect();
+        let probes: Vec<ProbeGpu> = pixels
+            .iter()
+            .map(|&i| ProbeGpu::new(a.position[i], a.normal[i], ((i as u32) % w, (i as u32) / w)))
+            .collect();
+        let values = renderer.evaluate_probes(&FrameInputs::from_world(app.world(), 0), &probes);
+        let worst = pixels
+            .iter()
+            .zip(&values)
+            .map(|(&i, v)| (a.shadow[i] - v).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst < 0.02,
+            "{mode}: probes differ from the fragment shader by up to {worst}"
+        );
+    }
+}

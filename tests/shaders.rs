@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        16,
-        "PCF + 3 PCSS qualities, each with and without debug view and alpha mask"
+        32,
+        "PCF + 3 PCSS qualities, each with and without debug view, alpha mask and analysis outputs"
     );
     for variant in variants {
         let module = library
@@ -73,5 +73,19 @@ fn the_generated_poisson_module_holds_every_pattern() {
         "FILTER_49_TAPS",
     ] {
         assert!(source.contains(&format!("const {name}")), "{name} missing");
+    }
+}
+
+#[test]
+fn probe_shader_validates_for_every_filter() {
+    let mut library = ShaderLibrary::new().unwrap();
+    for variant in ForwardVariant::all()
+        .into_iter()
+        .filter(|v| !v.alpha_mask && !v.debug_cascades && !v.analysis)
+    {
+        let module = library
+            .probe(variant)
+            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
+        assert_eq!(module.entry_points[0].name, "main");
     }
 }

@@ -16,6 +16,14 @@ pub enum GpuError {
          then run the command again."
     )]
     NoAdapter(String),
+    /// The device lacks a capability a feature needs.
+    #[error("the GPU adapter `{adapter}` cannot {what}")]
+    Unsupported {
+        /// Adapter name.
+        adapter: String,
+        /// What it cannot do.
+        what: String,
+    },
     /// The adapter refused to open a device.
     #[error("the GPU adapter `{adapter}` could not open a device: {message}")]
     Device {
@@ -74,7 +82,11 @@ impl GpuContext {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("penumbra"),
                 required_features,
-                required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+                required_limits: wgpu::Limits {
+                    // The analysis targets (colour + three Rgba32Float) need 56 bytes per sample.
+                    max_color_attachment_bytes_per_sample: adapter.limits().max_color_attachment_bytes_per_sample,
+                    ..wgpu::Limits::default().using_resolution(adapter.limits())
+                },
                 ..Default::default()
             })
             .await

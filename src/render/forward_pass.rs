@@ -8,7 +8,7 @@ use crate::render::frame::FrameContext;
 use crate::render::graph::RenderNode;
 use crate::render::layouts::Layouts;
 use crate::render::shadow_pass::{draw_batches, vertex_layout};
-use crate::render::target::DEPTH_FORMAT;
+use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Name of the forward pass in GPU timings.
@@ -42,6 +42,10 @@ fn create_pipeline(
         immediate_size: 0,
     });
     let buffers = [Some(vertex_layout())];
+    let mut targets = vec![Some(format.into())];
+    if variant.analysis {
+        targets.extend((0..3).map(|_| Some(ANALYSIS_FORMAT.into())));
+    }
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(&format!("forward {}", variant.label())),
         layout: Some(&layout),
@@ -72,7 +76,7 @@ fn create_pipeline(
             module: &shader,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
-            targets: &[Some(format.into())],
+            targets: &targets,
         }),
         multiview_mask: None,
         cache: None,
@@ -112,20 +116,43 @@ impl RenderNode for ForwardPass {
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
         let settings = ctx.sun.map(|s| s.settings).unwrap_or_default();
-        let opaque = self.pipeline(ctx, ForwardVariant::for_settings(&settings, false));
-        let masked = self.pipeline(ctx, ForwardVariant::for_settings(&settings, true));
+        let analysis = ctx.target.analysis.is_some();
+        let variant = |mask| ForwardVariant {
+            analysis,
+            ..ForwardVariant::for_settings(&settings, mask)
+        };
+        let opaque = self.pipeline(ctx, variant(false));
+        let masked = self.pipeline(ctx, variant(true));
         let [r, g, b] = self.clear_color;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(FORWARD_PASS_NAME),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &ctx.target.color,
+        let attachment = |view, clear| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
+                    load: wgpu::LoadOp::Clear(clear),
                     store: wgpu::StoreOp::Store,
                 },
-            })],
+            })
+        };
+        let mut color_attachments = vec![attachment(&ctx.target.color, wgpu::Color { r, g, b, a: 1.0 })];
+        // Background: shadow factor 1 (nothing shadows the sky), cascade -1, position w = 0.
+        let clears = [
+            wgpu::Color {
+                r: 1.0,
+                g: -1.0,
+                b: 0.0,
+                a: 0.0,
+            },
+            wgpu::Color::TRANSPARENT,
+            wgpu::Color::TRANSPARENT,
+        ];
+        for (view, clear) in ctx.target.analysis.iter().flatten().zip(clears) {
+            color_attachments.push(attachment(view, clear));
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(FORWARD_PASS_NAME),
+            color_attachments: &color_attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &ctx.target.depth,
                 depth_ops: Some(wgpu::Operations {

@@ -52,29 +52,27 @@ fn storage<T>() -> wgpu::BindingType {
 impl Layouts {
     /// Creates every layout and sampler.
     pub fn new(device: &wgpu::Device) -> Self {
-        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        // NOTE: the view group is also bound by the shadow-probe compute pass.
+        let fc = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let vfc = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("view"),
             entries: &[
-                entry(0, vf, uniform::<FrameUniformsGpu>(false)),
-                entry(1, vf, uniform::<ShadowUniformsGpu>(false)),
+                entry(0, vfc, uniform::<FrameUniformsGpu>(false)),
+                entry(1, vfc, uniform::<ShadowUniformsGpu>(false)),
                 entry(
                     2,
-                    wgpu::ShaderStages::FRAGMENT,
+                    fc,
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::D2Array,
                         multisampled: false,
                     },
                 ),
-                entry(
-                    3,
-                    wgpu::ShaderStages::FRAGMENT,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                ),
+                entry(3, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
                 entry(
                     4,
-                    wgpu::ShaderStages::FRAGMENT,
+                    fc,
                     wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
                 ),
             ],

@@ -8,6 +8,7 @@ pub mod gpu_types;
 pub mod graph;
 pub mod layouts;
 pub mod plugin;
+pub mod probe;
 pub mod renderer;
 pub mod scene_gpu;
 pub mod shadow_map;

@@ -10,13 +10,14 @@ use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
 use crate::render::graph::RenderGraph;
 use crate::render::layouts::Layouts;
+use crate::render::probe::{ProbeGpu, ProbePass};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadow_map::ShadowMap;
 use crate::render::shadow_pass::ShadowPass;
-use crate::render::target::{HeadlessTarget, TargetViews};
+use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
 use crate::settings::{MIN_RESOLUTION, ShadowDebugView};
-use crate::shader::ShaderLibrary;
+use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// What the last frame cost on the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -52,6 +53,7 @@ pub struct Renderer {
     timer: GpuTimer,
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
+    probes: ProbePass,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -60,6 +62,28 @@ impl Renderer {
     /// Opens a headless device and a `width`×`height` target.
     pub fn headless(width: u32, height: u32) -> Result<Self, GpuError> {
         Ok(Self::new(GpuContext::headless()?, width.max(1), height.max(1)))
+    }
+
+    /// Like [`headless`](Self::headless), with analysis targets: every frame also records
+    /// the shadow factor, world position and normal of each pixel, read with
+    /// [`read_analysis`](Self::read_analysis).
+    pub fn headless_with_analysis(width: u32, height: u32) -> Result<Self, GpuError> {
+        let gpu = GpuContext::headless()?;
+        let bytes = gpu.device.limits().max_color_attachment_bytes_per_sample;
+        if bytes < 56 {
+            return Err(GpuError::Unsupported {
+                adapter: gpu.adapter_info.name.clone(),
+                what: format!("write analysis targets: 56 colour bytes per sample needed, {bytes} available"),
+            });
+        }
+        let mut renderer = Self::new(gpu, width.max(1), height.max(1));
+        renderer.target = Some(HeadlessTarget::new(
+            &renderer.gpu.device,
+            width.max(1),
+            height.max(1),
+            true,
+        ));
+        Ok(renderer)
     }
 
     /// Builds a renderer without an offscreen target, for drawing into a window with
@@ -82,7 +106,8 @@ impl Renderer {
         graph.add_node(Box::new(ShadowPass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         graph.compile().expect("the built-in graph is acyclic and complete");
-        let target = Some(HeadlessTarget::new(&gpu.device, width, height));
+        let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
+        let probes = ProbePass::new(&gpu.device);
         Self {
             gpu,
             layouts,
@@ -92,6 +117,7 @@ impl Renderer {
             timer,
             graph,
             target,
+            probes,
             last_report: FrameReport::default(),
         }
     }
@@ -193,6 +219,24 @@ impl Renderer {
             shadow_memory: shadow_map.memory_bytes(),
         };
         &self.last_report
+    }
+
+    /// Evaluates the sun's shadow at fixed world points with the filter and cascades of the
+    /// last rendered frame (render a frame first). Values are what a material at that point
+    /// would multiply into the sun term.
+    pub fn evaluate_probes(&mut self, input: &FrameInputs<'_>, probes: &[ProbeGpu]) -> Vec<f32> {
+        let Some(view_group) = self.scene.view_group.as_ref() else {
+            return vec![f32::NAN; probes.len()];
+        };
+        let settings = input.view.sun.map(|s| s.settings).unwrap_or_default();
+        let variant = ForwardVariant::for_settings(&settings, false);
+        self.probes
+            .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, view_group, probes)
+    }
+
+    /// Reads the last frame's analysis targets back (None without analysis targets).
+    pub fn read_analysis(&self) -> Option<AnalysisImage> {
+        self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
     }
 
     /// Reads the last rendered image back.

@@ -1,11 +1,15 @@
-//! Offscreen colour + depth targets, and reading the colour back into an image.
+//! Offscreen colour + depth targets, optional analysis targets (shadow factor, world position
+//! and normal per pixel), and reading them back to the CPU.
 
+use glam::Vec3;
 use image::RgbaImage;
 
 /// Colour format of headless targets (written as sRGB PNG).
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// Depth format of the camera's depth buffer (reverse-Z: cleared to 0, nearer is greater).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the three analysis targets.
+pub const ANALYSIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// The views a frame renders into.
 pub struct TargetViews {
@@ -15,15 +19,39 @@ pub struct TargetViews {
     pub format: wgpu::TextureFormat,
     /// Depth attachment.
     pub depth: wgpu::TextureView,
+    /// Analysis attachments (shadow, position, normal), when the frame is to be scored.
+    pub analysis: Option<[wgpu::TextureView; 3]>,
     /// Size in pixels.
     pub width: u32,
     /// Size in pixels.
     pub height: u32,
 }
 
+/// What the analysis targets held for one frame, one entry per pixel, rows top to bottom.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AnalysisImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The shadow factor the material multiplied into the sun term (1 where not evaluated).
+    pub shadow: Vec<f32>,
+    /// Cascade sampled, 0–3, or 255 where none (background, past max_distance, shadows off).
+    pub cascade: Vec<u8>,
+    /// True where the shadow was evaluated: a shadow receiver facing the sun.
+    pub evaluated: Vec<bool>,
+    /// World position (background pixels hold NaN).
+    pub position: Vec<Vec3>,
+    /// Unit normal facing the camera (background pixels hold NaN).
+    pub normal: Vec<Vec3>,
+    /// `n · l` of the pixel (0 for background).
+    pub n_dot_l: Vec<f32>,
+}
+
 /// An offscreen render target that can be read back.
 pub struct HeadlessTarget {
     color: wgpu::Texture,
+    analysis: Option<[wgpu::Texture; 3]>,
     /// Views to render into.
     pub views: TargetViews,
 }
@@ -52,15 +80,72 @@ pub fn texture_2d(
     })
 }
 
+fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
 fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
-    texture_2d(
+    view(&texture_2d(
         device,
         "camera depth",
         (width, height),
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
-    )
-    .create_view(&wgpu::TextureViewDescriptor::default())
+    ))
+}
+
+/// Copies a whole texture to the CPU (waits for the GPU); `texel_bytes` per texel, rows packed.
+fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, texel_bytes: u32) -> Vec<u8> {
+    let (width, height) = (texture.width(), texture.height());
+    let row = width * texel_bytes;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback"),
+    });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+    queue.submit([encoder.finish()]);
+    let slice = buffer.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    let _ = device.poll(wgpu::PollType::wait_indefinitely());
+    let mut bytes = Vec::with_capacity((row * height) as usize);
+    if let Ok(data) = slice.get_mapped_range() {
+        for y in 0..height as usize {
+            let start = y * padded as usize;
+            bytes.extend_from_slice(&data[start..start + row as usize]);
+        }
+    }
+    buffer.unmap();
+    bytes
+}
+
+/// Reads an `Rgba32Float` texture as texels.
+fn read_f32x4(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<[f32; 4]> {
+    let bytes = read_texture(device, queue, texture, 16);
+    bytes
+        .chunks_exact(16)
+        .map(bytemuck::pod_read_unaligned::<[f32; 4]>)
+        .collect()
 }
 
 impl TargetViews {
@@ -76,6 +161,7 @@ impl TargetViews {
             color,
             format,
             depth: depth_view(device, width, height),
+            analysis: None,
             width,
             height,
         }
@@ -83,57 +169,62 @@ impl TargetViews {
 }
 
 impl HeadlessTarget {
-    /// Allocates a `width`×`height` target.
-    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+    /// Allocates a `width`×`height` target; with `analysis`, also the three analysis targets.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32, analysis: bool) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let color = texture_2d(device, "headless colour", (width, height), HEADLESS_FORMAT, usage);
-        let view = color.create_view(&wgpu::TextureViewDescriptor::default());
-        let views = TargetViews::for_color(device, view, HEADLESS_FORMAT, width, height);
-        Self { color, views }
+        let analysis = analysis.then(|| {
+            ["analysis shadow", "analysis position", "analysis normal"]
+                .map(|label| texture_2d(device, label, (width, height), ANALYSIS_FORMAT, usage))
+        });
+        let mut views = TargetViews::for_color(device, view(&color), HEADLESS_FORMAT, width, height);
+        views.analysis = analysis.as_ref().map(|textures| textures.each_ref().map(view));
+        Self { color, analysis, views }
     }
 
     /// Copies the colour target to the CPU (waits for the GPU).
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> RgbaImage {
         let (width, height) = (self.views.width, self.views.height);
-        let row = width * 4;
-        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("colour readback"),
-            size: padded as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("readback"),
-        });
-        encoder.copy_texture_to_buffer(
-            self.color.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        queue.submit([encoder.finish()]);
-        let slice = buffer.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |_| {});
-        let _ = device.poll(wgpu::PollType::wait_indefinitely());
-        let mut pixels = Vec::with_capacity((row * height) as usize);
-        if let Ok(data) = slice.get_mapped_range() {
-            for y in 0..height as usize {
-                let start = y * padded as usize;
-                pixels.extend_from_slice(&data[start..start + row as usize]);
-            }
-        }
-        buffer.unmap();
+        let pixels = read_texture(device, queue, &self.color, 4);
         RgbaImage::from_raw(width, height, pixels).unwrap_or_else(|| RgbaImage::new(width, height))
+    }
+
+    /// Copies the analysis targets to the CPU, if this target has them.
+    pub fn read_analysis(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<AnalysisImage> {
+        let [shadow, position, normal] = self.analysis.as_ref()?.each_ref().map(|t| read_f32x4(device, queue, t));
+        let drawn = |p: &[f32; 4]| p[3] > 0.5;
+        Some(AnalysisImage {
+            width: self.views.width,
+            height: self.views.height,
+            shadow: shadow.iter().map(|s| s[0]).collect(),
+            cascade: shadow
+                .iter()
+                .zip(&position)
+                .map(|(s, p)| if drawn(p) && s[1] >= 0.0 { s[1] as u8 } else { 255 })
+                .collect(),
+            evaluated: shadow.iter().map(|s| s[2] > 0.5).collect(),
+            position: position
+                .iter()
+                .map(|p| {
+                    if drawn(p) {
+                        Vec3::new(p[0], p[1], p[2])
+                    } else {
+                        Vec3::NAN
+                    }
+                })
+                .collect(),
+            normal: normal
+                .iter()
+                .zip(&position)
+                .map(|(n, p)| {
+                    if drawn(p) {
+                        Vec3::new(n[0], n[1], n[2])
+                    } else {
+                        Vec3::NAN
+                    }
+                })
+                .collect(),
+            n_dot_l: shadow.iter().map(|s| s[3]).collect(),
+        })
     }
 }

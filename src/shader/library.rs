@@ -61,6 +61,10 @@ const FORWARD: ModuleSource = ModuleSource {
     file: "forward.wgsl",
     source: include_str!("../../shaders/forward.wgsl"),
 };
+const PROBE: ModuleSource = ModuleSource {
+    file: "probe.wgsl",
+    source: include_str!("../../shaders/probe.wgsl"),
+};
 const CASTER: ModuleSource = ModuleSource {
     file: "caster.wgsl",
     source: include_str!("../../shaders/caster.wgsl"),
@@ -157,6 +161,11 @@ impl ShaderLibrary {
     /// The shadow-caster shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
     pub fn caster(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(CASTER.file, CASTER.source, HashMap::new())
+    }
+
+    /// The shadow-probe compute shader (`main`), with the filter of `variant`.
+    pub fn probe(&mut self, variant: ForwardVariant) -> Result<naga::Module, ShaderError> {
+        self.compose(PROBE.file, PROBE.source, variant.shader_defs())
     }
 
     /// The generated `penumbra::poisson` source.

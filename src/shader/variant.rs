@@ -24,6 +24,9 @@ pub struct ForwardVariant {
     pub debug_cascades: bool,
     /// Discard fragments below the material's alpha cutoff.
     pub alpha_mask: bool,
+    /// Also write the shadow factor, world position and normal of every pixel (three extra
+    /// `Rgba32Float` targets), for scoring against a reference.
+    pub analysis: bool,
 }
 
 impl ForwardVariant {
@@ -37,6 +40,7 @@ impl ForwardVariant {
             filter,
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
             alpha_mask,
+            analysis: false,
         }
     }
 
@@ -52,11 +56,14 @@ impl ForwardVariant {
         for filter in filters {
             for debug_cascades in [false, true] {
                 for alpha_mask in [false, true] {
-                    all.push(ForwardVariant {
-                        filter,
-                        debug_cascades,
-                        alpha_mask,
-                    });
+                    for analysis in [false, true] {
+                        all.push(ForwardVariant {
+                            filter,
+                            debug_cascades,
+                            alpha_mask,
+                            analysis,
+                        });
+                    }
                 }
             }
         }
@@ -83,6 +90,9 @@ impl ForwardVariant {
         if self.alpha_mask {
             defs.insert("ALPHA_MASK".to_string(), ShaderDefValue::Bool(true));
         }
+        if self.analysis {
+            defs.insert("ANALYSIS_OUTPUTS".to_string(), ShaderDefValue::Bool(true));
+        }
         defs
     }
 
@@ -97,6 +107,9 @@ impl ForwardVariant {
         }
         if self.alpha_mask {
             s.push_str("+mask");
+        }
+        if self.analysis {
+            s.push_str("+analysis");
         }
         s
     }

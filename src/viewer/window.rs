@@ -249,6 +249,7 @@ impl Viewer {
             color: view,
             format: scene_format,
             depth: state.depth.depth.clone(),
+            analysis: None,
             width: state.config.width,
             height: state.config.height,
         };

@@ -1,0 +1,165 @@
+//! Shadow probes: evaluates the directional shadow at fixed world points with a compute pass
+//! that calls the same `blend_cascade_shadow` as every material. Used to measure temporal
+//! stability: the same points are evaluated while the camera moves.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::num::NonZeroU64;
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec3, Vec4};
+use wgpu::util::DeviceExt;
+
+use crate::render::context::GpuContext;
+use crate::render::layouts::Layouts;
+use crate::shader::{ForwardVariant, ShaderLibrary};
+
+/// Mirror of WGSL `Probe` in `probe.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ProbeGpu {
+    /// xyz: world position, w: pixel x (seeds the per-pixel noise as in the forward pass).
+    pub position: Vec4,
+    /// xyz: unit normal, w: pixel y.
+    pub normal: Vec4,
+}
+
+impl ProbeGpu {
+    /// A probe at `position` with `normal`, seen at pixel `(x, y)`.
+    pub fn new(position: Vec3, normal: Vec3, (x, y): (u32, u32)) -> Self {
+        Self {
+            position: position.extend(x as f32),
+            normal: normal.extend(y as f32),
+        }
+    }
+}
+
+/// Pipelines (one per shadow filter) and the bind group layout of the probe pass.
+pub struct ProbePass {
+    layout: wgpu::BindGroupLayout,
+    pipelines: HashMap<ForwardVariant, wgpu::ComputePipeline>,
+}
+
+impl ProbePass {
+    /// Creates the bind group layout; pipelines are built on first use.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let storage = |binding, read_only, size: u64| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: NonZeroU64::new(size),
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("probes"),
+            entries: &[storage(0, true, size_of::<ProbeGpu>() as u64), storage(1, false, 4)],
+        });
+        Self {
+            layout,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// Evaluates the shadow at every probe with the filter of `variant`, using the view group
+    /// of the frame just rendered, and waits for the results.
+    pub fn evaluate(
+        &mut self,
+        gpu: &GpuContext,
+        layouts: &Layouts,
+        library: &mut ShaderLibrary,
+        variant: ForwardVariant,
+        view_group: &wgpu::BindGroup,
+        probes: &[ProbeGpu],
+    ) -> Vec<f32> {
+        if probes.is_empty() {
+            return Vec::new();
+        }
+        let device = &gpu.device;
+        let key = ForwardVariant {
+            debug_cascades: false,
+            alpha_mask: false,
+            analysis: false,
+            ..variant
+        };
+        let probe_layout = &self.layout;
+        let pipeline = self.pipelines.entry(key).or_insert_with(|| {
+            let module = library
+                .probe(key)
+                .expect("the shipped probe shader composes (checked by tests)");
+            let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("probe"),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("probe"),
+                bind_group_layouts: &[Some(&layouts.view), Some(probe_layout)],
+                immediate_size: 0,
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("probe"),
+                layout: Some(&layout),
+                module: &shader,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        });
+        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probes"),
+            contents: bytemuck::cast_slice(probes),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let size = (probes.len() * 4) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe results"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("probes"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: input.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: output.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("probes") });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("probes"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, view_group, &[]);
+            pass.set_bind_group(1, &group, &[]);
+            pass.dispatch_workgroups((probes.len() as u32).div_ceil(64), 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
+        gpu.queue.submit([encoder.finish()]);
+        let slice = readback.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |_| {});
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        let values = match slice.get_mapped_range() {
+            Ok(data) => bytemuck::cast_slice::<u8, f32>(&data).to_vec(),
+            Err(_) => vec![f32::NAN; probes.len()],
+        };
+        readback.unmap();
+        values
+    }
+}
