@@ -68,6 +68,7 @@ fn frame_input() -> CascadeInput {
         resolution: 2048,
         fit: CascadeFit::Tight,
         angular_diameter: 0.0093,
+        blend_width: 0.1,
     }
 }
 

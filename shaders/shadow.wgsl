@@ -30,7 +30,7 @@ const MAX_PENUMBRA_TEXELS: f32 = 32.0;
 // Steepest receiver slope (world depth change per metre sideways) the receiver-plane bias
 // follows; steeper surfaces are treated as this slope, which keeps the bias finite at grazing
 // angles.
-const MAX_RECEIVER_SLOPE: f32 = 12.0;
+const MAX_RECEIVER_SLOPE: f32 = 40.0;
 // Receiver-plane bias leaves this much extra depth (in texels of slope) for quantisation.
 const RECEIVER_PLANE_EPSILON_TEXELS: f32 = 0.5;
 const GOLDEN_RATIO_FRACT: f32 = 0.618033988749;
@@ -106,7 +106,9 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
     let clip = m * vec4<f32>(offset_pos, 1.0);
     var out: ShadowProjection;
     out.uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
-    out.depth = clip.z;
+    // NOTE: a receiver past the box's far plane (depth < 0) is compared as if on it: a
+    // stored caster (depth > 0) still shadows it, an empty texel (cleared to 0) does not.
+    out.depth = max(clip.z, 0.0);
     out.layer = index;
     out.dz_duv = vec2<f32>(0.0);
     if (shadow.flags & SHADOW_FLAG_RECEIVER_PLANE) != 0u {

@@ -6,11 +6,14 @@
 //! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod app;
+pub mod bench;
 pub mod ecs;
 pub mod export;
 pub mod math;
 pub mod mesh;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod settings;

@@ -85,6 +85,39 @@ struct ViewArgs {
     exit_after: Option<u32>,
 }
 
+/// Options of `penumbra bench`.
+#[derive(Args)]
+struct BenchArgs {
+    /// Scene files (default: the contact-hardening pillars, the benchmark field and the thin
+    /// casters under a grazing sun).
+    #[arg(long, num_args = 1..)]
+    scenes: Vec<PathBuf>,
+    /// Folder for report.md and plot.png.
+    #[arg(long, default_value = "out/bench")]
+    out: PathBuf,
+    /// Resolution of the GPU timings.
+    #[arg(long, default_value_t = 1920)]
+    width: u32,
+    /// Resolution of the GPU timings.
+    #[arg(long, default_value_t = 1080)]
+    height: u32,
+    /// Width at which errors are scored (height follows the timing aspect ratio).
+    #[arg(long, default_value_t = 480)]
+    analysis_width: u32,
+    /// Most reference rays per point (adaptive from 16).
+    #[arg(long, default_value_t = 256)]
+    samples: u32,
+    /// Frames timed per preset.
+    #[arg(long, default_value_t = 30)]
+    frames: u32,
+    /// Only these presets (comma-separated names).
+    #[arg(long, value_delimiter = ',')]
+    presets: Vec<String>,
+    /// A fast, rough run: small analysis image, few rays, few frames.
+    #[arg(long)]
+    quick: bool,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene headless to a PNG and print per-pass GPU times and CPU times.
@@ -93,6 +126,9 @@ enum Command {
     /// `viewer` feature).
     #[cfg(feature = "viewer")]
     View(ViewArgs),
+    /// Score every shadow preset against a ray-traced reference and measure its GPU and CPU
+    /// cost; writes report.md and plot.png.
+    Bench(BenchArgs),
     /// Load a scene file and report every problem in it.
     Check {
         /// Scene files (RON).
@@ -254,6 +290,78 @@ fn view(args: ViewArgs) -> Result<(), String> {
     penumbra::viewer::run(&desc, options).map_err(|e| e.to_string())
 }
 
+fn bench(args: BenchArgs) -> Result<(), String> {
+    let scenes = if args.scenes.is_empty() {
+        [
+            "assets/scenes/pillars.ron",
+            "assets/bench/field.ron",
+            "assets/scenes/thin.ron",
+        ]
+        .map(PathBuf::from)
+        .to_vec()
+    } else {
+        args.scenes
+    };
+    let mut presets = penumbra::bench::presets();
+    if !args.presets.is_empty() {
+        let known: Vec<&str> = presets.iter().map(|p| p.name).collect();
+        if let Some(unknown) = args.presets.iter().find(|n| !known.contains(&n.as_str())) {
+            return Err(format!(
+                "unknown preset `{unknown}`; expected one of {}",
+                known.join(", ")
+            ));
+        }
+        presets.retain(|p| args.presets.iter().any(|n| n == p.name));
+    }
+    let quick = args.quick;
+    let analysis_width = if quick {
+        args.analysis_width.min(240)
+    } else {
+        args.analysis_width
+    }
+    .max(16);
+    let analysis_height = (analysis_width as u64 * args.height.max(1) as u64 / args.width.max(1) as u64).max(9) as u32;
+    let config = penumbra::bench::BenchConfig {
+        scenes,
+        presets,
+        width: args.width.max(1),
+        height: args.height.max(1),
+        analysis_width,
+        analysis_height,
+        timing_frames: if quick { args.frames.min(5) } else { args.frames }.max(1),
+        warmup_frames: if quick { 2 } else { 5 },
+        reference: penumbra::reference::ReferenceSettings {
+            max_samples: if quick { args.samples.min(64) } else { args.samples }.max(16),
+            min_samples: 16,
+            seed: 1,
+        },
+        shimmer_steps: if quick { 4 } else { 8 },
+        max_probes: if quick { 4_000 } else { 20_000 },
+        progress: true,
+    };
+    let report = penumbra::bench::run_bench(&config).map_err(|e| e.to_string())?;
+    let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
+    println!("adapter    {} ({}, {})", report.adapter, report.backend, report.driver);
+    println!(
+        "{:<22} {:>9} {:>9} {:>12} {:>8}",
+        "preset", "gpu ms", "cpu ms", "penumbra MAE", "acne %"
+    );
+    for p in &report.presets {
+        let cpu = p.scenes.iter().map(|s| s.cpu_ms).sum::<f64>() / p.scenes.len().max(1) as f64;
+        let acne = p.scenes.iter().map(|s| s.errors.acne_rate).sum::<f64>() / p.scenes.len().max(1) as f64;
+        println!(
+            "{:<22} {:>9.3} {:>9.3} {:>12.4} {:>8.2}",
+            p.preset,
+            p.mean_gpu_ms(),
+            cpu,
+            p.mean_penumbra_mae(),
+            acne * 100.0
+        );
+    }
+    println!("report     {}", path.display());
+    Ok(())
+}
+
 fn check(scenes: Vec<PathBuf>) -> Result<(), String> {
     let mut failed = 0;
     for path in &scenes {
@@ -278,6 +386,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render(args).map_err(|e| e.to_string()),
         #[cfg(feature = "viewer")]
         Command::View(args) => view(args),
+        Command::Bench(args) => bench(args),
         Command::Check { scenes } => check(scenes),
     };
     match result {

@@ -141,6 +141,7 @@ fn input() -> BoxedStrategy<CascadeInput> {
                     resolution,
                     fit,
                     angular_diameter: ad,
+                    blend_width: 0.1,
                 }
             },
         )
@@ -212,6 +213,7 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
                 resolution: res,
                 fit,
                 angular_diameter: ad,
+                blend_width: 0.1,
             },
         )
         .boxed()
@@ -319,7 +321,9 @@ proptest! {
         prop_assert_eq!(set.count, inp.count);
         for (i, c) in set.active().iter().enumerate() {
             prop_assert_eq!((c.near, c.far), (set.splits[i], set.splits[i + 1]));
-            for p in slice_corners(&inp.camera, c.near, c.far) {
+            // The blend band at the end of the previous cascade must be covered too.
+            let start = if i > 0 { c.near - inp.blend_width * (c.near - set.splits[i - 1]) } else { c.near };
+            for p in slice_corners(&inp.camera, start, c.far) {
                 let (q, mag) = project_f64(&c.clip_from_world, p);
                 // NOTE: the only slack is the rounding any f32 evaluation of this matrix
                 // has at this point (negligible near the origin, large far from it).

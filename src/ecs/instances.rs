@@ -5,7 +5,7 @@
 use bevy_ecs::change_detection::DetectChanges;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::RemovedComponents;
-use bevy_ecs::query::{Changed, Has, Or};
+use bevy_ecs::query::{Changed, Has, Or, With};
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Query, Res, ResMut};
 use glam::{Mat4, Vec3};
@@ -13,6 +13,7 @@ use log::warn;
 
 use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
 use crate::ecs::components::{CastShadows, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform};
+use crate::ecs::origin::RenderOrigin;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
@@ -31,7 +32,7 @@ pub struct DrawKey {
 
 /// Every drawable instance, sorted by [`DrawKey`] and, within a key, along a Morton curve
 /// through the scene (so consecutive instances are close in space and cull together), in
-/// structure-of-arrays form.
+/// structure-of-arrays form. Positions and transforms are relative to [`RenderOrigin`].
 #[derive(Resource, Debug, Default)]
 pub struct RenderInstances {
     /// GPU data, in draw order; index = instance index.
@@ -56,6 +57,8 @@ pub struct RenderInstances {
     pub chunks: SphereChunks,
     /// World bounds of all casters.
     pub caster_bounds: Aabb,
+    /// The render origin every position here is relative to.
+    pub origin: Vec3,
     /// Bumped on every rebuild, so the renderer knows to re-upload.
     pub generation: u64,
     /// Entities skipped because of an invalid transform, mesh or material.
@@ -77,32 +80,38 @@ type InstanceQueryItem<'a> = (Entity, &'a Transform, &'a Mesh3d, &'a MeshMateria
 pub fn sync_instances(
     mut instances: ResMut<RenderInstances>,
     all: Query<InstanceQueryData>,
+    // NOTE: only mesh entities count; a moving camera must not trigger a rebuild.
     changed: Query<
         (),
-        Or<(
-            Changed<Transform>,
-            Changed<Mesh3d>,
-            Changed<MeshMaterial3d>,
-            Changed<CastShadows>,
-            Changed<NotShadowReceiver>,
-        )>,
+        (
+            With<Mesh3d>,
+            Or<(
+                Changed<Transform>,
+                Changed<Mesh3d>,
+                Changed<MeshMaterial3d>,
+                Changed<CastShadows>,
+                Changed<NotShadowReceiver>,
+            )>,
+        ),
     >,
     mut removed_meshes: RemovedComponents<Mesh3d>,
     mut removed_casters: RemovedComponents<CastShadows>,
     mut removed_receivers: RemovedComponents<NotShadowReceiver>,
     meshes: Res<Meshes>,
     materials: Res<Materials>,
+    origin: Res<RenderOrigin>,
 ) {
     let removed = removed_meshes.read().count() + removed_casters.read().count() + removed_receivers.read().count();
     let dirty = instances.generation == 0
         || !changed.is_empty()
         || removed > 0
         || meshes.is_changed()
-        || materials.is_changed();
+        || materials.is_changed()
+        || instances.origin != origin.0;
     if !dirty {
         return;
     }
-    rebuild(&mut instances, all.iter(), &meshes, &materials);
+    rebuild(&mut instances, all.iter(), &meshes, &materials, origin.0);
 }
 
 /// Rebuilds the instance list from scratch.
@@ -111,6 +120,7 @@ fn rebuild<'a>(
     items: impl Iterator<Item = InstanceQueryItem<'a>>,
     meshes: &Meshes,
     materials: &Materials,
+    origin: Vec3,
 ) {
     let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb)> = Vec::new();
     let mut skipped = 0;
@@ -125,7 +135,9 @@ fn rebuild<'a>(
             skipped += 1;
             continue;
         }
-        let world_from_local = transform.world_from_local();
+        // Relative to the render origin (exact: the origin is on a power-of-two grid).
+        let mut world_from_local = transform.world_from_local();
+        world_from_local.w_axis -= origin.extend(0.0);
         let bounds = mesh_data.bounds().transformed(&world_from_local);
         let key = DrawKey {
             masked: mat.is_masked(),
@@ -176,6 +188,7 @@ fn rebuild<'a>(
     }
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);
+    out.origin = origin;
     out.skipped = skipped;
     out.generation += 1;
 }

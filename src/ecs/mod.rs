@@ -6,6 +6,7 @@ pub mod components;
 pub mod culling;
 pub mod draw_groups;
 pub mod instances;
+pub mod origin;
 pub mod plugin;
 pub mod stats;
 pub mod view;
@@ -17,6 +18,7 @@ pub use components::{
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ShadowDrawGroups, ViewDrawGroups};
 pub use instances::RenderInstances;
+pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::{ActiveView, SunView};

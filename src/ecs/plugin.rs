@@ -10,6 +10,7 @@ use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::{cull_shadow_casters, cull_view};
 use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
 use crate::ecs::instances::{RenderInstances, sync_instances};
+use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
 
@@ -37,6 +38,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<AmbientLight>()
             .init_resource::<ViewportSize>()
             .init_resource::<RenderInstances>()
+            .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()
             .init_resource::<ShadowDrawGroups>()
             .init_resource::<ViewDrawGroups>()
@@ -51,7 +53,12 @@ impl Plugin for ShadowPlugin {
                 )
                     .chain(),
             )
-            .add_systems(PostUpdate, sync_instances.in_set(ShadowSystems::SyncInstances))
+            .add_systems(
+                PostUpdate,
+                (update_render_origin, sync_instances)
+                    .chain()
+                    .in_set(ShadowSystems::SyncInstances),
+            )
             .add_systems(PostUpdate, update_active_view.in_set(ShadowSystems::ComputeCascades))
             .add_systems(PostUpdate, (cull_shadow_casters, cull_view).in_set(ShadowSystems::Cull));
     }

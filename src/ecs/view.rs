@@ -9,6 +9,7 @@ use glam::Vec3;
 
 use crate::ecs::components::{Camera3d, DirectionalLight, Transform, ViewportSize};
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::origin::RenderOrigin;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::frustum::CameraView;
@@ -27,7 +28,8 @@ pub struct SunView {
     pub cascades: CascadeSet,
 }
 
-/// The camera and sun of this frame.
+/// The camera and sun of this frame. Positions (the camera, the cascade matrices) are relative
+/// to the [`RenderOrigin`](crate::ecs::origin::RenderOrigin).
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct ActiveView {
     /// The first entity with [`Camera3d`] and a valid [`Transform`], if any.
@@ -36,9 +38,11 @@ pub struct ActiveView {
     pub sun: Option<SunView>,
 }
 
-/// Builds the camera's view description from its transform and the viewport's aspect.
-fn camera_view(camera: &Camera3d, transform: &Transform, viewport: &ViewportSize) -> CameraView {
-    let world_from_view = glam::Mat4::from_rotation_translation(transform.rotation.normalize(), transform.translation);
+/// Builds the camera's view description from its transform and the viewport's aspect, in
+/// coordinates relative to the render origin.
+fn camera_view(camera: &Camera3d, transform: &Transform, viewport: &ViewportSize, origin: Vec3) -> CameraView {
+    let translation = transform.translation - origin;
+    let world_from_view = glam::Mat4::from_rotation_translation(transform.rotation.normalize(), translation);
     CameraView {
         world_from_view,
         fov_y: camera.fov_y,
@@ -79,6 +83,7 @@ pub fn update_active_view(
     cameras: Query<(&Camera3d, &Transform)>,
     lights: Query<(&DirectionalLight, &Transform, Option<&ShadowSettings>)>,
     viewport: Res<ViewportSize>,
+    origin: Res<RenderOrigin>,
     instances: Res<RenderInstances>,
     mut view: ResMut<ActiveView>,
     mut stats: ResMut<ShadowStats>,
@@ -91,7 +96,7 @@ pub fn update_active_view(
         .find(|(_, t)| t.translation.is_finite() && t.rotation.is_finite() && t.rotation.length_squared() > 1e-12)
         .map(|(c, t)| {
             let c = sanitize_camera(*c, &mut diagnostics);
-            (camera_view(&c, t, &viewport), c)
+            (camera_view(&c, t, &viewport, origin.0), c)
         });
     view.sun = None;
     for (light, transform, settings) in &lights {
@@ -130,6 +135,7 @@ pub fn update_active_view(
                 resolution: settings.resolution,
                 fit: settings.fit,
                 angular_diameter,
+                blend_width: settings.blend_width,
             }),
             _ => CascadeSet {
                 count: 0,
@@ -146,6 +152,12 @@ pub fn update_active_view(
             cascades,
         });
         break;
+    }
+    if instances.skipped > 0 {
+        diagnostics.warn(format!(
+            "{} mesh entities are not drawn: non-finite or zero-scale transform, or a missing mesh or material",
+            instances.skipped
+        ));
     }
     stats.cascades_cpu = start.elapsed();
     if view.camera.is_none() && !cameras.is_empty() {

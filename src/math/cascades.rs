@@ -50,6 +50,10 @@ pub struct CascadeInput {
     pub fit: CascadeFit,
     /// Angular diameter of the light in radians (PCSS).
     pub angular_diameter: f32,
+    /// Fraction (0–0.5) of each cascade's depth range that blends into the next cascade: each
+    /// cascade after the first also covers that band of its predecessor, so blended pixels
+    /// find both cascades' data.
+    pub blend_width: f32,
 }
 
 /// One cascade: its projection and the numbers the shaders need.
@@ -152,8 +156,20 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
     let mut cascades = [Cascade::default(); MAX_CASCADES];
     for (i, cascade) in cascades.iter_mut().enumerate().take(count) {
         let (near, far) = (splits[i], splits[i + 1]);
+        // NOTE: the previous cascade blends into this one over the last `blend_width` of its
+        // range, so this box starts there; `near` (used for selection) stays the split.
+        let blend = if input.blend_width.is_finite() {
+            f64::from(input.blend_width).clamp(0.0, 0.5)
+        } else {
+            0.0
+        };
+        let covered_near = if i > 0 {
+            f64::from(near) - blend * f64::from(near - splits[i - 1])
+        } else {
+            f64::from(near)
+        };
         let coverage = match input.fit {
-            CascadeFit::Tight => tight_coverage(&basis, &rot, f64::from(near), f64::from(far)),
+            CascadeFit::Tight => tight_coverage(&basis, &rot, covered_near, f64::from(far)),
             CascadeFit::Stable => stable_coverage(&basis, f64::from(far)),
         };
         *cascade = frame.cascade(&coverage, near, far, input.angular_diameter);
@@ -305,6 +321,7 @@ mod tests {
             resolution: 2048,
             fit,
             angular_diameter: 0.0093,
+            blend_width: 0.0,
         }
     }
 

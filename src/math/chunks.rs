@@ -215,6 +215,7 @@ mod tests {
             resolution: 2048,
             fit: CascadeFit::Tight,
             angular_diameter: 0.01,
+            blend_width: 0.0,
         });
         let mut exact = vec![0u8; centers.len()];
         let mut chunked = vec![0u8; centers.len()];

@@ -214,6 +214,7 @@ mod tests {
             resolution: 1024,
             fit: CascadeFit::Tight,
             angular_diameter: 0.01,
+            blend_width: 0.0,
         });
         (set, camera)
     }

@@ -40,7 +40,7 @@ pub struct AnalysisImage {
     pub cascade: Vec<u8>,
     /// True where the shadow was evaluated: a shadow receiver facing the sun.
     pub evaluated: Vec<bool>,
-    /// World position (background pixels hold NaN).
+    /// Position relative to the render origin (`RenderOrigin`; background pixels hold NaN).
     pub position: Vec<Vec3>,
     /// Unit normal facing the camera (background pixels hold NaN).
     pub normal: Vec<Vec3>,

@@ -1,0 +1,46 @@
+//! `penumbra bench`: scores every preset against the ray-traced reference and measures its
+//! cost, then writes a Markdown report and a plot of GPU time against error.
+
+pub mod presets;
+pub mod run;
+pub mod session;
+
+pub use presets::{Preset, presets};
+pub use run::{BenchConfig, BenchError, run_bench};
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use crate::analysis::plot::{PlotError, plot_png};
+use crate::analysis::report::{BenchReport, markdown};
+
+/// The report could not be written.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// The plot failed.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// A file or folder could not be written.
+    #[error("{path}: {message}")]
+    Io {
+        /// Path.
+        path: String,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Writes `report.md` and `plot.png` into `dir` (created if needed); returns the report path.
+pub fn write_report(report: &BenchReport, dir: &Path) -> Result<PathBuf, ReportError> {
+    let io = |path: &Path, e: std::io::Error| ReportError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    plot_png(report, &dir.join("plot.png"))?;
+    let path = dir.join("report.md");
+    std::fs::write(&path, markdown(report, Some("plot.png"))).map_err(|e| io(&path, e))?;
+    Ok(path)
+}

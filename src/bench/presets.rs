@@ -1,0 +1,128 @@
+//! The presets the benchmark scores: each a small change on top of a scene's own settings.
+
+use crate::settings::{PcssQuality, ShadowMode, ShadowSettings};
+
+/// One named configuration of the shadow filter.
+#[derive(Clone, Copy, Debug)]
+pub struct Preset {
+    /// Short name used in reports and on the plot.
+    pub name: &'static str,
+    /// What it is, in a few words.
+    pub description: &'static str,
+    /// Applies the preset on top of the scene's settings.
+    pub apply: fn(&mut ShadowSettings),
+}
+
+fn pcf(s: &mut ShadowSettings, radius: u32) {
+    s.mode = ShadowMode::Pcf;
+    s.pcf_radius = radius;
+}
+
+fn pcss(s: &mut ShadowSettings, quality: PcssQuality) {
+    s.mode = ShadowMode::Pcss;
+    s.pcss_quality = quality;
+}
+
+/// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, and receiver-plane bias
+/// and cascade blending switched off on the mid presets.
+pub fn presets() -> Vec<Preset> {
+    vec![
+        Preset {
+            name: "hard",
+            description: "PCF radius 0: one hardware 2×2 comparison",
+            apply: |s| pcf(s, 0),
+        },
+        Preset {
+            name: "pcf1",
+            description: "PCF 3×3",
+            apply: |s| pcf(s, 1),
+        },
+        Preset {
+            name: "pcf2",
+            description: "PCF 5×5",
+            apply: |s| pcf(s, 2),
+        },
+        Preset {
+            name: "pcf3",
+            description: "PCF 7×7",
+            apply: |s| pcf(s, 3),
+        },
+        Preset {
+            name: "pcf4",
+            description: "PCF 9×9",
+            apply: |s| pcf(s, 4),
+        },
+        Preset {
+            name: "pcf5",
+            description: "PCF 11×11",
+            apply: |s| pcf(s, 5),
+        },
+        Preset {
+            name: "pcf2-no-rpb",
+            description: "PCF 5×5 without receiver-plane bias",
+            apply: |s| {
+                pcf(s, 2);
+                s.receiver_plane_bias = false;
+            },
+        },
+        Preset {
+            name: "pcf2-no-blend",
+            description: "PCF 5×5 without cascade blending",
+            apply: |s| {
+                pcf(s, 2);
+                s.blend_width = 0.0;
+            },
+        },
+        Preset {
+            name: "pcss-low",
+            description: "PCSS 16 blocker / 16 filter taps",
+            apply: |s| pcss(s, PcssQuality::Low),
+        },
+        Preset {
+            name: "pcss-medium",
+            description: "PCSS 16 blocker / 25 filter taps",
+            apply: |s| pcss(s, PcssQuality::Medium),
+        },
+        Preset {
+            name: "pcss-high",
+            description: "PCSS 32 blocker / 49 filter taps",
+            apply: |s| pcss(s, PcssQuality::High),
+        },
+        Preset {
+            name: "pcss-medium-no-rpb",
+            description: "PCSS Medium without receiver-plane bias",
+            apply: |s| {
+                pcss(s, PcssQuality::Medium);
+                s.receiver_plane_bias = false;
+            },
+        },
+        Preset {
+            name: "pcss-medium-no-blend",
+            description: "PCSS Medium without cascade blending",
+            apply: |s| {
+                pcss(s, PcssQuality::Medium);
+                s.blend_width = 0.0;
+            },
+        },
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_are_distinct_and_valid() {
+        let all = presets();
+        let mut seen = std::collections::HashSet::new();
+        for p in &all {
+            assert!(seen.insert(p.name), "duplicate {}", p.name);
+            let mut s = ShadowSettings::default();
+            (p.apply)(&mut s);
+            assert!(s.problems().is_empty(), "{}: {:?}", p.name, s.problems());
+        }
+        let mut hard = ShadowSettings::default();
+        (all[0].apply)(&mut hard);
+        assert_eq!((hard.mode, hard.pcf_radius), (ShadowMode::Pcf, 0));
+    }
+}
