@@ -189,7 +189,7 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
     writeln!(out, "- **Date:** {}", cell(&r.date))?;
     writeln!(
         out,
-        "- **Timing:** {}×{}, mean of {} frames per scene",
+        "- **Timing:** {}×{}, median of {} frames per scene and preset",
         r.width, r.height, r.timing_frames
     )?;
     writeln!(out, "- **Error analysis:** {}×{}", r.analysis_width, r.analysis_height)?;
