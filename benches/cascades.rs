@@ -1,5 +1,5 @@
-//! Per-frame CPU cost of the directional shadow: computing 4 cascades and culling 1k, 10k
-//! and 100k casters against them into a reused mask buffer (`cascades_and_culling`), and the
+//! Per-frame CPU cost of the directional shadow: computing 1–4 cascades and culling 1k, 10k,
+//! 100k and 1M casters against them into a reused mask buffer (`cascades_and_culling`), the
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
 //! camera culling — on a static scene (`shadow_plugin_frame`).
 
@@ -73,22 +73,26 @@ fn frame_input() -> CascadeInput {
 }
 
 fn cascades_and_culling(c: &mut Criterion) {
-    let input = frame_input();
     let mut group = c.benchmark_group("cascades_and_culling");
-    for n in [1_000usize, 10_000, 100_000] {
-        let (centers, radii) = casters(n, 0x5EED + n as u64);
-        let mut masks = vec![0u8; n];
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter(|| {
-                let set = compute_cascades(black_box(&input));
-                cull_casters(&set, black_box(&centers), black_box(&radii), &mut masks);
-                black_box(&masks);
+    group.sample_size(20);
+    for count in 1..=4usize {
+        let input = CascadeInput { count, ..frame_input() };
+        for n in [1_000usize, 10_000, 100_000, 1_000_000] {
+            let (centers, radii) = casters(n, 0x5EED + n as u64);
+            let mut masks = vec![0u8; n];
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_with_input(BenchmarkId::new(format!("{count}_cascades"), n), &n, |b, _| {
+                b.iter(|| {
+                    let set = compute_cascades(black_box(&input));
+                    cull_casters(&set, black_box(&centers), black_box(&radii), &mut masks);
+                    black_box(&masks);
+                });
             });
-        });
+        }
     }
     group.finish();
 
+    let input = frame_input();
     c.bench_function("compute_cascades", |b| {
         b.iter(|| compute_cascades(black_box(&input)));
     });

@@ -1,6 +1,6 @@
 // Directional cascaded shadow sampling: cascade selection, PCF, PCSS, cascade blend and
 // distance fade. A material imports this module and calls `blend_cascade_shadow` once per
-// fragment; it reserves bindings 1-4 of group 0 (the view group).
+// fragment; it reserves bindings 1-5 of group 0 (the view group).
 //
 // Shader defs:
 //   SHADOW_FILTER_PCSS              PCSS instead of the PCF grid
@@ -9,12 +9,9 @@
 #define_import_path penumbra::shadow
 
 #import penumbra::shadow_types::{
-    ShadowUniforms, SHADOW_FLAG_ENABLED, SHADOW_FLAG_BLOCKER_EARLY_OUT,
+    PoissonTaps, ShadowUniforms, SHADOW_FLAG_ENABLED, SHADOW_FLAG_BLOCKER_EARLY_OUT,
     SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
 }
-#ifdef SHADOW_FILTER_PCSS
-#import penumbra::poisson
-#endif
 
 @group(0) @binding(1) var<uniform> shadow: ShadowUniforms;
 @group(0) @binding(2) var shadow_map: texture_depth_2d_array;
@@ -23,6 +20,7 @@
 @group(0) @binding(3) var shadow_compare: sampler_comparison;
 // Nearest-neighbour sampler for raw depth reads (PCSS blocker search).
 @group(0) @binding(4) var shadow_point: sampler;
+@group(0) @binding(5) var<uniform> poisson_taps: PoissonTaps;
 
 // Largest PCSS kernel radius, in texels: bounds the cost where layered casters make the
 // average blocker depth far from the receiver.
@@ -177,26 +175,29 @@ fn poisson_rotation(frag_coord: vec2<f32>) -> mat2x2<f32> {
 }
 
 #ifdef SHADOW_FILTER_PCSS
+// Tap `i` of a pattern stored two per vec4.
+fn unpack_tap(pair: vec4<f32>, i: u32) -> vec2<f32> {
+    return select(pair.xy, pair.zw, (i & 1u) == 1u);
+}
+
 // Poisson tap `i` of the blocker search pattern (unit disc).
 fn blocker_tap(i: u32) -> vec2<f32> {
 #if PCSS_BLOCKER_SAMPLES == 32
-    var taps = poisson::BLOCKER_32_TAPS;
+    return unpack_tap(poisson_taps.blocker_thirty_two[i / 2u], i);
 #else
-    var taps = poisson::BLOCKER_16_TAPS;
+    return unpack_tap(poisson_taps.blocker_sixteen[i / 2u], i);
 #endif
-    return taps[i];
 }
 
 // Poisson tap `i` of the filter pattern (unit disc).
 fn filter_tap(i: u32) -> vec2<f32> {
 #if PCSS_FILTER_SAMPLES == 49
-    var taps = poisson::FILTER_49_TAPS;
+    return unpack_tap(poisson_taps.filter_forty_nine[i / 2u], i);
 #else if PCSS_FILTER_SAMPLES == 25
-    var taps = poisson::FILTER_25_TAPS;
+    return unpack_tap(poisson_taps.filter_twenty_five[i / 2u], i);
 #else
-    var taps = poisson::FILTER_16_TAPS;
+    return unpack_tap(poisson_taps.filter_sixteen[i / 2u], i);
 #endif
-    return taps[i];
 }
 
 // Percentage-closer soft shadows: average the depth of occluders found around the receiver,

@@ -19,6 +19,17 @@ const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2u;
 const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4u;
 const SHADOW_FLAG_TEMPORAL: u32 = 8u;
 
+// The Poisson-disk tap patterns (unit disc), two taps per vec4 (xy, then zw). Filled from
+// `math::poisson::STANDARD_SETS`; uniform memory keeps the dynamically indexed taps cheap on
+// every GPU (a function-local copy of a constant array may spill to scratch memory).
+struct PoissonTaps {
+    blocker_sixteen: array<vec4<f32>, 8>,
+    blocker_thirty_two: array<vec4<f32>, 16>,
+    filter_sixteen: array<vec4<f32>, 8>,
+    filter_twenty_five: array<vec4<f32>, 13>,
+    filter_forty_nine: array<vec4<f32>, 25>,
+}
+
 struct ShadowUniforms {
     cascades: array<ShadowCascade, 4>,
     // Direction the light travels, world space, unit length.

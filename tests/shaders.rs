@@ -62,17 +62,27 @@ fn a_broken_shader_reports_the_file_and_the_problem() {
 }
 
 #[test]
-fn the_generated_poisson_module_holds_every_pattern() {
-    let library = ShaderLibrary::new().unwrap();
-    let source = library.poisson_source();
-    for name in [
-        "BLOCKER_16_TAPS",
-        "BLOCKER_32_TAPS",
-        "FILTER_16_TAPS",
-        "FILTER_25_TAPS",
-        "FILTER_49_TAPS",
+fn the_poisson_uniforms_hold_the_generated_patterns() {
+    use penumbra::math::poisson::{min_pairwise_distance, poisson_disk};
+    use penumbra::render::gpu_types::PoissonTapsGpu;
+
+    let taps = PoissonTapsGpu::standard();
+    let unpack = |pairs: &[glam::Vec4], n: usize| -> Vec<glam::Vec2> {
+        pairs
+            .iter()
+            .flat_map(|p| [glam::Vec2::new(p.x, p.y), glam::Vec2::new(p.z, p.w)])
+            .take(n)
+            .collect()
+    };
+    for (packed, count, seed) in [
+        (unpack(&taps.blocker_sixteen, 16), 16, 41),
+        (unpack(&taps.blocker_thirty_two, 32), 32, 42),
+        (unpack(&taps.filter_sixteen, 16), 16, 44),
+        (unpack(&taps.filter_twenty_five, 25), 25, 45),
+        (unpack(&taps.filter_forty_nine, 49), 49, 43),
     ] {
-        assert!(source.contains(&format!("const {name}")), "{name} missing");
+        assert_eq!(packed, poisson_disk(count, seed), "{count} taps, seed {seed}");
+        assert!(min_pairwise_distance(&packed) >= 0.7 / (count as f32).sqrt() - 1e-6);
     }
 }
 

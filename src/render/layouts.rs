@@ -4,7 +4,7 @@
 
 use std::num::NonZeroU64;
 
-use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, ShadowUniformsGpu};
+use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, PoissonTapsGpu, ShadowUniformsGpu};
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
@@ -70,6 +70,7 @@ impl Layouts {
                     },
                 ),
                 entry(3, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
+                entry(5, fc, uniform::<PoissonTapsGpu>(false)),
                 entry(
                     4,
                     fc,

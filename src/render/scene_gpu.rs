@@ -7,7 +7,7 @@ use crate::ecs::assets::{ImageData, Images, Materials, Meshes};
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame::FrameInputs;
-use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, ShadowUniformsGpu};
+use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, PoissonTapsGpu, ShadowUniformsGpu};
 use crate::render::layouts::Layouts;
 use crate::render::shadow_map::ShadowMap;
 use crate::settings::MAX_CASCADES;
@@ -68,6 +68,7 @@ pub struct SceneGpu {
     frame_uniforms: wgpu::Buffer,
     shadow_uniforms: wgpu::Buffer,
     cascade_views: wgpu::Buffer,
+    poisson_taps: wgpu::Buffer,
     /// Group 1 for the shadow pass (instances + shadow index list).
     pub shadow_instances_group: wgpu::BindGroup,
     /// Group 1 for the forward pass (instances + view index list).
@@ -158,6 +159,11 @@ impl SceneGpu {
             frame_uniforms: uniform_buffer(device, "frame uniforms", size_of::<FrameUniformsGpu>()),
             shadow_uniforms: uniform_buffer(device, "shadow uniforms", size_of::<ShadowUniformsGpu>()),
             cascade_views,
+            poisson_taps: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("poisson taps"),
+                contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
+                usage: wgpu::BufferUsages::UNIFORM,
+            }),
             cascade_view_group,
             view_group: None,
             mesh_count: 0,
@@ -255,6 +261,10 @@ impl SceneGpu {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: wgpu::BindingResource::Sampler(&layouts.shadow_compare),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: self.poisson_taps.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 4,
