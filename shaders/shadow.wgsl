@@ -100,7 +100,10 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
     let cascade = shadow.cascades[index];
     let m = cascade.clip_from_world;
     let texel_world = cascade.params.x;
-    let offset_pos = world_pos + normal * (shadow.normal_offset * texel_world);
+    // NOTE: the offset grows as the surface turns away from the light (0 facing it, the full
+    // normal_offset at grazing angles), where depth changes fastest across a texel.
+    let slope = saturate(1.0 - abs(dot(normal, shadow.light_direction)));
+    let offset_pos = world_pos + normal * (shadow.normal_offset * texel_world * slope);
     let clip = m * vec4<f32>(offset_pos, 1.0);
     var out: ShadowProjection;
     out.uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);

@@ -116,6 +116,12 @@ struct BenchArgs {
     /// A fast, rough run: small analysis image, few rays, few frames.
     #[arg(long)]
     quick: bool,
+    /// Override every scene's normal offset (texels), for tuning.
+    #[arg(long)]
+    normal_offset: Option<f32>,
+    /// Override every scene's hardware slope bias, for tuning.
+    #[arg(long)]
+    slope_bias: Option<f32>,
 }
 
 #[derive(Subcommand)]
@@ -339,7 +345,11 @@ fn bench(args: BenchArgs) -> Result<(), String> {
         max_probes: if quick { 4_000 } else { 20_000 },
         progress: true,
     };
-    let report = penumbra::bench::run_bench(&config).map_err(|e| e.to_string())?;
+    let overrides = penumbra::bench::SettingsOverrides {
+        normal_offset: args.normal_offset,
+        slope_bias: args.slope_bias,
+    };
+    let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
     let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
     println!("adapter    {} ({}, {})", report.adapter, report.backend, report.driver);
     println!(

@@ -101,7 +101,8 @@ pub struct ShadowSettings {
     pub slope_bias: f32,
     /// Largest depth bias the hardware may apply, in reverse-Z NDC depth, 0–0.05.
     pub bias_clamp: f32,
-    /// Offset of the sampling position along the surface normal, in shadow texels, 0–5.
+    /// Offset of the sampling position along the surface normal, in shadow texels, 0–5, applied
+    /// in full at grazing angles and scaled by `1 − n·l` (none where the surface faces the light).
     pub normal_offset: f32,
     /// PCF kernel radius, 0 (a single hardware comparison) to 5 (11×11).
     pub pcf_radius: u32,
@@ -133,7 +134,7 @@ impl Default for ShadowSettings {
             split_lambda: 0.6,
             max_distance: 120.0,
             fit: CascadeFit::Tight,
-            slope_bias: 2.0,
+            slope_bias: 4.0,
             bias_clamp: 0.005,
             normal_offset: 1.0,
             pcf_radius: 1,

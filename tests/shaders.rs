@@ -64,7 +64,7 @@ fn a_broken_shader_reports_the_file_and_the_problem() {
 #[test]
 fn the_poisson_uniforms_hold_the_generated_patterns() {
     use penumbra::math::poisson::{min_pairwise_distance, poisson_disk};
-    use penumbra::render::gpu_types::PoissonTapsGpu;
+    use penumbra::render::gpu_types::{PoissonTapsGpu, normalized};
 
     let taps = PoissonTapsGpu::standard();
     let unpack = |pairs: &[glam::Vec4], n: usize| -> Vec<glam::Vec2> {
@@ -78,11 +78,17 @@ fn the_poisson_uniforms_hold_the_generated_patterns() {
         (unpack(&taps.blocker_sixteen, 16), 16, 41),
         (unpack(&taps.blocker_thirty_two, 32), 32, 42),
         (unpack(&taps.filter_sixteen, 16), 16, 44),
-        (unpack(&taps.filter_twenty_five, 25), 25, 45),
+        (unpack(&taps.filter_twenty_five, 25), 25, 47),
         (unpack(&taps.filter_forty_nine, 49), 49, 43),
     ] {
-        assert_eq!(packed, poisson_disk(count, seed), "{count} taps, seed {seed}");
-        assert!(min_pairwise_distance(&packed) >= 0.7 / (count as f32).sqrt() - 1e-6);
+        let generated = poisson_disk(count, seed);
+        assert_eq!(packed, normalized(&generated), "{count} taps, seed {seed}");
+        let rms = (packed.iter().map(|t| t.length_squared()).sum::<f32>() / count as f32).sqrt();
+        assert!((rms - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-5, "rms {rms}");
+        // Scaling keeps the spacing property, relative to the scale.
+        let scale = packed[0].length() / generated[0].length();
+        assert!(min_pairwise_distance(&packed) >= scale * 0.7 / (count as f32).sqrt() - 1e-5);
+        assert!((0.8..1.25).contains(&scale), "scale {scale}");
     }
 }
 

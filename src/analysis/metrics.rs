@@ -53,6 +53,10 @@ pub struct ErrorMetrics {
     pub p95: f64,
     /// Largest absolute error.
     pub max: f64,
+    /// Measured pixels the reference sees fully lit.
+    pub lit_pixels: u64,
+    /// Measured pixels the reference sees fully shadowed.
+    pub shadowed_pixels: u64,
     /// Acne pixels divided by fully lit reference pixels.
     pub acne_rate: f64,
     /// Leak pixels divided by fully shadowed reference pixels.
@@ -180,6 +184,8 @@ impl Accumulator {
             penumbra_mae: ratio(self.penumbra_sum, self.penumbra),
             p95: percentile(&mut self.abs_errors, 95),
             max: self.max,
+            lit_pixels: self.lit,
+            shadowed_pixels: self.shadowed,
             acne_rate: ratio(self.acne as f64, self.lit),
             leak_rate: ratio(self.leaks as f64, self.shadowed),
             bias: ratio(self.sum_signed, pixels),

@@ -6,7 +6,7 @@ pub mod run;
 pub mod session;
 
 pub use presets::{Preset, presets};
-pub use run::{BenchConfig, BenchError, run_bench};
+pub use run::{BenchConfig, BenchError, SettingsOverrides, run_bench, run_bench_with};
 
 use std::path::{Path, PathBuf};
 

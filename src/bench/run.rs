@@ -276,8 +276,37 @@ fn short(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().to_string())
 }
 
+/// Bias settings forced onto every scene before the presets apply (for tuning sweeps).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SettingsOverrides {
+    /// Normal offset in texels.
+    pub normal_offset: Option<f32>,
+    /// Hardware slope bias.
+    pub slope_bias: Option<f32>,
+}
+
+impl SettingsOverrides {
+    fn apply(&self, desc: &mut SceneDesc) {
+        if let Some(v) = self.normal_offset {
+            desc.shadows.normal_offset = v;
+        }
+        if let Some(v) = self.slope_bias {
+            desc.shadows.slope_bias = v;
+        }
+    }
+
+    fn notes(&self) -> Option<String> {
+        (*self != Self::default()).then(|| format!("Settings forced on every scene: {self:?}."))
+    }
+}
+
 /// Runs the whole benchmark and returns the report (without writing files).
 pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
+    run_bench_with(config, &SettingsOverrides::default())
+}
+
+/// [`run_bench`] with bias settings forced onto every scene.
+pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Result<BenchReport, BenchError> {
     let mut presets: Vec<PresetResult> = config
         .presets
         .iter()
@@ -292,7 +321,8 @@ pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
     let timestamps = probe.gpu.timestamps;
     drop(probe);
     for path in &config.scenes {
-        let desc = SceneDesc::load(path)?;
+        let mut desc = SceneDesc::load(path)?;
+        overrides.apply(&mut desc);
         let scores = score_scene(path, &desc, config)?;
         let times = time_scene(path, &desc, config)?;
         for (i, result) in presets.iter_mut().enumerate() {
@@ -325,6 +355,7 @@ pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
         ),
         "Shimmer: spread (max − min) of the shadow at fixed world points while the camera moves by sub-texel steps of cascade 0, or turns in place in 0.1° steps.".to_string(),
     ];
+    notes.extend(overrides.notes());
     if !timestamps {
         notes.push("This adapter has no timestamp queries: GPU times are missing (NaN).".to_string());
     }
