@@ -9,6 +9,7 @@ pub mod graph;
 pub mod layouts;
 pub mod plugin;
 pub mod probe;
+pub mod readback;
 pub mod renderer;
 pub mod scene_gpu;
 pub mod shadow_map;

@@ -12,6 +12,7 @@ use wgpu::util::DeviceExt;
 
 use crate::render::context::GpuContext;
 use crate::render::layouts::Layouts;
+use crate::render::readback::read_buffer;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Mirror of WGSL `Probe` in `probe.wgsl`.
@@ -152,14 +153,12 @@ impl ProbePass {
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);
         gpu.queue.submit([encoder.finish()]);
-        let slice = readback.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |_| {});
-        let _ = device.poll(wgpu::PollType::wait_indefinitely());
-        let values = match slice.get_mapped_range() {
-            Ok(data) => bytemuck::cast_slice::<u8, f32>(&data).to_vec(),
-            Err(_) => vec![f32::NAN; probes.len()],
-        };
-        readback.unmap();
-        values
+        match read_buffer(device, &readback, size) {
+            Some(bytes) => bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+            None => vec![f32::NAN; probes.len()],
+        }
     }
 }

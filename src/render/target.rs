@@ -4,6 +4,8 @@
 use glam::Vec3;
 use image::RgbaImage;
 
+use crate::render::readback::read_buffer;
+
 /// Colour format of headless targets (written as sRGB PNG).
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// Depth format of the camera's depth buffer (reverse-Z: cleared to 0, nearer is greater).
@@ -125,17 +127,14 @@ fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Text
         },
     );
     queue.submit([encoder.finish()]);
-    let slice = buffer.slice(..);
-    slice.map_async(wgpu::MapMode::Read, |_| {});
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
+    let data = read_buffer(device, &buffer, padded as u64 * height as u64).unwrap_or_default();
     let mut bytes = Vec::with_capacity((row * height) as usize);
-    if let Ok(data) = slice.get_mapped_range() {
-        for y in 0..height as usize {
-            let start = y * padded as usize;
-            bytes.extend_from_slice(&data[start..start + row as usize]);
+    for y in 0..height as usize {
+        let start = y * padded as usize;
+        if let Some(line) = data.get(start..start + row as usize) {
+            bytes.extend_from_slice(line);
         }
     }
-    buffer.unmap();
     bytes
 }
 

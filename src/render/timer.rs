@@ -2,6 +2,8 @@
 //! timestamp; after the frame's submission the pairs are read back and turned into
 //! milliseconds.
 
+use crate::render::readback::read_buffer;
+
 /// Most passes that can be timed in one frame.
 const MAX_PASSES: u32 = 16;
 
@@ -96,30 +98,23 @@ impl GpuTimer {
         if self.query_set.is_none() || self.names.is_empty() {
             return Vec::new();
         }
-        let bytes = self.names.len() as u64 * 16;
-        let slice = self.readback.slice(..bytes);
-        slice.map_async(wgpu::MapMode::Read, |_| {});
-        if device.poll(wgpu::PollType::wait_indefinitely()).is_err() {
+        let Some(bytes) = read_buffer(device, &self.readback, self.names.len() as u64 * 16) else {
             return Vec::new();
-        }
-        let timings = match slice.get_mapped_range() {
-            Ok(data) => {
-                let ticks: &[u64] = bytemuck::cast_slice(&data);
-                self.names
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &name)| {
-                        let delta = ticks[i * 2 + 1].saturating_sub(ticks[i * 2]);
-                        PassTiming {
-                            name,
-                            ms: delta as f64 * self.period_ns as f64 / 1e6,
-                        }
-                    })
-                    .collect()
-            }
-            Err(_) => Vec::new(),
         };
-        self.readback.unmap();
-        timings
+        let ticks: Vec<u64> = bytes
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect();
+        self.names
+            .iter()
+            .enumerate()
+            .map(|(i, &name)| {
+                let delta = ticks[i * 2 + 1].saturating_sub(ticks[i * 2]);
+                PassTiming {
+                    name,
+                    ms: delta as f64 * self.period_ns as f64 / 1e6,
+                }
+            })
+            .collect()
     }
 }
