@@ -512,7 +512,7 @@ proptest! {
 
 #[test]
 fn standard_sets_keep_their_nominal_distance() {
-    for (name, n, seed) in penumbra::math::poisson::standard_sets() {
+    for (name, n, seed) in penumbra::math::poisson::STANDARD_SETS {
         let points = poisson_disk(n, seed);
         let d = min_pairwise_distance(&points);
         assert!(d >= 0.7 / (n as f32).sqrt(), "{name}: {d}");

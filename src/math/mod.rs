@@ -25,6 +25,6 @@ pub use culling::{cull_casters, cull_spheres_frustum};
 pub use frustum::{CameraView, Frustum, Plane, slice_corners};
 pub use light_space::{light_from_world, light_rotation};
 pub use pcss::{PcssParams, pcss_params};
-pub use poisson::{min_pairwise_distance, poisson_disk, standard_sets, wgsl_const_array};
+pub use poisson::{STANDARD_SETS, min_pairwise_distance, poisson_disk};
 pub use projection::{ndc_to_uv, ortho_reverse_z, perspective_reverse_z, uv_to_ndc};
 pub use splits::pssm_splits;

@@ -1,7 +1,5 @@
 //! Deterministic Poisson-disk sample sets in the unit disc (dart throwing with a tiny seeded
-//! PRNG), and their emission as WGSL constant arrays.
-
-use std::fmt::Write;
+//! PRNG).
 
 use glam::Vec2;
 
@@ -11,8 +9,9 @@ pub const RELAX_FACTOR: f32 = 0.95;
 /// Consecutive rejected darts after which a pass counts as failed.
 pub const MAX_CONSECUTIVE_REJECTIONS: u32 = 20_000;
 
-/// The sets the renderer uses: `(WGSL name, sample count, seed)`. The 25-tap seed was picked
-/// among 45–48 by PCSS Medium's penumbra error in `penumbra bench` (see docs/benchmarks.md).
+/// The sets the renderer uses, uploaded by `render::gpu_types::PoissonTapsGpu`: `(name, sample
+/// count, seed)`. The 25-tap seed was picked among 45–48 by PCSS Medium's penumbra error in
+/// `penumbra bench` (see docs/benchmarks.md).
 pub const STANDARD_SETS: [(&str, usize, u64); 5] = [
     ("BLOCKER_16", 16, 41),
     ("BLOCKER_32", 32, 42),
@@ -20,21 +19,6 @@ pub const STANDARD_SETS: [(&str, usize, u64); 5] = [
     ("FILTER_25", 25, 47),
     ("FILTER_49", 49, 43),
 ];
-
-/// The renderer's standard sets, [`STANDARD_SETS`]: `(WGSL name, sample count, seed)`.
-pub fn standard_sets() -> [(&'static str, usize, u64); 5] {
-    STANDARD_SETS
-}
-
-/// WGSL source declaring every standard set as a `const` array, one per line.
-pub fn standard_sets_wgsl() -> String {
-    let mut out = String::new();
-    for (name, n, seed) in STANDARD_SETS {
-        out.push_str(&wgsl_const_array(name, &poisson_disk(n, seed)));
-        out.push('\n');
-    }
-    out
-}
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a 64-bit state, one add and a mixing function per
 /// output. Tiny, fast, and identical on every platform.
@@ -127,25 +111,6 @@ pub fn min_pairwise_distance(points: &[Vec2]) -> f32 {
     best
 }
 
-/// A WGSL declaration `const NAME: array<vec2<f32>, N> = array<vec2<f32>, N>(vec2<f32>(x, y),
-/// ...);` on one line, `name` used verbatim.
-///
-/// Numbers are the shortest decimal that round-trips the f32, with an `f` suffix so WGSL
-/// parses them as f32 directly (no abstract-float rounding step).
-pub fn wgsl_const_array(name: &str, points: &[Vec2]) -> String {
-    let n = points.len();
-    let mut s = format!("const {name}: array<vec2<f32>, {n}> = array<vec2<f32>, {n}>(");
-    for (i, p) in points.iter().enumerate() {
-        if i > 0 {
-            s.push_str(", ");
-        }
-        // Writing to a String cannot fail.
-        let _ = write!(s, "vec2<f32>({:?}f, {:?}f)", p.x, p.y);
-    }
-    s.push_str(");");
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,31 +165,5 @@ mod tests {
         assert_eq!(min_pairwise_distance(&[]), f32::INFINITY);
         let pts = [Vec2::ZERO, Vec2::new(3.0, 4.0), Vec2::new(0.0, 1.0)];
         assert_eq!(min_pairwise_distance(&pts), 1.0);
-    }
-
-    #[test]
-    fn wgsl_round_trips() {
-        let pts = [
-            Vec2::new(0.1, -0.25),
-            Vec2::new(1.0, 1e-7),
-            Vec2::new(-0.0, 0.333_333_34),
-        ];
-        let s = wgsl_const_array("TAPS", &pts);
-        assert!(s.starts_with("const TAPS: array<vec2<f32>, 3> = array<vec2<f32>, 3>(vec2<f32>("));
-        assert!(s.ends_with(");"));
-        let nums: Vec<f32> = s
-            .split(['(', ')', ','])
-            .map(str::trim)
-            .filter_map(|t| t.strip_suffix('f'))
-            .map(|t| t.parse().unwrap())
-            .collect();
-        let want: Vec<f32> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
-        assert_eq!(nums.len(), 6);
-        for (a, b) in nums.iter().zip(&want) {
-            assert_eq!(a.to_bits(), b.to_bits());
-        }
-        let all = standard_sets_wgsl();
-        assert_eq!(all.lines().count(), 5);
-        assert!(all.contains("const FILTER_49: array<vec2<f32>, 49>"));
     }
 }
