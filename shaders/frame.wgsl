@@ -12,7 +12,6 @@ struct FrameUniforms {
     sun_color: vec3<f32>,
     frame_index: u32,
     ambient: vec3<f32>,
-    debug_view: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

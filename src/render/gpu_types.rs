@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::math::cascades::CascadeSet;
 use crate::math::poisson::{STANDARD_SETS, poisson_disk};
-use crate::settings::{MAX_CASCADES, ShadowDebugView, ShadowSettings};
+use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// Mirror of WGSL `ShadowCascade`.
 #[repr(C)]
@@ -178,18 +178,8 @@ pub struct FrameUniformsGpu {
     pub frame_index: u32,
     /// Ambient light (linear RGB).
     pub ambient: Vec3,
-    /// [`ShadowDebugView`] as an integer.
-    pub debug_view: u32,
-}
-
-impl FrameUniformsGpu {
-    /// Encodes a debug view for the shader.
-    pub fn debug_view_code(view: ShadowDebugView) -> u32 {
-        match view {
-            ShadowDebugView::None => 0,
-            ShadowDebugView::Cascades => 1,
-        }
-    }
+    /// Padding to the WGSL struct size (vec3 members align to 16 bytes).
+    pub _padding: u32,
 }
 
 /// Mirror of WGSL `Instance`.
@@ -318,7 +308,6 @@ mod tests {
                         ("sun_color", offset_of!(FrameUniformsGpu, sun_color)),
                         ("frame_index", offset_of!(FrameUniformsGpu, frame_index)),
                         ("ambient", offset_of!(FrameUniformsGpu, ambient)),
-                        ("debug_view", offset_of!(FrameUniformsGpu, debug_view)),
                     ],
                     size_of::<FrameUniformsGpu>(),
                 ),

@@ -16,7 +16,7 @@ use crate::render::shadow_map::ShadowMap;
 use crate::render::shadow_pass::ShadowPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
-use crate::settings::{MIN_RESOLUTION, ShadowDebugView};
+use crate::settings::MIN_RESOLUTION;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// What the last frame cost on the GPU.
@@ -176,9 +176,7 @@ impl Renderer {
                 sun_color: sun.map_or(glam::Vec3::ZERO, |s| s.light.color),
                 frame_index: input.frame_index,
                 ambient: input.ambient.color,
-                debug_view: FrameUniformsGpu::debug_view_code(
-                    sun.map_or(ShadowDebugView::None, |s| s.settings.debug_view),
-                ),
+                _padding: 0,
             },
             None => FrameUniformsGpu::default(),
         };
