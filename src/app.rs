@@ -6,13 +6,13 @@ use std::path::Path;
 
 use bevy_app::App;
 use bevy_ecs::world::World;
-use glam::Quat;
 use image::RgbaImage;
 use thiserror::Error;
 
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, Materials, MeshHandle, Meshes};
 use crate::ecs::components::{
     AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
+    ViewportSize,
 };
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
@@ -172,7 +172,7 @@ pub fn spawn_scene(world: &mut World, desc: &SceneDesc) -> Result<usize, SpawnEr
     for instance in desc.instances() {
         let transform = Transform {
             translation: instance.translation,
-            rotation: instance.rotation.normalize_or(Quat::IDENTITY),
+            rotation: instance.rotation,
             scale: instance.scale,
         };
         let mesh = Mesh3d(object_meshes[instance.object]);
@@ -198,25 +198,13 @@ pub fn spawn_scene(world: &mut World, desc: &SceneDesc) -> Result<usize, SpawnEr
     Ok(count)
 }
 
-trait NormalizeOr {
-    fn normalize_or(self, fallback: Quat) -> Quat;
-}
-
-impl NormalizeOr for Quat {
-    fn normalize_or(self, fallback: Quat) -> Quat {
-        let len = self.length();
-        if len.is_finite() && len > 1e-12 {
-            self / len
-        } else {
-            fallback
-        }
-    }
-}
-
 /// An app with [`ShadowPlugin`] and [`RenderPlugin`] around a headless renderer.
 pub fn headless_app(renderer: Renderer) -> App {
     let mut app = App::new();
     app.add_plugins((ShadowPlugin, RenderPlugin));
+    // NOTE: the first frame's cascades already need the target's aspect ratio.
+    let (width, height) = renderer.size();
+    app.insert_resource(ViewportSize { width, height });
     app.insert_resource(renderer);
     app
 }

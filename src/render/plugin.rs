@@ -2,13 +2,11 @@
 //! resource the application inserted (headless or windowed).
 
 use bevy_app::{App, Last, Plugin};
-use bevy_ecs::system::{Local, Res, ResMut};
+use bevy_ecs::change_detection::Mut;
+use bevy_ecs::system::Local;
+use bevy_ecs::world::World;
 
-use crate::ecs::assets::{Images, Materials, Meshes};
-use crate::ecs::components::{AmbientLight, ViewportSize};
-use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
-use crate::ecs::instances::RenderInstances;
-use crate::ecs::view::ActiveView;
+use crate::ecs::components::ViewportSize;
 use crate::render::frame::FrameInputs;
 use crate::render::renderer::Renderer;
 
@@ -23,36 +21,18 @@ impl Plugin for RenderPlugin {
     }
 }
 
-/// Renders the frame the shadow systems prepared.
-#[allow(clippy::too_many_arguments)]
-pub fn render_frame(
-    renderer: Option<ResMut<Renderer>>,
-    meshes: Res<Meshes>,
-    materials: Res<Materials>,
-    images: Res<Images>,
-    instances: Res<RenderInstances>,
-    shadow_groups: Res<ShadowDrawGroups>,
-    view_groups: Res<ViewDrawGroups>,
-    view: Res<ActiveView>,
-    ambient: Res<AmbientLight>,
-    mut viewport: ResMut<ViewportSize>,
-    mut frame_index: Local<u32>,
-) {
-    let Some(mut renderer) = renderer else { return };
-    let (width, height) = renderer.size();
-    if viewport.width != width || viewport.height != height {
-        *viewport = ViewportSize { width, height };
+/// Renders the frame the shadow systems prepared (an exclusive system: it reads the shadow
+/// resources through [`FrameInputs::from_world`] while holding the renderer).
+pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
+    if !world.contains_resource::<Renderer>() {
+        return;
     }
-    renderer.render(&FrameInputs {
-        meshes: &meshes,
-        materials: &materials,
-        images: &images,
-        instances: &instances,
-        shadow_groups: &shadow_groups,
-        view_groups: &view_groups,
-        view: &view,
-        ambient: &ambient,
-        frame_index: *frame_index,
+    world.resource_scope(|world, mut renderer: Mut<Renderer>| {
+        let (width, height) = renderer.size();
+        if *world.resource::<ViewportSize>() != (ViewportSize { width, height }) {
+            world.insert_resource(ViewportSize { width, height });
+        }
+        renderer.render(&FrameInputs::from_world(world, *frame_index));
     });
     *frame_index = frame_index.wrapping_add(1);
 }
