@@ -6,9 +6,10 @@ use bevy_app::App;
 use glam::Vec3;
 use penumbra::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics};
 use penumbra::app::spawn_scene;
+use penumbra::bench::run::{Points, evaluated_points};
 use penumbra::bench::session::SceneSession;
 use penumbra::ecs::{ActiveView, ShadowDiagnostics, ShadowPlugin, ViewportSize};
-use penumbra::reference::{ReferencePoint, ReferenceSettings, sun_visibility};
+use penumbra::reference::{ReferenceSettings, sun_visibility};
 use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
@@ -88,14 +89,11 @@ fn score(desc: &SceneDesc, width: u32, height: u32) -> Scored {
     let cascades_finite = view
         .sun
         .is_none_or(|s| s.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
-    let pixels: Vec<usize> = (0..analysis.shadow.len()).filter(|&i| analysis.evaluated[i]).collect();
-    let points: Vec<ReferencePoint> = pixels
-        .iter()
-        .map(|&i| ReferencePoint {
-            position: analysis.position[i],
-            normal: analysis.normal[i],
-        })
-        .collect();
+    let Points {
+        pixels,
+        reference: points,
+        ..
+    } = evaluated_points(&analysis);
     let technique: Vec<f32> = pixels.iter().map(|&i| analysis.shadow[i]).collect();
     let metrics = match session.sun_disc() {
         Some(sun) => {
@@ -308,31 +306,48 @@ fn empty_scene_and_one_tiny_caster() {
 
 #[test]
 fn invalid_transforms_never_poison_the_frame() {
-    let mut desc = default_scene(Vec3::new(-0.5, -1.0, -0.3));
+    let desc = default_scene(Vec3::new(-0.5, -1.0, -0.3));
     // Scene files reject these; code can still produce them.
     let mut app = App::new();
     app.add_plugins(ShadowPlugin);
     app.world_mut().insert_resource(ViewportSize { width: 64, height: 48 });
     spawn_scene(app.world_mut(), &desc).unwrap();
     let world = app.world_mut();
-    let mut q = world.query::<&mut penumbra::ecs::Transform>();
-    let mut n = 0;
-    for mut t in q.iter_mut(world) {
-        match n {
-            2 => t.translation.x = f32::NAN,
-            3 => t.scale = Vec3::ZERO,
-            4 => t.translation.y = f32::INFINITY,
-            _ => {}
-        }
-        n += 1;
+    let mut q = world.query_filtered::<&mut penumbra::ecs::Transform, bevy_ecs::query::With<penumbra::ecs::Mesh3d>>();
+    let poisons: [fn(&mut penumbra::ecs::Transform); 3] = [
+        |t| t.translation.x = f32::NAN,
+        |t| t.scale = Vec3::ZERO,
+        |t| t.translation.y = f32::INFINITY,
+    ];
+    // The first mesh is the ground; poison three of the casters.
+    for (mut t, poison) in q.iter_mut(world).skip(1).zip(poisons) {
+        poison(&mut t);
     }
     app.update();
+    let world = app.world();
+    assert_eq!(world.resource::<penumbra::ecs::RenderInstances>().skipped, 3);
+    let warnings = &world.resource::<ShadowDiagnostics>().current;
+    assert!(
+        warnings.iter().any(|w| w.starts_with("3 mesh entities are not drawn")),
+        "{warnings:?}"
+    );
+    let sun = world.resource::<ActiveView>().sun.unwrap();
+    assert!(sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
+    assert!(
+        world
+            .resource::<penumbra::ecs::ShadowStats>()
+            .casters_per_cascade
+            .iter()
+            .any(|&c| c > 0)
+    );
     let mut renderer = Renderer::headless_with_analysis(64, 48).unwrap_or_else(|e| panic!("{e}"));
-    renderer.render(&FrameInputs::from_world(app.world(), 0));
+    renderer.render(&FrameInputs::from_world(world, 0));
     let a = renderer.read_analysis().unwrap();
-    assert!(a.shadow.iter().all(|v| v.is_finite()), "NaN shadow factor");
-    assert!(!app.world().resource::<ShadowDiagnostics>().current.is_empty() || n < 5);
-    desc.objects.clear();
+    assert!(
+        a.shadow.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
+        "bad shadow factor"
+    );
+    assert!(a.evaluated.iter().any(|&e| e), "the rest of the scene is still shaded");
 }
 
 #[test]

@@ -99,13 +99,18 @@ fn analysis_frame(session: &mut SceneSession, renderer: &mut Renderer) -> Analys
 }
 
 /// The points (and the pixels they were seen at) where the shadow was evaluated.
-struct Points {
-    pixels: Vec<usize>,
-    reference: Vec<ReferencePoint>,
-    probes: Vec<ProbeGpu>,
+pub struct Points {
+    /// Pixel index of each point.
+    pub pixels: Vec<usize>,
+    /// The points, for the ray-traced reference.
+    pub reference: Vec<ReferencePoint>,
+    /// The points, for the shadow-probe pass.
+    pub probes: Vec<ProbeGpu>,
 }
 
-fn evaluated_points(a: &AnalysisImage) -> Points {
+/// Every pixel of an analysis frame where the shadow was evaluated, as reference points and
+/// shadow probes.
+pub fn evaluated_points(a: &AnalysisImage) -> Points {
     let pixels: Vec<usize> = (0..a.shadow.len())
         .filter(|&i| a.evaluated[i] && a.position[i].is_finite() && a.normal[i].is_finite())
         .collect();
