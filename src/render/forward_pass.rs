@@ -135,7 +135,10 @@ impl RenderNode for ForwardPass {
                 },
             })
         };
-        let mut color_attachments = vec![attachment(&ctx.target.color, wgpu::Color { r, g, b, a: 1.0 })];
+        // NOTE: a fixed array, not a Vec: nothing is allocated per frame.
+        let mut color_attachments = [const { None }; 4];
+        color_attachments[0] = attachment(&ctx.target.color, wgpu::Color { r, g, b, a: 1.0 });
+        let mut used = 1;
         // Background: shadow factor 1 (nothing shadows the sky), cascade -1, position w = 0.
         let clears = [
             wgpu::Color {
@@ -148,11 +151,12 @@ impl RenderNode for ForwardPass {
             wgpu::Color::TRANSPARENT,
         ];
         for (view, clear) in ctx.target.analysis.iter().flatten().zip(clears) {
-            color_attachments.push(attachment(view, clear));
+            color_attachments[used] = attachment(view, clear);
+            used += 1;
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(FORWARD_PASS_NAME),
-            color_attachments: &color_attachments,
+            color_attachments: &color_attachments[..used],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &ctx.target.depth,
                 depth_ops: Some(wgpu::Operations {
