@@ -37,6 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 base_color: Vec4::new(0.9, 0.5, 0.2, 1.0),
                 base_color_texture: None,
                 alpha_mode: AlphaMode::Opaque,
+                double_sided: false,
             }),
         )
     };

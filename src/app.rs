@@ -148,6 +148,7 @@ pub fn spawn_scene(world: &mut World, desc: &SceneDesc) -> Result<usize, SpawnEr
             base_color: m.base_color,
             base_color_texture: texture,
             alpha_mode,
+            double_sided: m.is_double_sided(),
         };
         material_handles.push(world.resource_mut::<Materials>().add(material));
     }

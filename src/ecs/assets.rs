@@ -35,6 +35,9 @@ pub struct Material {
     pub base_color_texture: Option<ImageHandle>,
     /// Opaque or alpha-masked.
     pub alpha_mode: AlphaMode,
+    /// Drawn from both sides (back faces are lit with the flipped normal); single-sided
+    /// materials cull back faces in the camera view. Shadow casters are always two-sided.
+    pub double_sided: bool,
 }
 
 impl Default for Material {
@@ -43,6 +46,7 @@ impl Default for Material {
             base_color: Vec4::ONE,
             base_color_texture: None,
             alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
         }
     }
 }
@@ -79,13 +83,27 @@ macro_rules! asset_store {
         #[derive(Resource, Debug, Default)]
         pub struct $store {
             items: Vec<$item>,
+            generation: u64,
         }
 
         impl $store {
             /// Stores an item and returns its handle.
             pub fn add(&mut self, item: $item) -> $handle {
                 self.items.push(item);
+                self.generation += 1;
                 $handle((self.items.len() - 1) as u32)
+            }
+
+            /// Removes every item (handles taken before are invalid afterwards).
+            pub fn clear(&mut self) {
+                self.items.clear();
+                self.generation += 1;
+            }
+
+            /// Bumped by every change, so the renderer knows when to upload again (a store
+            /// cleared and refilled to the same length still counts as changed).
+            pub fn generation(&self) -> u64 {
+                self.generation
             }
 
             /// The item behind a handle, if it exists.

@@ -16,6 +16,8 @@ pub struct DrawBatch {
     pub mesh: MeshHandle,
     /// Material (selects the texture for masked draws).
     pub material: MaterialHandle,
+    /// The material is double-sided (no back-face culling in the camera view).
+    pub double_sided: bool,
     /// First entry in the index list.
     pub first: u32,
     /// Number of instances.
@@ -66,6 +68,7 @@ pub fn push_instance(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey
         _ => list.push(DrawBatch {
             mesh: key.mesh,
             material: key.material,
+            double_sided: key.double_sided,
             first: position,
             count: 1,
         }),
@@ -99,6 +102,7 @@ mod tests {
     fn key(masked: bool, mesh: u32, material: u32) -> DrawKey {
         DrawKey {
             masked,
+            double_sided: masked,
             mesh: MeshHandle(mesh),
             material: MaterialHandle(material),
         }
@@ -121,6 +125,7 @@ mod tests {
             [DrawBatch {
                 mesh: MeshHandle(1),
                 material: MaterialHandle(2),
+                double_sided: true,
                 first: 3,
                 count: 2
             }]

@@ -18,12 +18,14 @@ use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
 
-/// Draw order key: opaque before masked, then by mesh and material, so every run of equal
-/// keys is one instanced draw.
+/// Draw order key: opaque before masked, single-sided before double-sided, then by mesh and
+/// material, so every run of equal keys is one instanced draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct DrawKey {
     /// Alpha-masked material.
     pub masked: bool,
+    /// Double-sided material (drawn without back-face culling).
+    pub double_sided: bool,
     /// Mesh drawn.
     pub mesh: MeshHandle,
     /// Material drawn with.
@@ -141,6 +143,7 @@ fn rebuild<'a>(
         let bounds = mesh_data.bounds().transformed(&world_from_local);
         let key = DrawKey {
             masked: mat.is_masked(),
+            double_sided: mat.double_sided,
             mesh: mesh.0,
             material: material.0,
         };

@@ -4,6 +4,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use crate::ecs::draw_groups::DrawBatch;
 use crate::render::frame::FrameContext;
 use crate::render::graph::RenderNode;
 use crate::render::layouts::Layouts;
@@ -14,24 +15,39 @@ use crate::shader::{ForwardVariant, ShaderLibrary};
 /// Name of the forward pass in GPU timings.
 pub const FORWARD_PASS_NAME: &str = "forward";
 
-/// The forward node; pipelines are created on first use of each variant.
+/// What a forward pipeline is built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct PipelineKey {
+    variant: ForwardVariant,
+    format: wgpu::TextureFormat,
+    /// No back-face culling.
+    double_sided: bool,
+}
+
+/// A built pipeline and the shader generation it was built from.
+struct Built {
+    generation: u64,
+    pipeline: Option<wgpu::RenderPipeline>,
+}
+
+/// The forward node; pipelines are created on first use of each variant and rebuilt when the
+/// forward shader changes. A rebuild that fails keeps the last good pipeline.
 #[derive(Default)]
 pub struct ForwardPass {
-    pipelines: HashMap<(ForwardVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    pipelines: HashMap<PipelineKey, Built>,
     /// Colour the target is cleared to (linear RGB).
     pub clear_color: [f64; 3],
 }
 
+/// Builds one pipeline, catching shader and pipeline errors instead of panicking.
 fn create_pipeline(
     device: &wgpu::Device,
     layouts: &Layouts,
     library: &mut ShaderLibrary,
-    variant: ForwardVariant,
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    let module = library
-        .forward(variant)
-        .expect("the shipped forward shader composes (checked by tests)");
+    key: PipelineKey,
+) -> Result<wgpu::RenderPipeline, String> {
+    let module = library.forward(key.variant).map_err(|e| e.to_string())?;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("forward"),
         source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
@@ -42,12 +58,12 @@ fn create_pipeline(
         immediate_size: 0,
     });
     let buffers = [Some(vertex_layout())];
-    let mut targets = vec![Some(format.into())];
-    if variant.analysis {
+    let mut targets = vec![Some(key.format.into())];
+    if key.variant.analysis {
         targets.extend((0..3).map(|_| Some(ANALYSIS_FORMAT.into())));
     }
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(&format!("forward {}", variant.label())),
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(&format!("forward {}", key.variant.label())),
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: &shader,
@@ -56,12 +72,7 @@ fn create_pipeline(
             buffers: &buffers,
         },
         primitive: wgpu::PrimitiveState {
-            // Masked cards are seen from both sides; opaque meshes are closed or face up.
-            cull_mode: if variant.alpha_mask {
-                None
-            } else {
-                Some(wgpu::Face::Back)
-            },
+            cull_mode: if key.double_sided { None } else { Some(wgpu::Face::Back) },
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
@@ -80,7 +91,11 @@ fn create_pipeline(
         }),
         multiview_mask: None,
         cache: None,
-    })
+    });
+    match pollster::block_on(scope.pop()) {
+        None => Ok(pipeline),
+        Some(error) => Err(format!("forward pipeline `{}`: {error}", key.variant.label())),
+    }
 }
 
 impl ForwardPass {
@@ -92,13 +107,49 @@ impl ForwardPass {
         }
     }
 
-    fn pipeline(&mut self, ctx: &mut FrameContext<'_>, variant: ForwardVariant) -> wgpu::RenderPipeline {
-        let format = ctx.target.format;
-        self.pipelines
-            .entry((variant, format))
-            .or_insert_with(|| create_pipeline(&ctx.gpu.device, ctx.layouts, ctx.library, variant, format))
-            .clone()
+    /// The pipeline for `key`, built (or rebuilt for a new shader generation) on demand. When
+    /// the build fails the error is reported in the frame context and the previous pipeline,
+    /// if any, is kept; the build is not retried until the shader changes again.
+    fn pipeline(&mut self, ctx: &mut FrameContext<'_>, key: PipelineKey) -> Option<wgpu::RenderPipeline> {
+        let generation = ctx.library.forward_generation();
+        let built = self.pipelines.entry(key).or_insert(Built {
+            generation: u64::MAX,
+            pipeline: None,
+        });
+        if built.generation != generation {
+            built.generation = generation;
+            match create_pipeline(&ctx.gpu.device, ctx.layouts, ctx.library, key) {
+                Ok(pipeline) => {
+                    built.pipeline = Some(pipeline);
+                    ctx.counters.forward_pipelines += 1;
+                }
+                Err(message) => {
+                    log::error!("{message}; keeping the last good pipeline");
+                    *ctx.pipeline_error = Some(message);
+                }
+            }
+        }
+        built.pipeline.clone()
     }
+}
+
+/// Draws `batches` (single-sided ones first, as the draw key sorts them) with the
+/// single-sided and double-sided pipelines; returns the draw calls recorded.
+fn draw_sided(
+    pass: &mut wgpu::RenderPass<'_>,
+    ctx: &FrameContext<'_>,
+    batches: &[DrawBatch],
+    pipelines: [&Option<wgpu::RenderPipeline>; 2],
+) -> u32 {
+    let split = batches.partition_point(|b| !b.double_sided);
+    let mut calls = 0;
+    for (part, pipeline) in [&batches[..split], &batches[split..]].into_iter().zip(pipelines) {
+        if let (false, Some(pipeline)) = (part.is_empty(), pipeline) {
+            pass.set_pipeline(pipeline);
+            calls += draw_batches(pass, ctx.scene, part, true);
+        }
+    }
+    calls
 }
 
 impl RenderNode for ForwardPass {
@@ -117,12 +168,37 @@ impl RenderNode for ForwardPass {
     fn record(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
         let settings = ctx.sun.map(|s| s.settings).unwrap_or_default();
         let analysis = ctx.target.analysis.is_some();
-        let variant = |mask| ForwardVariant {
-            analysis,
-            ..ForwardVariant::for_settings(&settings, mask)
+        let format = ctx.target.format;
+        let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
+            let variant = ForwardVariant {
+                analysis,
+                ..ForwardVariant::for_settings(&settings, alpha_mask)
+            };
+            self.pipeline(
+                ctx,
+                PipelineKey {
+                    variant,
+                    format,
+                    double_sided,
+                },
+            )
         };
-        let opaque = self.pipeline(ctx, variant(false));
-        let masked = self.pipeline(ctx, variant(true));
+        // Only the pipelines this frame draws with are built.
+        let view_groups = ctx.view_groups;
+        let group = &view_groups.group;
+        let wanted = |list: &[DrawBatch], sided| list.iter().any(|b| b.double_sided == sided);
+        let wants = [
+            wanted(&group.opaque, false),
+            wanted(&group.opaque, true),
+            wanted(&group.masked, false),
+            wanted(&group.masked, true),
+        ];
+        let mut pipelines: [Option<wgpu::RenderPipeline>; 4] = [const { None }; 4];
+        for (i, slot) in pipelines.iter_mut().enumerate() {
+            if wants[i] {
+                *slot = pipeline(ctx, i >= 2, i % 2 == 1);
+            }
+        }
         let [r, g, b] = self.clear_color;
         let attachment = |view, clear| {
             Some(wgpu::RenderPassColorAttachment {
@@ -178,9 +254,9 @@ impl RenderNode for ForwardPass {
         pass.set_bind_group(0, view_group, &[]);
         pass.set_bind_group(1, &ctx.scene.view_instances_group, &[]);
         let group = &ctx.view_groups.group;
-        pass.set_pipeline(&opaque);
-        ctx.draw_calls += draw_batches(&mut pass, ctx.scene, &group.opaque, true);
-        pass.set_pipeline(&masked);
-        ctx.draw_calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
+        let mut calls = draw_sided(&mut pass, ctx, &group.opaque, [&pipelines[0], &pipelines[1]]);
+        calls += draw_sided(&mut pass, ctx, &group.masked, [&pipelines[2], &pipelines[3]]);
+        drop(pass);
+        ctx.draw_calls += calls;
     }
 }

@@ -10,6 +10,7 @@ use crate::ecs::instances::RenderInstances;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view::SunView;
 use crate::render::context::GpuContext;
+use crate::render::counters::RenderCounters;
 use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadow_map::ShadowMap;
@@ -41,6 +42,10 @@ pub struct FrameContext<'a> {
     pub timer: &'a mut GpuTimer,
     /// Draw calls recorded so far this frame.
     pub draw_calls: u32,
+    /// GPU objects created so far.
+    pub counters: &'a mut RenderCounters,
+    /// The last pipeline build that failed (the previous pipeline was kept).
+    pub pipeline_error: &'a mut Option<String>,
 }
 
 /// The ECS data one frame is rendered from.

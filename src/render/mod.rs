@@ -2,6 +2,7 @@
 //! and headless targets.
 
 pub mod context;
+pub mod counters;
 pub mod forward_pass;
 pub mod frame;
 pub mod gpu_types;
@@ -18,6 +19,7 @@ pub mod target;
 pub mod timer;
 
 pub use context::{GpuContext, GpuError};
+pub use counters::RenderCounters;
 pub use plugin::RenderPlugin;
 pub use renderer::{FrameReport, Renderer};
 pub use timer::PassTiming;

@@ -5,6 +5,7 @@ use bevy_ecs::resource::Resource;
 use image::RgbaImage;
 
 use crate::render::context::{GpuContext, GpuError};
+use crate::render::counters::RenderCounters;
 use crate::render::forward_pass::ForwardPass;
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
@@ -17,7 +18,7 @@ use crate::render::shadow_pass::ShadowPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
 use crate::settings::MIN_RESOLUTION;
-use crate::shader::{ForwardVariant, ShaderLibrary};
+use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
 
 /// What the last frame cost on the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -54,6 +55,8 @@ pub struct Renderer {
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
     probes: ProbePass,
+    counters: RenderCounters,
+    pipeline_error: Option<String>,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -118,8 +121,41 @@ impl Renderer {
             graph,
             target,
             probes,
+            counters: RenderCounters::default(),
+            pipeline_error: None,
             last_report: FrameReport::default(),
         }
+    }
+
+    /// GPU objects created so far (see [`RenderCounters`]).
+    pub fn counters(&self) -> RenderCounters {
+        self.counters
+    }
+
+    /// Resolution of the current shadow map (None before the first frame).
+    pub fn shadow_map_resolution(&self) -> Option<u32> {
+        self.shadow_map.as_ref().map(|m| m.resolution)
+    }
+
+    /// Replaces the forward shader with a material's own WGSL; see
+    /// [`ShaderLibrary::set_forward_source`]. On error nothing changes. Pipelines are rebuilt
+    /// on the next frame; if that build fails (say, the pipeline layout does not match), the
+    /// last good pipeline keeps drawing and [`pipeline_error`](Self::pipeline_error) says why.
+    pub fn set_forward_shader(&mut self, file: &str, source: &str) -> Result<(), ShaderError> {
+        self.library.set_forward_source(file, source)?;
+        self.pipeline_error = None;
+        Ok(())
+    }
+
+    /// Goes back to the shipped forward shader.
+    pub fn reset_forward_shader(&mut self) {
+        self.library.reset_forward_source();
+        self.pipeline_error = None;
+    }
+
+    /// The last pipeline build that failed since the shader was last set, if any.
+    pub fn pipeline_error(&self) -> Option<&str> {
+        self.pipeline_error.as_deref()
     }
 
     /// Size of the render target.
@@ -161,6 +197,7 @@ impl Renderer {
         if current.is_none() || (wanted.is_some() && wanted != current) {
             let resolution = wanted.unwrap_or(MIN_RESOLUTION);
             self.shadow_map = Some(ShadowMap::new(&self.gpu.device, resolution));
+            self.counters.shadow_maps += 1;
         }
         let Some(shadow_map) = &self.shadow_map else {
             return &self.last_report;
@@ -184,8 +221,12 @@ impl Renderer {
             Some(s) => ShadowUniformsGpu::new(&s.cascades, &s.settings, s.direction, input.frame_index),
             None => ShadowUniformsGpu::disabled(),
         };
-        self.scene
-            .prepare(&self.gpu, &self.layouts, shadow_map, input, &frame, &shadow);
+        if self
+            .scene
+            .prepare(&self.gpu, &self.layouts, shadow_map, input, &frame, &shadow)
+        {
+            self.counters.view_groups += 1;
+        }
         self.timer.begin_frame();
         let mut encoder = self
             .gpu
@@ -203,6 +244,8 @@ impl Renderer {
             target,
             timer: &mut self.timer,
             draw_calls: 0,
+            counters: &mut self.counters,
+            pipeline_error: &mut self.pipeline_error,
         };
         if input.view.camera.is_some() {
             self.graph.execute(&mut ctx, &mut encoder);

@@ -77,8 +77,8 @@ pub struct SceneGpu {
     pub cascade_view_group: wgpu::BindGroup,
     /// Group 0 of the forward pass (recreated with the shadow map).
     pub view_group: Option<wgpu::BindGroup>,
-    mesh_count: usize,
-    material_count: usize,
+    mesh_generation: u64,
+    material_generation: (u64, u64),
     instance_generation: u64,
     shadow_map_resolution: u32,
 }
@@ -166,8 +166,8 @@ impl SceneGpu {
             }),
             cascade_view_group,
             view_group: None,
-            mesh_count: 0,
-            material_count: 0,
+            mesh_generation: u64::MAX,
+            material_generation: (u64::MAX, u64::MAX),
             instance_generation: 0,
             shadow_map_resolution: 0,
         }
@@ -178,7 +178,8 @@ impl SceneGpu {
         Some((self.vertex_buffer.as_ref()?, self.index_buffer.as_ref()?))
     }
 
-    /// Uploads what changed since the last frame and this frame's lists and uniforms.
+    /// Uploads what changed since the last frame and this frame's lists and uniforms; returns
+    /// true when the view bind group was (re)created.
     pub fn prepare(
         &mut self,
         gpu: &GpuContext,
@@ -187,12 +188,12 @@ impl SceneGpu {
         input: &FrameInputs<'_>,
         frame: &FrameUniformsGpu,
         shadow: &ShadowUniformsGpu,
-    ) {
+    ) -> bool {
         let (device, queue) = (&gpu.device, &gpu.queue);
-        if input.meshes.len() != self.mesh_count {
+        if input.meshes.generation() != self.mesh_generation {
             self.upload_meshes(device, input.meshes);
         }
-        if input.materials.len() != self.material_count {
+        if (input.materials.generation(), input.images.generation()) != self.material_generation {
             self.upload_materials(device, queue, layouts, input.materials, input.images);
         }
         let mut regroup = false;
@@ -238,7 +239,9 @@ impl SceneGpu {
         if self.view_group.is_none() || self.shadow_map_resolution != shadow_map.resolution {
             self.view_group = Some(self.create_view_group(device, layouts, shadow_map));
             self.shadow_map_resolution = shadow_map.resolution;
+            return true;
         }
+        false
     }
 
     fn create_view_group(&self, device: &wgpu::Device, layouts: &Layouts, shadow_map: &ShadowMap) -> wgpu::BindGroup {
@@ -302,7 +305,7 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&indices),
             usage: wgpu::BufferUsages::INDEX,
         }));
-        self.mesh_count = meshes.len();
+        self.mesh_generation = meshes.generation();
     }
 
     fn upload_materials(
@@ -367,6 +370,6 @@ impl SceneGpu {
                 })
             })
             .collect();
-        self.material_count = materials.len();
+        self.material_generation = (materials.generation(), images.generation());
     }
 }

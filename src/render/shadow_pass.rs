@@ -190,6 +190,7 @@ impl RenderNode for ShadowPass {
         };
         if self.pipelines.as_ref().is_none_or(|p| p.key != key) {
             self.pipelines = Some(create_pipelines(&ctx.gpu.device, ctx.layouts, ctx.library, key));
+            ctx.counters.caster_pipelines += 1;
         }
         let Some(pipelines) = &self.pipelines else { return };
         let active = &ctx.shadow_groups.cascades[..ctx.shadow_groups.count];

@@ -95,6 +95,18 @@ pub struct MaterialDesc {
     /// How alpha is treated. Default [`AlphaMode::Opaque`].
     #[serde(default)]
     pub alpha: AlphaMode,
+    /// Whether back faces are drawn (lit with the flipped normal). Default: true for masked
+    /// materials (foliage cards), false for opaque ones; see
+    /// [`is_double_sided`](Self::is_double_sided).
+    #[serde(default)]
+    pub double_sided: Option<bool>,
+}
+
+impl MaterialDesc {
+    /// The `double_sided` value in effect, after its default.
+    pub fn is_double_sided(&self) -> bool {
+        self.double_sided.unwrap_or(matches!(self.alpha, AlphaMode::Mask(_)))
+    }
 }
 
 /// How a material's alpha (base colour alpha × texture alpha) is used.

@@ -72,6 +72,10 @@ const CASTER: ModuleSource = ModuleSource {
 /// Holds the composer with every shared module registered.
 pub struct ShaderLibrary {
     composer: Composer,
+    /// A replacement forward shader (file name, source), if one was set.
+    forward_override: Option<(String, String)>,
+    /// Bumped whenever the forward shader changes, so cached pipelines are rebuilt.
+    forward_generation: u64,
 }
 
 impl ShaderLibrary {
@@ -79,6 +83,8 @@ impl ShaderLibrary {
     pub fn new() -> Result<Self, ShaderError> {
         let mut library = Self {
             composer: Composer::default(),
+            forward_override: None,
+            forward_generation: 0,
         };
         for module in &MODULES {
             library.add_module(module.file, module.source)?;
@@ -133,9 +139,50 @@ impl ShaderLibrary {
         Ok(module)
     }
 
-    /// The forward (receiver) shader for one variant.
+    /// The forward (receiver) shader for one variant: the shipped `forward.wgsl`, or the
+    /// source given to [`set_forward_source`](Self::set_forward_source).
     pub fn forward(&mut self, variant: ForwardVariant) -> Result<naga::Module, ShaderError> {
-        self.compose(FORWARD.file, FORWARD.source, variant.shader_defs())
+        match self.forward_override.take() {
+            Some((file, source)) => {
+                let result = self.compose(&file, &source, variant.shader_defs());
+                self.forward_override = Some((file, source));
+                result
+            }
+            None => self.compose(FORWARD.file, FORWARD.source, variant.shader_defs()),
+        }
+    }
+
+    /// Replaces the forward shader with a material's own WGSL (which may `#import`
+    /// `penumbra::shadow` and the other library modules). It must keep the forward shader's
+    /// interface: `vs_main` and `fs_main`, bind groups 0–2 as in `forward.wgsl`, and the
+    /// `ALPHA_MASK` / `ANALYSIS_OUTPUTS` defs. The source is composed and validated for the
+    /// opaque and masked PCF variants first; if that fails, the error is returned and the
+    /// current shader stays in use.
+    pub fn set_forward_source(&mut self, file: &str, source: &str) -> Result<(), ShaderError> {
+        for alpha_mask in [false, true] {
+            let variant = ForwardVariant::for_settings(&Default::default(), alpha_mask);
+            self.compose(file, source, variant.shader_defs())?;
+        }
+        self.forward_override = Some((file.to_owned(), source.to_owned()));
+        self.forward_generation += 1;
+        Ok(())
+    }
+
+    /// Goes back to the shipped forward shader.
+    pub fn reset_forward_source(&mut self) {
+        if self.forward_override.take().is_some() {
+            self.forward_generation += 1;
+        }
+    }
+
+    /// Changes every time the forward shader does.
+    pub fn forward_generation(&self) -> u64 {
+        self.forward_generation
+    }
+
+    /// The shipped forward shader's source (a starting point for a material's own shader).
+    pub fn shipped_forward_source() -> &'static str {
+        FORWARD.source
     }
 
     /// The shadow-caster shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
