@@ -18,9 +18,11 @@ mod error;
 mod grid;
 mod load;
 mod locate;
+mod settings_file;
 mod validate;
 
 pub use desc::{AlphaMode, CameraDesc, GridDesc, Jitter, MaterialDesc, ObjectDesc, SceneDesc, Shape, SunDesc};
 pub use error::{Problem, SceneError};
 pub use grid::ObjectInstance;
+pub use settings_file::{load_settings, save_settings, settings_from_str, settings_to_ron};
 pub use validate::MAX_GRID_INSTANCES;

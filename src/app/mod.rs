@@ -1,0 +1,146 @@
+//! Glue for applications and tools: spawning a scene file into an ECS world, and a headless
+//! app that renders scenes to images.
+
+mod spawn;
+
+pub use spawn::{PreparedScene, SceneEntity, SpawnError, despawn_scene, spawn_scene};
+
+use bevy_app::App;
+use image::RgbaImage;
+use thiserror::Error;
+
+use crate::ecs::components::ViewportSize;
+use crate::ecs::plugin::ShadowPlugin;
+use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::render::target::AnalysisImage;
+use crate::render::{FrameReport, GpuError, RenderPlugin, Renderer};
+use crate::scene::{self, SceneDesc};
+use crate::settings::ShadowSettings;
+
+/// Anything that can stop a headless render.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum RenderError {
+    /// The scene file is invalid.
+    #[error(transparent)]
+    Scene(#[from] scene::SceneError),
+    /// The scene could not be spawned.
+    #[error(transparent)]
+    Spawn(#[from] SpawnError),
+    /// No GPU.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// The shadow image could not be written.
+    #[error(transparent)]
+    Export(#[from] crate::export::ExportError),
+    /// The PNG could not be written.
+    #[error("cannot write `{path}`: {message}")]
+    Write {
+        /// Output path.
+        path: String,
+        /// Why.
+        message: String,
+    },
+}
+
+/// An app with [`ShadowPlugin`] and [`RenderPlugin`] around a headless renderer.
+pub fn headless_app(renderer: Renderer) -> App {
+    let mut app = App::new();
+    app.add_plugins((ShadowPlugin, RenderPlugin));
+    // NOTE: the first frame's cascades already need the target's aspect ratio.
+    let (width, height) = renderer.size();
+    app.insert_resource(ViewportSize { width, height });
+    app.insert_resource(renderer);
+    app
+}
+
+/// Overrides applied on top of a scene's own shadow settings.
+pub type SettingsOverride<'a> = &'a dyn Fn(&mut ShadowSettings);
+
+/// The result of rendering a scene headless.
+pub struct HeadlessFrame {
+    /// The final image.
+    pub image: RgbaImage,
+    /// The analysis targets of the final frame, when requested.
+    pub analysis: Option<AnalysisImage>,
+    /// GPU report of the last frame.
+    pub report: FrameReport,
+    /// Statistics of the last frame.
+    pub stats: ShadowStats,
+    /// GPU reports of every frame (for medians).
+    pub frames: Vec<FrameReport>,
+    /// Warnings raised.
+    pub warnings: Vec<String>,
+    /// Adapter description.
+    pub adapter: String,
+    /// Mesh entities spawned.
+    pub instances: usize,
+}
+
+/// Renders `frames` frames of a scene on a new headless device and returns the last image.
+pub fn render_scene(
+    desc: &SceneDesc,
+    width: u32,
+    height: u32,
+    frames: u32,
+    tweak: Option<SettingsOverride<'_>>,
+) -> Result<HeadlessFrame, RenderError> {
+    render_scene_with(
+        desc,
+        &RenderRequest {
+            width,
+            height,
+            frames,
+            tweak,
+            analysis: false,
+        },
+    )
+}
+
+/// What [`render_scene_with`] renders.
+pub struct RenderRequest<'a> {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frames to render (at least one).
+    pub frames: u32,
+    /// Changes to the scene's shadow settings.
+    pub tweak: Option<SettingsOverride<'a>>,
+    /// Also record the per-pixel shadow factor, position and normal.
+    pub analysis: bool,
+}
+
+/// Renders a scene as requested and returns the last frame.
+pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Result<HeadlessFrame, RenderError> {
+    let (width, height, frames) = (request.width, request.height, request.frames);
+    let mut desc = desc.clone();
+    if let Some(tweak) = request.tweak {
+        tweak(&mut desc.shadows);
+    }
+    let renderer = if request.analysis {
+        Renderer::headless_with_analysis(width, height)?
+    } else {
+        Renderer::headless(width, height)?
+    };
+    let adapter = renderer.gpu.describe();
+    let mut app = headless_app(renderer);
+    let instances = spawn_scene(app.world_mut(), &desc)?;
+    let mut reports = Vec::new();
+    for _ in 0..frames.max(1) {
+        app.update();
+        reports.push(app.world().resource::<Renderer>().last_report.clone());
+    }
+    let world = app.world();
+    let renderer = world.resource::<Renderer>();
+    Ok(HeadlessFrame {
+        image: renderer.read_image(),
+        analysis: renderer.read_analysis(),
+        report: renderer.last_report.clone(),
+        stats: world.resource::<ShadowStats>().clone(),
+        frames: reports,
+        warnings: world.resource::<ShadowDiagnostics>().current.clone(),
+        adapter,
+        instances,
+    })
+}

@@ -1,0 +1,307 @@
+//! Spawning a scene file into an ECS world, in two steps: [`PreparedScene::new`] does every
+//! fallible thing (reading textures and models, building meshes) without touching the world,
+//! and [`PreparedScene::spawn`] cannot fail. A live reload prepares the new scene first and
+//! only then replaces the old one, so a bad edit never leaves a half-spawned world.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use bevy_ecs::bundle::{Bundle, NoBundleEffect};
+use bevy_ecs::component::Component;
+use bevy_ecs::entity::Entity;
+use bevy_ecs::query::With;
+use bevy_ecs::world::World;
+use glam::{Mat4, Vec3};
+use thiserror::Error;
+
+use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
+use crate::ecs::components::{
+    AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
+};
+use crate::mesh::{MeshData, cuboid, plane, sphere};
+use crate::scene::{self, SceneDesc, Shape};
+use crate::settings::ShadowSettings;
+
+/// A scene that loaded but could not be spawned.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SpawnError {
+    /// A texture file could not be read or decoded.
+    #[error("{path}: cannot load texture: {message}")]
+    Texture {
+        /// Texture path.
+        path: String,
+        /// Why.
+        message: String,
+    },
+    /// A glTF model could not be loaded (the message names the file and the problem).
+    #[error("object {object}: {message}")]
+    Model {
+        /// Index of the object in the scene file.
+        object: usize,
+        /// The loader's message.
+        message: String,
+    },
+}
+
+/// Marks every entity [`spawn_scene`] creates, so [`despawn_scene`] can remove them.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneEntity;
+
+/// One mesh entity to spawn: indices into the prepared meshes and materials.
+#[derive(Clone, Debug)]
+struct EntityPlan {
+    transform: Transform,
+    mesh: usize,
+    material: usize,
+    cast: bool,
+    receive: bool,
+}
+
+/// A scene with every file read and every mesh built, ready to spawn.
+#[derive(Clone, Debug)]
+pub struct PreparedScene {
+    camera: (Camera3d, Transform),
+    sun: (DirectionalLight, Transform, ShadowSettings),
+    ambient: AmbientLight,
+    images: Vec<ImageData>,
+    /// Materials; `base_color_texture` holds an index into `images`.
+    materials: Vec<Material>,
+    meshes: Vec<MeshData>,
+    entities: Vec<EntityPlan>,
+}
+
+fn load_texture(path: &Path) -> Result<ImageData, SpawnError> {
+    let image = image::open(path)
+        .map_err(|e| SpawnError::Texture {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?
+        .to_rgba8();
+    Ok(ImageData {
+        width: image.width(),
+        height: image.height(),
+        rgba: image.into_raw(),
+    })
+}
+
+/// The meshes (with their materials) an object's shape expands to, each with the transform
+/// from the mesh to the object.
+struct ShapeParts {
+    parts: Vec<(usize, Option<usize>, Mat4)>,
+}
+
+impl PreparedScene {
+    /// Reads every texture and model the scene uses and builds its meshes.
+    pub fn new(desc: &SceneDesc) -> Result<Self, SpawnError> {
+        let c = &desc.camera;
+        let camera = (
+            Camera3d {
+                fov_y: c.fov.to_radians(),
+                near: c.near,
+                far: c.far,
+                exposure: 1.0,
+            },
+            Transform::from_translation(c.position).looking_at(c.target, c.up),
+        );
+        let sun = (
+            DirectionalLight {
+                color: desc.sun.color,
+                illuminance: desc.sun.illuminance,
+                angular_diameter: desc.sun.angular_diameter.to_radians(),
+                shadows_enabled: true,
+            },
+            Transform::default().looking_at(desc.sun.direction, Vec3::Y),
+            desc.shadows,
+        );
+        let mut scene = PreparedScene {
+            camera,
+            sun,
+            ambient: AmbientLight { color: desc.ambient },
+            images: Vec::new(),
+            materials: Vec::new(),
+            meshes: Vec::new(),
+            entities: Vec::new(),
+        };
+        let mut textures: HashMap<PathBuf, usize> = HashMap::new();
+        for m in &desc.materials {
+            let texture = match &m.texture {
+                Some(rel) => Some(scene.texture(&mut textures, &desc.resolve_path(rel))?),
+                None => None,
+            };
+            scene.materials.push(Material {
+                base_color: m.base_color,
+                base_color_texture: texture.map(|i| ImageHandle(i as u32)),
+                alpha_mode: match m.alpha {
+                    scene::AlphaMode::Opaque => AlphaMode::Opaque,
+                    scene::AlphaMode::Mask(c) => AlphaMode::Mask(c),
+                },
+                double_sided: m.is_double_sided(),
+            });
+        }
+        // Shapes are built once per distinct shape, however many objects use them.
+        let mut shapes: HashMap<String, usize> = HashMap::new();
+        let mut built: Vec<ShapeParts> = Vec::new();
+        let mut object_shapes = Vec::with_capacity(desc.objects.len());
+        for (i, object) in desc.objects.iter().enumerate() {
+            let key = format!("{:?}", object.shape);
+            let index = match shapes.get(&key) {
+                Some(&index) => index,
+                None => {
+                    let parts = scene.build_shape(desc, &object.shape, i, &mut textures)?;
+                    built.push(parts);
+                    shapes.insert(key, built.len() - 1);
+                    built.len() - 1
+                }
+            };
+            object_shapes.push(index);
+        }
+        for instance in desc.instances() {
+            let object = Transform {
+                translation: instance.translation,
+                rotation: instance.rotation,
+                scale: instance.scale,
+            };
+            for &(mesh, material, object_from_mesh) in &built[object_shapes[instance.object]].parts {
+                let transform = if object_from_mesh == Mat4::IDENTITY {
+                    object
+                } else {
+                    let (scale, rotation, translation) =
+                        (object.world_from_local() * object_from_mesh).to_scale_rotation_translation();
+                    Transform {
+                        translation,
+                        rotation,
+                        scale,
+                    }
+                };
+                scene.entities.push(EntityPlan {
+                    transform,
+                    mesh,
+                    material: material.unwrap_or(instance.material),
+                    cast: instance.cast_shadows,
+                    receive: instance.receive_shadows,
+                });
+            }
+        }
+        Ok(scene)
+    }
+
+    /// Index of the texture at `path` in `images`, loading it on first use.
+    fn texture(&mut self, loaded: &mut HashMap<PathBuf, usize>, path: &Path) -> Result<usize, SpawnError> {
+        if let Some(&i) = loaded.get(path) {
+            return Ok(i);
+        }
+        self.images.push(load_texture(path)?);
+        loaded.insert(path.to_owned(), self.images.len() - 1);
+        Ok(self.images.len() - 1)
+    }
+
+    /// Builds the meshes of one shape. Primitive shapes are one mesh with the object's
+    /// material; a model brings its own meshes and materials.
+    fn build_shape(
+        &mut self,
+        _desc: &SceneDesc,
+        shape: &Shape,
+        _object: usize,
+        _textures: &mut HashMap<PathBuf, usize>,
+    ) -> Result<ShapeParts, SpawnError> {
+        let mesh = match shape {
+            Shape::Plane { size } => plane(*size),
+            Shape::Cuboid { size } => cuboid(*size),
+            Shape::Sphere { radius } => sphere(*radius, 32, 16),
+            Shape::Gltf { path } => {
+                return Err(SpawnError::Model {
+                    object: _object,
+                    message: format!("{}: glTF models are not supported yet", path.display()),
+                });
+            }
+        };
+        self.meshes.push(mesh);
+        Ok(ShapeParts {
+            parts: vec![(self.meshes.len() - 1, None, Mat4::IDENTITY)],
+        })
+    }
+
+    /// Number of mesh entities [`spawn`](Self::spawn) creates.
+    pub fn entity_count(&self) -> usize {
+        self.entities.len()
+    }
+
+    /// Adds the scene's assets to the world's stores and spawns the camera, the sun and one
+    /// entity per mesh instance, each marked [`SceneEntity`]. Sets the ambient light.
+    pub fn spawn(&self, world: &mut World) -> usize {
+        world.spawn((self.camera.0, self.camera.1, SceneEntity));
+        world.spawn((self.sun.0, self.sun.1, self.sun.2, SceneEntity));
+        world.insert_resource(self.ambient);
+        let images: Vec<ImageHandle> = {
+            let mut store = world.resource_mut::<Images>();
+            self.images.iter().map(|i| store.add(i.clone())).collect()
+        };
+        let materials: Vec<MaterialHandle> = {
+            let mut store = world.resource_mut::<Materials>();
+            self.materials
+                .iter()
+                .map(|m| {
+                    store.add(Material {
+                        base_color_texture: m.base_color_texture.map(|t| images[t.0 as usize]),
+                        ..m.clone()
+                    })
+                })
+                .collect()
+        };
+        let meshes: Vec<_> = {
+            let mut store = world.resource_mut::<Meshes>();
+            self.meshes.iter().map(|m| store.add(m.clone())).collect()
+        };
+        // NOTE: one batch per combination of shadow flags, so every entity is spawned straight
+        // into its final archetype.
+        let mut spawned = 0;
+        let parts = |e: &EntityPlan| {
+            (
+                e.transform,
+                Mesh3d(meshes[e.mesh]),
+                MeshMaterial3d(materials[e.material]),
+                SceneEntity,
+            )
+        };
+        let plans = |cast: bool, receive: bool| {
+            self.entities
+                .iter()
+                .filter(move |e| e.cast == cast && e.receive == receive)
+        };
+        spawned += spawn_all(world, plans(true, true).map(|e| (parts(e), CastShadows)));
+        spawned += spawn_all(
+            world,
+            plans(true, false).map(|e| (parts(e), CastShadows, NotShadowReceiver)),
+        );
+        spawned += spawn_all(world, plans(false, true).map(parts));
+        spawned += spawn_all(world, plans(false, false).map(|e| (parts(e), NotShadowReceiver)));
+        spawned
+    }
+}
+
+/// Spawns every bundle of `bundles` and returns how many there were.
+fn spawn_all<B: Bundle<Effect: NoBundleEffect>>(world: &mut World, bundles: impl Iterator<Item = B>) -> usize {
+    world.spawn_batch(bundles).count()
+}
+
+/// Spawns a loaded scene: camera, sun (with its shadow settings), ambient light, materials,
+/// meshes and one entity per mesh instance. Returns the number of mesh entities spawned.
+pub fn spawn_scene(world: &mut World, desc: &SceneDesc) -> Result<usize, SpawnError> {
+    Ok(PreparedScene::new(desc)?.spawn(world))
+}
+
+/// Removes every entity [`spawn_scene`] created and empties the mesh, material and image
+/// stores (scene files own all assets in a world they were spawned into).
+pub fn despawn_scene(world: &mut World) {
+    let entities: Vec<Entity> = world
+        .query_filtered::<Entity, With<SceneEntity>>()
+        .iter(world)
+        .collect();
+    for entity in entities {
+        world.despawn(entity);
+    }
+    world.resource_mut::<Meshes>().clear();
+    world.resource_mut::<Materials>().clear();
+    world.resource_mut::<Images>().clear();
+}
