@@ -68,23 +68,6 @@ struct RenderArgs {
     shadow_out: Option<PathBuf>,
 }
 
-/// Options of `penumbra view`.
-#[cfg(feature = "viewer")]
-#[derive(Args)]
-struct ViewArgs {
-    /// Scene file (RON).
-    scene: PathBuf,
-    /// Window width.
-    #[arg(long, default_value_t = 1600)]
-    width: u32,
-    /// Window height.
-    #[arg(long, default_value_t = 900)]
-    height: u32,
-    /// Close after this many frames.
-    #[arg(long)]
-    exit_after: Option<u32>,
-}
-
 /// Options of `penumbra bench`.
 #[derive(Args)]
 struct BenchArgs {
@@ -131,7 +114,7 @@ enum Command {
     /// Open a scene in a window with a fly camera and the egui inspector (needs the
     /// `viewer` feature).
     #[cfg(feature = "viewer")]
-    View(ViewArgs),
+    View(penumbra::viewer::ViewerArgs),
     /// Score every shadow preset against a ray-traced reference and measure its GPU and CPU
     /// cost; writes report.md and plot.png.
     Bench(BenchArgs),
@@ -286,14 +269,16 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
 }
 
 #[cfg(feature = "viewer")]
-fn view(args: ViewArgs) -> Result<(), String> {
-    let desc = SceneDesc::load(&args.scene).map_err(|e| e.to_string())?;
-    let options = penumbra::viewer::ViewerOptions {
-        width: args.width,
-        height: args.height,
-        exit_after: args.exit_after,
-    };
-    penumbra::viewer::run(&desc, options).map_err(|e| e.to_string())
+fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), String> {
+    let summary = penumbra::viewer::run(&args.scene, args.options()).map_err(|e| e.to_string())?;
+    println!(
+        "viewer: {} frames drawn in {} ticks on {}",
+        summary.frames, summary.ticks, summary.adapter
+    );
+    if let Some(path) = summary.screenshot {
+        println!("screenshot written to {}", path.display());
+    }
+    Ok(())
 }
 
 fn bench(args: BenchArgs) -> Result<(), String> {

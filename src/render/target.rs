@@ -96,8 +96,9 @@ fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureVi
     ))
 }
 
-/// Copies a whole texture to the CPU (waits for the GPU); `texel_bytes` per texel, rows packed.
-fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, texel_bytes: u32) -> Vec<u8> {
+/// Copies a 2D texture's first layer to the CPU (waits for the GPU): `texel_bytes` per texel,
+/// rows top to bottom, unpadded. The texture needs `COPY_SRC`.
+pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, texel_bytes: u32) -> Vec<u8> {
     let (width, height) = (texture.width(), texture.height());
     let row = width * texel_bytes;
     let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;

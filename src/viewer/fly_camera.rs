@@ -68,6 +68,13 @@ impl FlyCamera {
         self.pitch = (self.pitch - dy * self.sensitivity).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
+    /// Changes the speed by `steps` mouse-wheel notches (each ×1.25), within 0.1–500 m/s.
+    pub fn scroll_speed(&mut self, steps: f32) {
+        if steps.is_finite() {
+            self.speed = (self.speed * 1.25_f32.powf(steps)).clamp(0.1, 500.0);
+        }
+    }
+
     /// Moves for `dt` seconds with the held keys.
     pub fn advance(&mut self, keys: MoveKeys, dt: f32) {
         let r = self.rotation();
@@ -130,5 +137,19 @@ mod tests {
             0.1,
         );
         assert!((cam.position - before).abs_diff_eq(Vec3::new(0.0, 3.2, 0.0), 1e-4));
+    }
+
+    #[test]
+    fn the_wheel_scales_speed_within_limits() {
+        let mut cam = FlyCamera::looking_at(Vec3::ZERO, Vec3::X);
+        let start = cam.speed;
+        cam.scroll_speed(1.0);
+        assert!((cam.speed - start * 1.25).abs() < 1e-4);
+        cam.scroll_speed(1e6);
+        assert_eq!(cam.speed, 500.0);
+        cam.scroll_speed(f32::NAN);
+        assert_eq!(cam.speed, 500.0);
+        cam.scroll_speed(-1e6);
+        assert_eq!(cam.speed, 0.1);
     }
 }

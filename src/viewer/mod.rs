@@ -4,14 +4,24 @@
 //! inspector need the `viewer` feature (on by default); the camera control and the reload
 //! logic are always built (and tested).
 
-pub mod fly_camera;
 #[cfg(feature = "viewer")]
-mod inspector;
+mod args;
+pub mod exercise;
+pub mod fly_camera;
+pub mod history;
+#[cfg(feature = "viewer")]
+pub mod inspector;
 pub mod reload;
+#[cfg(feature = "viewer")]
+mod surface;
 #[cfg(feature = "viewer")]
 mod window;
 
+#[cfg(feature = "viewer")]
+pub use args::ViewerArgs;
 pub use fly_camera::{FlyCamera, MoveKeys};
+#[cfg(feature = "viewer")]
+pub use inspector::{FrameInfo, Inspector};
 pub use reload::{LiveReload, ReloadOutcome};
 #[cfg(feature = "viewer")]
-pub use window::{ViewerError, ViewerOptions, run};
+pub use window::{ViewerError, ViewerOptions, ViewerSummary, default_settings_path, run};

@@ -34,21 +34,31 @@ pub enum ReloadOutcome {
 
 /// A watched file: its path and the contents last seen.
 #[derive(Debug)]
-struct Watched {
-    path: PathBuf,
+pub(crate) struct FileWatch {
+    /// The file.
+    pub path: PathBuf,
     seen: Option<Vec<u8>>,
 }
 
-impl Watched {
-    fn new(path: &Path) -> Self {
+impl FileWatch {
+    /// Watches `path`, taking its current contents as seen.
+    pub fn new(path: &Path) -> Self {
         Self {
             path: path.to_owned(),
             seen: std::fs::read(path).ok(),
         }
     }
 
+    /// Watches `path` as if never read: the first [`changed`](Self::changed) reports it.
+    pub fn unread(path: &Path) -> Self {
+        Self {
+            path: path.to_owned(),
+            seen: None,
+        }
+    }
+
     /// Reads the file and reports whether its contents differ from the last read.
-    fn changed(&mut self) -> bool {
+    pub fn changed(&mut self) -> bool {
         // NOTE: contents, not modification times, are compared: editors that write twice in
         // one clock tick, and file systems with coarse timestamps, still count as an edit.
         let now = std::fs::read(&self.path).ok();
@@ -63,8 +73,8 @@ impl Watched {
 /// Watches a scene file and an optional settings file and re-applies them on change.
 #[derive(Debug)]
 pub struct LiveReload {
-    scene: Watched,
-    settings: Option<Watched>,
+    scene: FileWatch,
+    settings: Option<FileWatch>,
     /// The scene that is running (the last one that loaded).
     current: SceneDesc,
     interval: Duration,
@@ -80,8 +90,8 @@ impl LiveReload {
     /// `settings_path` if given.
     pub fn new(scene_path: &Path, current: SceneDesc, settings_path: Option<&Path>) -> Self {
         Self {
-            scene: Watched::new(scene_path),
-            settings: settings_path.map(Watched::new),
+            scene: FileWatch::new(scene_path),
+            settings: settings_path.map(FileWatch::new),
             current,
             interval: DEFAULT_POLL_INTERVAL,
             last_poll: None,
@@ -119,7 +129,7 @@ impl LiveReload {
         }
         self.last_poll = Some(now);
         let scene_changed = self.scene.changed();
-        let settings_changed = self.settings.as_mut().is_some_and(Watched::changed);
+        let settings_changed = self.settings.as_mut().is_some_and(FileWatch::changed);
         if !scene_changed && !settings_changed {
             return ReloadOutcome::Unchanged;
         }

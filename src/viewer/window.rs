@@ -1,26 +1,34 @@
-//! The window loop: winit events, the surface, and drawing the scene plus the egui inspector
-//! into each swapchain image.
+//! The window loop: winit events, the ECS app (the same [`ShadowPlugin`] and renderer as the
+//! CLI), live reload of the scene, settings and shader files, the fly camera, and drawing the
+//! scene plus the egui inspector into each swapchain image.
 
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
 use bevy_app::App;
 use thiserror::Error;
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, WindowEvent};
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::app::{SpawnError, spawn_scene};
+use crate::app::{PreparedScene, SpawnError};
 use crate::ecs::components::{Camera3d, Transform, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
+use crate::ecs::stats::ShadowStats;
 use crate::render::frame::FrameInputs;
-use crate::render::target::{TargetViews, texture_2d};
+use crate::render::target::TargetViews;
 use crate::render::{GpuContext, GpuError, Renderer};
-use crate::scene::SceneDesc;
+use crate::scene::{SceneDesc, SceneError, load_settings};
+use crate::settings::ShadowSettings;
+use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
 use crate::viewer::fly_camera::{FlyCamera, MoveKeys};
-use crate::viewer::inspector;
+use crate::viewer::inspector::{FrameInfo, Inspector};
+use crate::viewer::reload::{FileWatch, LiveReload, ReloadOutcome, set_sun_settings};
+use crate::viewer::surface::WindowSurface;
 
 /// Why the viewer stopped with an error.
 #[derive(Debug, Error)]
@@ -32,28 +40,76 @@ pub enum ViewerError {
     /// No GPU.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// The scene or settings file is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
     /// The scene could not be spawned.
     #[error(transparent)]
     Spawn(#[from] SpawnError),
+    /// The screenshot could not be written.
+    #[error("cannot write the screenshot `{path}`: {message}")]
+    Screenshot {
+        /// Output path.
+        path: String,
+        /// Why.
+        message: String,
+    },
 }
 
 /// Viewer options.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct ViewerOptions {
     /// Initial window width.
     pub width: u32,
     /// Initial window height.
     pub height: u32,
-    /// Close after this many frames (for scripted runs).
+    /// Close after this many rendered frames (for scripted runs).
     pub exit_after: Option<u32>,
+    /// Write the last frame (scene and inspector) to this PNG before closing.
+    pub screenshot: Option<PathBuf>,
+    /// Shadow settings file applied over the scene's and watched for edits; "save settings"
+    /// writes here too. Default: `<scene>.settings.ron` (used for saving only, unless it
+    /// exists).
+    pub settings: Option<PathBuf>,
+    /// A forward (material) shader to use instead of the shipped one, watched for edits.
+    pub shader: Option<PathBuf>,
+    /// Run the scripted robustness steps (resize, minimise, lost surface, settings changes).
+    pub exercise: bool,
+}
+
+impl Default for ViewerOptions {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            exit_after: None,
+            screenshot: None,
+            settings: None,
+            shader: None,
+            exercise: false,
+        }
+    }
+}
+
+/// What a viewer run did, for scripted runs and tests.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ViewerSummary {
+    /// Frames drawn and presented.
+    pub frames: u32,
+    /// Event-loop ticks (frames drawn plus frames skipped).
+    pub ticks: u32,
+    /// Times the surface was reconfigured after an error.
+    pub surface_recoveries: u32,
+    /// The screenshot written, if any.
+    pub screenshot: Option<PathBuf>,
+    /// The adapter used.
+    pub adapter: String,
 }
 
 /// Window, surface and the renderers that draw into it.
 struct WindowState {
     window: Arc<Window>,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    depth: TargetViews,
+    surface: WindowSurface,
     renderer: Renderer,
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
@@ -69,40 +125,77 @@ struct Viewer {
     dragging: bool,
     cursor: Option<(f64, f64)>,
     last_frame: Instant,
-    frames: u32,
+    reload: LiveReload,
+    shader: Option<FileWatch>,
+    shader_error: Option<String>,
+    inspector: Inspector,
+    start_settings: Option<ShadowSettings>,
+    restore_size: Option<PhysicalSize<u32>>,
+    lose_surface: bool,
+    summary: ViewerSummary,
     error: Option<ViewerError>,
 }
 
-/// Opens a window on `desc` and runs until it is closed.
-pub fn run(desc: &SceneDesc, options: ViewerOptions) -> Result<(), ViewerError> {
+/// The settings file used when none is given: next to the scene, `<scene>.settings.ron`.
+pub fn default_settings_path(scene: &Path) -> PathBuf {
+    scene.with_extension("settings.ron")
+}
+
+/// Opens a window on the scene file at `scene_path` and runs until it is closed (or the
+/// scripted frame count is reached).
+pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, ViewerError> {
+    let desc = SceneDesc::load(scene_path)?;
+    let settings_path = options
+        .settings
+        .clone()
+        .unwrap_or_else(|| default_settings_path(scene_path));
+    let watched_settings = (options.settings.is_some() || settings_path.exists()).then_some(settings_path.as_path());
     let mut app = App::new();
     app.add_plugins(ShadowPlugin);
-    spawn_scene(app.world_mut(), desc)?;
+    app.insert_resource(ViewportSize {
+        width: options.width.max(1),
+        height: options.height.max(1),
+    });
+    PreparedScene::new(&desc)?.spawn(app.world_mut());
+    if let Some(path) = watched_settings {
+        set_sun_settings(app.world_mut(), load_settings(path)?);
+    }
     let camera = FlyCamera::looking_at(desc.camera.position, desc.camera.target);
+    let reload = LiveReload::new(scene_path, desc, watched_settings);
     let event_loop = EventLoop::new().map_err(|e| ViewerError::Window(e.to_string()))?;
     let mut viewer = Viewer {
         app,
-        options,
         window: None,
         camera,
         keys: MoveKeys::default(),
         dragging: false,
         cursor: None,
         last_frame: Instant::now(),
-        frames: 0,
+        reload,
+        shader: options.shader.as_deref().map(FileWatch::unread),
+        shader_error: None,
+        inspector: Inspector::new(settings_path),
+        start_settings: None,
+        restore_size: None,
+        lose_surface: false,
+        summary: ViewerSummary::default(),
         error: None,
+        options,
     };
     event_loop
         .run_app(&mut viewer)
         .map_err(|e| ViewerError::Window(e.to_string()))?;
-    viewer.error.map_or(Ok(()), Err)
+    match viewer.error {
+        Some(e) => Err(e),
+        None => Ok(viewer.summary),
+    }
 }
 
 impl Viewer {
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, ViewerError> {
         let attributes = Window::default_attributes()
-            .with_title("penumbra")
-            .with_inner_size(winit::dpi::PhysicalSize::new(self.options.width, self.options.height));
+            .with_title(format!("penumbra — {}", self.reload.scene_path().display()))
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
         let window = Arc::new(
             event_loop
                 .create_window(attributes)
@@ -114,29 +207,7 @@ impl Viewer {
             .map_err(|e| ViewerError::Window(e.to_string()))?;
         let gpu = GpuContext::for_surface(instance, &surface)?;
         let size = window.inner_size();
-        let caps = surface.get_capabilities(&gpu.adapter);
-        // NOTE: the surface uses a plain (non-sRGB) format, as egui expects; the scene is drawn
-        // through an sRGB view of the same image, so its linear output is encoded for display.
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(|f| !f.is_srgb())
-            .unwrap_or(caps.formats[0])
-            .remove_srgb_suffix();
-        let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            present_mode: wgpu::PresentMode::AutoVsync,
-            desired_maximum_frame_latency: 2,
-            alpha_mode: caps.alpha_modes[0],
-            view_formats: vec![format.add_srgb_suffix()],
-            color_space: wgpu::SurfaceColorSpace::Auto,
-        };
-        surface.configure(&gpu.device, &config);
-        let depth = depth_target(&gpu.device, &config);
+        let surface = WindowSurface::new(surface, &gpu.adapter, &gpu.device, (size.width, size.height));
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -146,14 +217,16 @@ impl Viewer {
             None,
             None,
         );
-        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
-        let renderer = Renderer::for_window(gpu);
+        let egui_renderer = egui_wgpu::Renderer::new(
+            &gpu.device,
+            surface.config.format,
+            egui_wgpu::RendererOptions::default(),
+        );
+        self.summary.adapter = gpu.describe();
         Ok(WindowState {
             window,
             surface,
-            config,
-            depth,
-            renderer,
+            renderer: Renderer::for_window(gpu),
             egui_ctx,
             egui_state,
             egui_renderer,
@@ -162,10 +235,7 @@ impl Viewer {
 
     fn resize(&mut self, width: u32, height: u32) {
         let Some(state) = &mut self.window else { return };
-        state.config.width = width.max(1);
-        state.config.height = height.max(1);
-        state.surface.configure(&state.renderer.gpu.device, &state.config);
-        state.depth = depth_target(&state.renderer.gpu.device, &state.config);
+        state.surface.resize(&state.renderer.gpu.device, width, height);
     }
 
     fn key(&mut self, code: KeyCode, pressed: bool) {
@@ -182,8 +252,85 @@ impl Viewer {
         }
     }
 
+    /// Applies one step of the `--exercise` script.
+    fn exercise(&mut self, step: ExerciseStep) {
+        log::info!("exercise: {step:?}");
+        match step {
+            ExerciseStep::Resize(w, h) => {
+                if let Some(state) = &self.window {
+                    // The window system answers with a Resized event (or ignores it).
+                    let _ = state.window.request_inner_size(PhysicalSize::new(w, h));
+                }
+            }
+            ExerciseStep::Minimise => {
+                self.restore_size = self.window.as_ref().map(|s| s.window.inner_size());
+                self.resize(0, 0);
+            }
+            ExerciseStep::Restore => {
+                if let Some(size) = self.restore_size.take() {
+                    self.resize(size.width, size.height);
+                }
+            }
+            ExerciseStep::LoseSurface => self.lose_surface = true,
+            ExerciseStep::ChangeSettings => {
+                let world = self.app.world_mut();
+                let mut q = world.query::<&mut ShadowSettings>();
+                for mut s in q.iter_mut(world) {
+                    self.start_settings.get_or_insert(*s);
+                    s.mode = crate::settings::ShadowMode::Pcss;
+                    s.cascade_count = 2;
+                    s.resolution = 1024;
+                }
+            }
+            ExerciseStep::ResetSettings => {
+                if let Some(settings) = self.start_settings.take() {
+                    set_sun_settings(self.app.world_mut(), settings);
+                }
+            }
+        }
+    }
+
+    /// Picks up edits of the scene, settings and shader files.
+    fn poll_files(&mut self) {
+        if let ReloadOutcome::Applied {
+            camera_changed: true, ..
+        } = self.reload.poll(self.app.world_mut())
+        {
+            let c = self.reload.current().camera;
+            self.camera = FlyCamera {
+                speed: self.camera.speed,
+                ..FlyCamera::looking_at(c.position, c.target)
+            };
+        }
+        let (Some(watch), Some(state)) = (&mut self.shader, &mut self.window) else {
+            return;
+        };
+        if !watch.changed() {
+            return;
+        }
+        let name = watch.path.display().to_string();
+        self.shader_error = match std::fs::read_to_string(&watch.path) {
+            Err(e) => Some(format!("{name}: cannot read: {e}")),
+            Ok(source) => state
+                .renderer
+                .set_forward_shader(&name, &source)
+                .err()
+                .map(|e| e.to_string()),
+        };
+        if let Some(e) = &self.shader_error {
+            log::error!("{e}; keeping the last good shader");
+        }
+    }
+
     /// Updates the ECS, builds the UI and draws both into the next swapchain image.
     fn frame(&mut self) {
+        self.summary.ticks += 1;
+        if self.options.exercise
+            && let Some(step) = exercise_step(self.summary.ticks)
+        {
+            self.exercise(step);
+        }
+        self.poll_files();
         let now = Instant::now();
         let dt = (now - self.last_frame).as_secs_f32();
         self.last_frame = now;
@@ -191,8 +338,8 @@ impl Viewer {
         let Some(state) = &mut self.window else { return };
         let world = self.app.world_mut();
         world.insert_resource(ViewportSize {
-            width: state.config.width,
-            height: state.config.height,
+            width: state.surface.config.width,
+            height: state.surface.config.height,
         });
         let mut cameras = world.query::<(&Camera3d, &mut Transform)>();
         for (_, mut t) in cameras.iter_mut(world) {
@@ -200,31 +347,34 @@ impl Viewer {
         }
         self.app.update();
 
+        let mut errors: Vec<String> = self.reload.error.iter().chain(&self.shader_error).cloned().collect();
+        errors.extend(state.renderer.pipeline_error().map(str::to_owned));
         let report = state.renderer.last_report.clone();
         let raw = state.egui_state.take_egui_input(&state.window);
         let world = self.app.world_mut();
+        let inspector = &mut self.inspector;
+        let camera = &mut self.camera;
+        let info = FrameInfo {
+            report: Some(&report),
+            errors,
+        };
         let output = state.egui_ctx.run_ui(raw, |ui| {
             egui::Panel::left("inspector").show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| inspector::inspector_ui(ui, world, &report));
+                egui::ScrollArea::vertical().show(ui, |ui| inspector.ui(ui, world, &info, Some(camera)));
             });
         });
         state
             .egui_state
             .handle_platform_output(&state.window, output.platform_output);
         let jobs = state.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [state.config.width, state.config.height],
-            pixels_per_point: output.pixels_per_point,
-        };
 
         // Textures are updated (and freed) before the frame is acquired, so no delta is ever
-        // dropped unapplied, even when the swapchain image is not available.
+        // dropped unapplied, even when the frame is skipped.
+        let gpu = &state.renderer.gpu;
         let mut textures = output.textures_delta;
         for (id, deltas) in &textures.set {
             for delta in deltas {
-                state
-                    .egui_renderer
-                    .update_texture(&state.renderer.gpu.device, &state.renderer.gpu.queue, *id, delta);
+                state.egui_renderer.update_texture(&gpu.device, &gpu.queue, *id, delta);
             }
         }
         for id in &textures.free {
@@ -232,15 +382,17 @@ impl Viewer {
         }
         textures.clear();
 
-        let frame = match state.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                state.surface.configure(&state.renderer.gpu.device, &state.config);
-                return;
-            }
-            _ => return,
+        let lose = std::mem::take(&mut self.lose_surface);
+        let Some(frame) = state.surface.acquire(&gpu.device, lose) else {
+            self.summary.surface_recoveries = state.surface.recoveries;
+            return;
         };
-        let scene_format = state.config.format.add_srgb_suffix();
+        let config = &state.surface.config;
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [config.width, config.height],
+            pixels_per_point: output.pixels_per_point,
+        };
+        let scene_format = config.format.add_srgb_suffix();
         let view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
             format: Some(scene_format),
             ..Default::default()
@@ -248,18 +400,18 @@ impl Viewer {
         let target = TargetViews {
             color: view,
             format: scene_format,
-            depth: state.depth.depth.clone(),
+            depth: state.surface.depth.depth.clone(),
             analysis: None,
-            width: state.config.width,
-            height: state.config.height,
+            width: config.width,
+            height: config.height,
         };
-        let egui_renderer = &mut state.egui_renderer;
         let egui_view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(state.config.format),
+            format: Some(config.format),
             ..Default::default()
         });
+        let egui_renderer = &mut state.egui_renderer;
         state.renderer.render_to(
-            &FrameInputs::from_world(self.app.world(), self.frames),
+            &FrameInputs::from_world(self.app.world(), self.summary.frames),
             &target,
             &mut |gpu, encoder| {
                 egui_renderer.update_buffers(&gpu.device, &gpu.queue, encoder, &jobs, &screen);
@@ -282,24 +434,41 @@ impl Viewer {
                 egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
             },
         );
+        self.inspector
+            .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
+        self.summary.frames += 1;
+        self.summary.surface_recoveries = state.surface.recoveries;
+        let finished = self.finished();
+        let Some(state) = &mut self.window else { return };
+        if finished && let Some(path) = self.options.screenshot.clone() {
+            let gpu = &state.renderer.gpu;
+            match state.surface.screenshot(&gpu.device, &gpu.queue, &frame.texture) {
+                Some(image) => match image.save(&path) {
+                    Ok(()) => self.summary.screenshot = Some(path),
+                    Err(e) => {
+                        self.error = Some(ViewerError::Screenshot {
+                            path: path.display().to_string(),
+                            message: e.to_string(),
+                        })
+                    }
+                },
+                None => {
+                    self.error = Some(ViewerError::Screenshot {
+                        path: path.display().to_string(),
+                        message: "this surface cannot be copied".to_owned(),
+                    })
+                }
+            }
+        }
         state.window.pre_present_notify();
         state.renderer.gpu.queue.present(frame);
-        self.frames += 1;
     }
-}
 
-fn depth_target(device: &wgpu::Device, config: &wgpu::SurfaceConfiguration) -> TargetViews {
-    let format = config.format.add_srgb_suffix();
-    // Only the depth view is used; the colour view is replaced by each swapchain image.
-    let placeholder = texture_2d(
-        device,
-        "unused colour",
-        (1, 1),
-        format,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    )
-    .create_view(&wgpu::TextureViewDescriptor::default());
-    TargetViews::for_color(device, placeholder, format, config.width, config.height)
+    /// True once the scripted frame count (and the exercise script) is done.
+    fn finished(&self) -> bool {
+        let script_done = !self.options.exercise || self.summary.ticks >= EXERCISE_TICKS;
+        self.options.exit_after.is_some_and(|n| self.summary.frames >= n) && script_done
+    }
 }
 
 impl ApplicationHandler for Viewer {
@@ -322,7 +491,16 @@ impl ApplicationHandler for Viewer {
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         if let Some(state) = &mut self.window {
             let response = state.egui_state.on_window_event(&state.window, &event);
-            if response.consumed {
+            // NOTE: egui sees every event, but only input it used is withheld from the camera;
+            // resizes and redraws always reach the viewer.
+            let input = matches!(
+                event,
+                WindowEvent::KeyboardInput { .. }
+                    | WindowEvent::MouseInput { .. }
+                    | WindowEvent::MouseWheel { .. }
+                    | WindowEvent::CursorMoved { .. }
+            );
+            if response.consumed && input {
                 return;
             }
         }
@@ -344,6 +522,13 @@ impl ApplicationHandler for Viewer {
             } => {
                 self.dragging = state == ElementState::Pressed;
             }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.camera.scroll_speed(steps);
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 if let Some((x, y)) = self.cursor
                     && self.dragging
@@ -354,7 +539,7 @@ impl ApplicationHandler for Viewer {
             }
             WindowEvent::RedrawRequested => {
                 self.frame();
-                if self.options.exit_after.is_some_and(|n| self.frames >= n) {
+                if self.finished() || self.error.is_some() {
                     event_loop.exit();
                 }
             }

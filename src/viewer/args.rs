@@ -1,0 +1,54 @@
+//! Command-line arguments of the viewer, shared by `penumbra view` and
+//! `cargo run --example viewer`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::viewer::window::ViewerOptions;
+
+/// Arguments of the viewer.
+#[derive(Args, Clone, Debug)]
+pub struct ViewerArgs {
+    /// Scene file (RON); edits to it are applied live.
+    pub scene: PathBuf,
+    /// Shadow settings file (RON) applied over the scene's and watched for edits; "save
+    /// settings" writes here. Default: `<scene>.settings.ron`.
+    #[arg(long)]
+    pub settings: Option<PathBuf>,
+    /// A material's own forward shader (WGSL that may `#import penumbra::shadow`), watched for
+    /// edits; a broken edit keeps the last good pipeline.
+    #[arg(long)]
+    pub shader: Option<PathBuf>,
+    /// Window width.
+    #[arg(long, default_value_t = 1600)]
+    pub width: u32,
+    /// Window height.
+    #[arg(long, default_value_t = 900)]
+    pub height: u32,
+    /// Close after this many frames.
+    #[arg(long)]
+    pub exit_after: Option<u32>,
+    /// Write the last frame, inspector included, to this PNG (with `--exit-after`).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Run the scripted robustness steps: resize, minimise and restore, a lost surface,
+    /// settings changes that recreate GPU resources.
+    #[arg(long)]
+    pub exercise: bool,
+}
+
+impl ViewerArgs {
+    /// The viewer options these arguments ask for.
+    pub fn options(&self) -> ViewerOptions {
+        ViewerOptions {
+            width: self.width,
+            height: self.height,
+            exit_after: self.exit_after,
+            screenshot: self.screenshot.clone(),
+            settings: self.settings.clone(),
+            shader: self.shader.clone(),
+            exercise: self.exercise,
+        }
+    }
+}

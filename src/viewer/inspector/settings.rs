@@ -1,0 +1,87 @@
+//! The shadow-settings section: every [`ShadowSettings`] field, with the ranges of the
+//! runtime table (filter mode, cascades, resolution, split λ, max distance, biases, PCF
+//! radius, PCSS quality and switches, blend and fade widths) and the cascade debug view.
+
+use egui::{ComboBox, Slider, Ui};
+
+use crate::settings::{
+    CascadeFit, MAX_CASCADES, MAX_PCF_RADIUS, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings,
+};
+
+/// The shadow-map resolutions offered (the seed's runtime table).
+pub(crate) const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];
+
+/// Draws the controls for `s`; the caller writes the copy back when it changed.
+pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    ComboBox::from_label("mode")
+        .selected_text(mode_name(s.mode))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut s.mode, ShadowMode::Pcf, mode_name(ShadowMode::Pcf));
+            ui.selectable_value(&mut s.mode, ShadowMode::Pcss, mode_name(ShadowMode::Pcss));
+        });
+    match s.mode {
+        ShadowMode::Pcf => {
+            let kernel = 2 * s.pcf_radius + 1;
+            let text = if s.pcf_radius == 0 {
+                "PCF radius (off)".to_owned()
+            } else {
+                format!("PCF radius ({kernel}×{kernel})")
+            };
+            ui.add(Slider::new(&mut s.pcf_radius, 0..=MAX_PCF_RADIUS).text(text));
+        }
+        ShadowMode::Pcss => {
+            ComboBox::from_label("PCSS quality")
+                .selected_text(format!("{:?}", s.pcss_quality))
+                .show_ui(ui, |ui| {
+                    for q in [PcssQuality::Low, PcssQuality::Medium, PcssQuality::High] {
+                        let text = format!("{q:?} ({}+{} taps)", q.blocker_samples(), q.filter_samples());
+                        ui.selectable_value(&mut s.pcss_quality, q, text);
+                    }
+                });
+            ui.checkbox(&mut s.blocker_early_out, "blocker early-out");
+            ui.checkbox(&mut s.receiver_plane_bias, "receiver-plane bias");
+            ui.checkbox(&mut s.temporal_rotation, "temporal rotation");
+        }
+    }
+    ui.add(Slider::new(&mut s.cascade_count, 1..=MAX_CASCADES as u32).text("cascades"));
+    ComboBox::from_label("resolution")
+        .selected_text(s.resolution.to_string())
+        .show_ui(ui, |ui| {
+            for r in RESOLUTIONS {
+                ui.selectable_value(&mut s.resolution, r, r.to_string());
+            }
+        });
+    ComboBox::from_label("fit")
+        .selected_text(format!("{:?}", s.fit))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut s.fit, CascadeFit::Tight, "Tight");
+            ui.selectable_value(&mut s.fit, CascadeFit::Stable, "Stable");
+        });
+    ui.add(Slider::new(&mut s.split_lambda, 0.0..=1.0).text("split λ"));
+    ui.add(
+        Slider::new(&mut s.max_distance, 1.0..=2000.0)
+            .logarithmic(true)
+            .text("max distance m"),
+    );
+    ui.add(Slider::new(&mut s.slope_bias, 0.0..=10.0).text("slope bias"));
+    ui.add(Slider::new(&mut s.bias_clamp, 0.0..=0.05).text("bias clamp"));
+    ui.add(Slider::new(&mut s.normal_offset, 0.0..=5.0).text("normal offset"));
+    ui.add(Slider::new(&mut s.blend_width, 0.0..=0.5).text("cascade blend"));
+    ui.add(Slider::new(&mut s.distance_fade_width, 0.0..=0.5).text("distance fade"));
+    ui.checkbox(&mut s.depth_clamp, "depth clamp");
+    let mut debug = s.debug_view == ShadowDebugView::Cascades;
+    if ui.checkbox(&mut debug, "debug: cascade colours").changed() {
+        s.debug_view = if debug {
+            ShadowDebugView::Cascades
+        } else {
+            ShadowDebugView::None
+        };
+    }
+}
+
+fn mode_name(mode: ShadowMode) -> &'static str {
+    match mode {
+        ShadowMode::Pcf => "PCF",
+        ShadowMode::Pcss => "PCSS",
+    }
+}

@@ -1,0 +1,158 @@
+//! The window's swapchain: configuration, resizing (a 0×0 window is "minimised": nothing is
+//! configured or drawn until it has a size again), acquiring frames with every surface
+//! error handled (outdated or lost: reconfigure and skip the frame; timeout or occluded:
+//! skip it), and screenshots.
+
+use image::RgbaImage;
+
+use crate::render::target::{TargetViews, read_texture, texture_2d};
+
+/// A configured surface and the depth buffer that goes with it.
+pub(crate) struct WindowSurface {
+    pub surface: wgpu::Surface<'static>,
+    pub config: wgpu::SurfaceConfiguration,
+    pub depth: TargetViews,
+    /// The window has no area; frames are skipped.
+    pub minimised: bool,
+    /// Swapchain images can be copied (for screenshots).
+    pub can_copy: bool,
+    /// Times the surface was reconfigured after an error.
+    pub recoveries: u32,
+    /// The last image was suboptimal: reconfigure before the next.
+    stale: bool,
+}
+
+impl WindowSurface {
+    /// Configures `surface` for `adapter` at `width`×`height`.
+    pub fn new(
+        surface: wgpu::Surface<'static>,
+        adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
+        (width, height): (u32, u32),
+    ) -> Self {
+        let caps = surface.get_capabilities(adapter);
+        // NOTE: the surface uses a plain (non-sRGB) format, as egui expects; the scene is drawn
+        // through an sRGB view of the same image, so its linear output is encoded for display.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| !f.is_srgb())
+            .unwrap_or(caps.formats[0])
+            .remove_srgb_suffix();
+        let can_copy = caps.usages.contains(wgpu::TextureUsages::COPY_SRC);
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        if can_copy {
+            usage |= wgpu::TextureUsages::COPY_SRC;
+        }
+        let config = wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            width: width.max(1),
+            height: height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![format.add_srgb_suffix()],
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        let depth = depth_target(device, &config);
+        let s = Self {
+            surface,
+            config,
+            depth,
+            minimised: width == 0 || height == 0,
+            can_copy,
+            recoveries: 0,
+            stale: false,
+        };
+        if !s.minimised {
+            s.surface.configure(device, &s.config);
+        }
+        s
+    }
+
+    /// Follows a window resize; a zero width or height marks the window minimised.
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        if width == 0 || height == 0 {
+            self.minimised = true;
+            return;
+        }
+        self.minimised = false;
+        if (width, height) != (self.config.width, self.config.height) {
+            self.config.width = width;
+            self.config.height = height;
+            self.depth = depth_target(device, &self.config);
+        }
+        self.surface.configure(device, &self.config);
+        self.stale = false;
+    }
+
+    /// The next swapchain image, or None when this frame must be skipped (minimised, or the
+    /// surface was outdated, lost, timed out or occluded). `lose` takes the lost path as if
+    /// the surface had reported it.
+    pub fn acquire(&mut self, device: &wgpu::Device, lose: bool) -> Option<wgpu::SurfaceTexture> {
+        if self.minimised {
+            return None;
+        }
+        if self.stale || lose {
+            self.recover(device);
+            if lose {
+                return None;
+            }
+        }
+        match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(frame) => Some(frame),
+            wgpu::CurrentSurfaceTexture::Suboptimal(frame) => {
+                // Present this one; reconfigure before the next.
+                self.stale = true;
+                Some(frame)
+            }
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.recover(device);
+                None
+            }
+            other => {
+                log::warn!("skipping a frame: the surface returned {other:?}");
+                None
+            }
+        }
+    }
+
+    fn recover(&mut self, device: &wgpu::Device) {
+        self.recoveries += 1;
+        self.stale = false;
+        self.surface.configure(device, &self.config);
+    }
+
+    /// Copies a swapchain image to the CPU as RGBA (None when the surface cannot be copied).
+    pub fn screenshot(&self, device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Option<RgbaImage> {
+        if !self.can_copy {
+            return None;
+        }
+        let mut pixels = read_texture(device, queue, texture, 4);
+        if matches!(
+            self.config.format,
+            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+        ) {
+            for p in pixels.chunks_exact_mut(4) {
+                p.swap(0, 2);
+            }
+        }
+        RgbaImage::from_raw(texture.width(), texture.height(), pixels)
+    }
+}
+
+fn depth_target(device: &wgpu::Device, config: &wgpu::SurfaceConfiguration) -> TargetViews {
+    let format = config.format.add_srgb_suffix();
+    // Only the depth view is used; the colour view is replaced by each swapchain image.
+    let placeholder = texture_2d(
+        device,
+        "unused colour",
+        (1, 1),
+        format,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    )
+    .create_view(&wgpu::TextureViewDescriptor::default());
+    TargetViews::for_color(device, placeholder, format, config.width, config.height)
+}
