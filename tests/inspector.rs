@@ -1,0 +1,170 @@
+//! The inspector, driven headless through egui's accessibility tree (no window): edits made
+//! with its widgets reach the sun's `ShadowSettings` and, on the next frame, the renderer's
+//! resources; "save settings" writes a file that reads back equal.
+
+use bevy_app::App;
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use penumbra::app::{headless_app, spawn_scene};
+use penumbra::ecs::components::{DirectionalLight, Transform};
+use penumbra::ecs::draw_groups::ShadowDrawGroups;
+use penumbra::render::Renderer;
+use penumbra::scene::{SceneDesc, load_settings};
+use penumbra::settings::{ShadowMode, ShadowSettings};
+use penumbra::viewer::{FrameInfo, Inspector};
+
+struct State {
+    app: App,
+    inspector: Inspector,
+    errors: Vec<String>,
+}
+
+fn state(name: &str) -> State {
+    let renderer = Renderer::headless(64, 36)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = headless_app(renderer);
+    let desc = SceneDesc::load("assets/scenes/default.ron").expect("default scene loads");
+    spawn_scene(app.world_mut(), &desc).expect("default scene spawns");
+    app.update();
+    let path = std::env::temp_dir().join(format!("penumbra-inspector-{name}-{}.ron", std::process::id()));
+    State {
+        app,
+        inspector: Inspector::new(path),
+        errors: Vec::new(),
+    }
+}
+
+fn harness(state: State) -> Harness<'static, State> {
+    Harness::builder().with_size(egui::vec2(420.0, 1400.0)).build_ui_state(
+        |ui, s: &mut State| {
+            let info = FrameInfo {
+                report: None,
+                errors: s.errors.clone(),
+            };
+            s.inspector.ui(ui, s.app.world_mut(), &info, None);
+        },
+        state,
+    )
+}
+
+fn settings(h: &mut Harness<'_, State>) -> ShadowSettings {
+    let world = h.state_mut().app.world_mut();
+    *world.query::<&ShadowSettings>().single(world).unwrap()
+}
+
+fn renderer<'a>(h: &'a Harness<'_, State>) -> &'a Renderer {
+    h.state().app.world().resource::<Renderer>()
+}
+
+/// The slider labelled `label` (its text label is a separate node).
+fn slider<'a>(h: &'a Harness<'_, State>, label: &'a str) -> egui_kittest::Node<'a> {
+    h.get_by_role_and_label(Role::Slider, label)
+}
+
+/// Opens the combo box labelled `combo` and picks `option`.
+fn choose(h: &mut Harness<'_, State>, combo: &str, option: &str) {
+    h.get_by_label(combo).click();
+    h.run();
+    h.get_by_label(option).click();
+    h.run();
+}
+
+#[test]
+fn mode_and_pcss_switches_reach_the_settings_and_the_renderer() {
+    let mut h = harness(state("mode"));
+    h.run();
+    // The default scene starts with PCSS, so its pipelines exist.
+    assert_eq!(settings(&mut h).mode, ShadowMode::Pcss);
+    let pcss_only = renderer(&h).counters().forward_pipelines;
+
+    choose(&mut h, "mode", "PCF");
+    assert_eq!(settings(&mut h).mode, ShadowMode::Pcf);
+    h.state_mut().app.update();
+    let with_pcf = renderer(&h).counters().forward_pipelines;
+    assert!(with_pcf > pcss_only, "no PCF pipeline was built after the switch");
+
+    // Back to PCSS: the cached pipelines are reused, nothing is rebuilt.
+    choose(&mut h, "mode", "PCSS");
+    assert_eq!(settings(&mut h).mode, ShadowMode::Pcss);
+    h.state_mut().app.update();
+    assert_eq!(renderer(&h).counters().forward_pipelines, with_pcf);
+
+    // The PCSS-only controls are back; the early-out switch toggles.
+    let early_out = settings(&mut h).blocker_early_out;
+    h.get_by_label("blocker early-out").click();
+    h.run();
+    assert_eq!(settings(&mut h).blocker_early_out, !early_out);
+}
+
+#[test]
+fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
+    let mut h = harness(state("resolution"));
+    h.run();
+    let before = renderer(&h).counters();
+
+    slider(&h, "cascades").set_value_accesskit(2.0);
+    h.run();
+    assert_eq!(settings(&mut h).cascade_count, 2);
+    h.state_mut().app.update();
+    assert_eq!(h.state().app.world().resource::<ShadowDrawGroups>().count, 2);
+    assert_eq!(
+        renderer(&h).counters(),
+        before,
+        "the cascade count rebuilt a GPU resource"
+    );
+
+    choose(&mut h, "resolution", "1024");
+    assert_eq!(settings(&mut h).resolution, 1024);
+    h.state_mut().app.update();
+    assert_eq!(renderer(&h).shadow_map_resolution(), Some(1024));
+    assert_eq!(renderer(&h).counters().shadow_maps, before.shadow_maps + 1);
+}
+
+#[test]
+fn sliders_move_the_sun_and_the_split() {
+    let mut h = harness(state("sun"));
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let before = world
+        .query::<(&DirectionalLight, &Transform)>()
+        .single(world)
+        .unwrap()
+        .1
+        .forward();
+
+    slider(&h, "elevation °").set_value_accesskit(80.0);
+    slider(&h, "angular diameter °").set_value_accesskit(2.0);
+    slider(&h, "split λ").set_value_accesskit(0.25);
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let (light, transform) = world.query::<(&DirectionalLight, &Transform)>().single(world).unwrap();
+    let forward = transform.forward();
+    assert!(
+        (forward.y + 80_f32.to_radians().sin()).abs() < 1e-3,
+        "{before} -> {forward}"
+    );
+    assert!((light.angular_diameter.to_degrees() - 2.0).abs() < 1e-3);
+    assert!((settings(&mut h).split_lambda - 0.25).abs() < 1e-6);
+}
+
+#[test]
+fn statistics_errors_and_save_are_shown() {
+    let mut s = state("save");
+    s.errors.push("scene.ron:3:7: expected a number".to_owned());
+    let mut h = harness(s);
+    h.run();
+    // One row per cascade with its depth range and texel density.
+    assert!(h.query_by_label("texels/m").is_some());
+    assert!(h.query_by_label("depth range m").is_some());
+    assert!(h.query_by_label("scene.ron:3:7: expected a number").is_some());
+
+    h.get_by_label("debug: cascade colours").click();
+    h.get_by_label("save settings").click();
+    h.run();
+    let path = h.state().inspector.settings_path.clone();
+    let saved = load_settings(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(saved, settings(&mut h));
+    assert!(h.query_by_label_contains("saved to").is_some());
+    let _ = std::fs::remove_file(path);
+}

@@ -1,0 +1,117 @@
+//! The viewer in a real window: under the display in `DISPLAY`, or under an Xvfb server this
+//! test starts (software Vulkan renders into it). It runs the scripted exercise (resize,
+//! minimise to 0×0 and restore, a lost surface, settings changes that recreate the shadow map)
+//! and checks that frames kept coming and that the screenshot shows the scene and the
+//! inspector. A plain `main` (no test harness), because winit's event loop must own the main
+//! thread.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use penumbra::viewer::exercise::EXERCISE_TICKS;
+use penumbra::viewer::{ViewerOptions, run};
+
+/// An Xvfb server, stopped on drop.
+struct Xvfb(Child);
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts Xvfb on a free display number and returns it with the display name.
+fn start_xvfb() -> (Xvfb, String) {
+    let number = (90..200)
+        .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
+        .expect("no free X display number");
+    let display = format!(":{number}");
+    let child = Command::new("Xvfb")
+        .args([display.as_str(), "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot start Xvfb ({e}): this test needs a display; install a virtual one \
+                 (on Debian/Ubuntu: apt-get install xvfb) or set DISPLAY"
+            )
+        });
+    let socket = PathBuf::from(format!("/tmp/.X11-unix/X{number}"));
+    let start = Instant::now();
+    while !socket.exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "Xvfb did not start on {display}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    (Xvfb(child), display)
+}
+
+fn main() {
+    let _server = match std::env::var_os("DISPLAY") {
+        Some(_) => None,
+        None => {
+            let (server, display) = start_xvfb();
+            // SAFETY: single-threaded here; nothing else reads the environment concurrently.
+            unsafe { std::env::set_var("DISPLAY", display) };
+            Some(server)
+        }
+    };
+    // SAFETY: as above.
+    unsafe { std::env::remove_var("WAYLAND_DISPLAY") };
+
+    let screenshot = std::env::temp_dir().join(format!("penumbra-viewer-{}.png", std::process::id()));
+    let options = ViewerOptions {
+        width: 640,
+        height: 360,
+        exit_after: Some(4),
+        screenshot: Some(screenshot.clone()),
+        exercise: true,
+        ..ViewerOptions::default()
+    };
+    let summary = run(Path::new("assets/scenes/default.ron"), options).unwrap_or_else(|e| {
+        panic!(
+            "the viewer failed: {e}\nIt needs a Vulkan driver (on Debian/Ubuntu: apt-get install \
+             mesa-vulkan-drivers) and X11 client libraries (libx11-xcb1, libxkbcommon-x11-0)."
+        )
+    });
+    println!("viewer: {summary:?}");
+    assert!(summary.ticks >= EXERCISE_TICKS, "{summary:?}");
+    // Minimised ticks and the lost surface are skipped, every other tick draws.
+    assert!(summary.frames >= summary.ticks - 6, "{summary:?}");
+    assert!(
+        summary.surface_recoveries >= 1,
+        "the lost surface was not recovered: {summary:?}"
+    );
+    let image = image::open(summary.screenshot.as_ref().expect("a screenshot"))
+        .expect("the screenshot is a PNG")
+        .to_rgb8();
+    let (w, h) = image.dimensions();
+    assert!(w >= 200 && h >= 150, "{w}×{h}");
+    // Left: the inspector's dark panel. Right: the scene, clearly brighter on average.
+    let mean = |x0: u32, x1: u32| {
+        let mut sum = 0.0;
+        let mut n = 0.0;
+        for y in 0..h {
+            for x in x0..x1 {
+                let p = image.get_pixel(x, y);
+                sum += (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0;
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    let panel = mean(0, w / 8);
+    let scene = mean(w - w / 4, w);
+    assert!(panel < 60.0, "no inspector panel on the left (mean {panel})");
+    assert!(
+        scene > panel + 40.0,
+        "no scene on the right (mean {scene}, panel {panel})"
+    );
+    let _ = std::fs::remove_file(&screenshot);
+    println!("viewer_window: 1 passed, 0 failed");
+}
