@@ -4,6 +4,7 @@
 //! [`mesh`] (CPU meshes), [`ecs`] (components, resources, the per-frame systems and
 //! [`ShadowPlugin`](ecs::ShadowPlugin)), [`shader`] (the WGSL library composed with
 //! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
+//! [`gltf`](mod@gltf) reads glTF 2.0 models as pure data.
 #![warn(missing_docs)]
 
 pub mod analysis;
@@ -11,6 +12,7 @@ pub mod app;
 pub mod bench;
 pub mod ecs;
 pub mod export;
+pub mod gltf;
 pub mod math;
 pub mod mesh;
 pub mod reference;

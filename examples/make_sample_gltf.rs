@@ -1,0 +1,37 @@
+//! Regenerates the procedural sample model in `assets/models/` (`fern.gltf`, `fern.bin`,
+//! `fern_leaf.png`) from `penumbra::gltf::sample`, then loads it back as a check.
+//!
+//! Run with `cargo run --example make_sample_gltf`. The files are committed; the `gltf`
+//! integration test fails when they differ from what this writes.
+
+use std::fs;
+use std::path::Path;
+
+use penumbra::gltf::sample::{self, SAMPLE_BIN, SAMPLE_DIR, SAMPLE_GLTF, SAMPLE_PNG};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(SAMPLE_DIR);
+    fs::create_dir_all(&dir)?;
+    let files = sample::build();
+    fs::write(dir.join(SAMPLE_GLTF), &files.gltf)?;
+    fs::write(dir.join(SAMPLE_BIN), &files.bin)?;
+    fs::write(dir.join(SAMPLE_PNG), &files.png)?;
+
+    let model = penumbra::gltf::load(&dir.join(SAMPLE_GLTF))?;
+    let triangles: usize = model
+        .meshes
+        .iter()
+        .flat_map(|m| &m.primitives)
+        .map(|p| p.mesh.triangle_count())
+        .sum();
+    println!(
+        "wrote {SAMPLE_DIR}/{{{SAMPLE_GLTF}, {SAMPLE_BIN}, {SAMPLE_PNG}}}: {} meshes, {} materials, {} nodes, {triangles} triangles",
+        model.meshes.len(),
+        model.materials.len(),
+        model.nodes.len(),
+    );
+    for warning in &model.warnings {
+        println!("warning: {warning}");
+    }
+    Ok(())
+}

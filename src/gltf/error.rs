@@ -1,0 +1,111 @@
+//! The error type of glTF loading. Every message starts with the file given to
+//! [`load`](crate::gltf::load), then says what is wrong and where.
+
+use std::io;
+use std::path::PathBuf;
+
+/// Why a glTF file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum GltfError {
+    /// The `.gltf` or `.glb` file itself could not be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The underlying error.
+        source: io::Error,
+    },
+    /// Not glTF: a broken GLB container, malformed JSON, or JSON that breaks glTF's rules
+    /// (an index to nothing, a missing required property, an unsupported required extension).
+    #[error("{}: not valid glTF: {message}", path.display())]
+    Invalid {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// What is wrong, with the JSON path where the rules are broken.
+        message: String,
+    },
+    /// An external buffer or image file could not be read.
+    #[error("{}: {what}: cannot read {}: {source}", path.display(), file.display())]
+    Resource {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The referring object and its URI, like ``buffer 0 (`fern.bin`)``.
+        what: String,
+        /// The file the URI resolves to.
+        file: PathBuf,
+        /// The underlying error.
+        source: io::Error,
+    },
+    /// A buffer holds fewer bytes than its `byteLength` declares.
+    #[error("{}: {what} is truncated: {actual} bytes, {declared} declared", path.display())]
+    Truncated {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The buffer and where its bytes come from, like ``buffer 0 (`fern.bin`)``.
+        what: String,
+        /// Bytes available.
+        actual: u64,
+        /// The buffer's `byteLength`.
+        declared: u64,
+    },
+    /// An image's bytes could not be decoded.
+    #[error("{}: {what}: cannot decode: {source}", path.display())]
+    Image {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The image and where its bytes come from, like ``image 0 (`leaf.png`)``.
+        what: String,
+        /// The decoder's error.
+        source: image::ImageError,
+    },
+    /// A mesh primitive has no `POSITION` attribute.
+    #[error("{}: mesh {mesh} primitive {primitive} has no POSITION attribute", path.display())]
+    MissingPosition {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// glTF mesh index.
+        mesh: usize,
+        /// glTF primitive index within the mesh.
+        primitive: usize,
+    },
+    /// A vertex index is not below the primitive's vertex count.
+    #[error(
+        "{}: mesh {mesh} primitive {primitive}: index {index} out of range ({vertices} vertices)",
+        path.display()
+    )]
+    IndexOutOfRange {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// glTF mesh index.
+        mesh: usize,
+        /// glTF primitive index within the mesh.
+        primitive: usize,
+        /// The offending index.
+        index: u32,
+        /// The primitive's vertex count.
+        vertices: usize,
+    },
+    /// A node is its own ancestor, so the hierarchy has no end.
+    #[error("{}: node {node} is its own ancestor: {chain}", path.display())]
+    NodeCycle {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The node met twice on one path from the scene root.
+        node: usize,
+        /// The path that loops, like `node 0 → node 2 → node 0`.
+        chain: String,
+    },
+    /// The data the JSON describes is inconsistent or unusable: a buffer view or accessor
+    /// outside its storage, an unsupported accessor type, a non-finite position, a
+    /// hierarchy too deep, ...
+    #[error("{}: {context}: {problem}", path.display())]
+    Data {
+        /// The file given to [`load`](crate::gltf::load).
+        path: PathBuf,
+        /// The object at fault, like `mesh 0 primitive 1` or `buffer view 3`.
+        context: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+}
