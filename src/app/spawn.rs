@@ -18,6 +18,7 @@ use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, Ma
 use crate::ecs::components::{
     AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
 };
+use crate::gltf;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
 use crate::settings::ShadowSettings;
@@ -148,7 +149,7 @@ impl PreparedScene {
             let index = match shapes.get(&key) {
                 Some(&index) => index,
                 None => {
-                    let parts = scene.build_shape(desc, &object.shape, i, &mut textures)?;
+                    let parts = scene.build_shape(desc, &object.shape, i)?;
                     built.push(parts);
                     shapes.insert(key, built.len() - 1);
                     built.len() - 1
@@ -197,29 +198,59 @@ impl PreparedScene {
     }
 
     /// Builds the meshes of one shape. Primitive shapes are one mesh with the object's
-    /// material; a model brings its own meshes and materials.
-    fn build_shape(
-        &mut self,
-        _desc: &SceneDesc,
-        shape: &Shape,
-        _object: usize,
-        _textures: &mut HashMap<PathBuf, usize>,
-    ) -> Result<ShapeParts, SpawnError> {
+    /// material; a glTF model brings its own meshes, materials and node transforms (its
+    /// primitives without a material use the object's).
+    fn build_shape(&mut self, desc: &SceneDesc, shape: &Shape, object: usize) -> Result<ShapeParts, SpawnError> {
         let mesh = match shape {
             Shape::Plane { size } => plane(*size),
             Shape::Cuboid { size } => cuboid(*size),
             Shape::Sphere { radius } => sphere(*radius, 32, 16),
-            Shape::Gltf { path } => {
-                return Err(SpawnError::Model {
-                    object: _object,
-                    message: format!("{}: glTF models are not supported yet", path.display()),
-                });
-            }
+            Shape::Gltf { path } => return self.add_model(&desc.resolve_path(path), object),
         };
         self.meshes.push(mesh);
         Ok(ShapeParts {
             parts: vec![(self.meshes.len() - 1, None, Mat4::IDENTITY)],
         })
+    }
+
+    /// Loads a glTF model and adds its images, materials and one mesh per primitive.
+    fn add_model(&mut self, file: &Path, object: usize) -> Result<ShapeParts, SpawnError> {
+        let model = gltf::load(file).map_err(|e| SpawnError::Model {
+            object,
+            message: e.to_string(),
+        })?;
+        for warning in &model.warnings {
+            log::warn!("{}: {warning}", file.display());
+        }
+        let first_image = self.images.len();
+        let first_material = self.materials.len();
+        self.materials.extend(model.materials.iter().map(|m| Material {
+            base_color: m.base_color,
+            base_color_texture: m.base_color_texture.map(|i| ImageHandle((first_image + i) as u32)),
+            alpha_mode: m.alpha_mode,
+            double_sided: m.double_sided,
+        }));
+        self.images.extend(model.images);
+        // Mesh index of each primitive, per glTF mesh.
+        let mut primitives: Vec<Vec<(usize, Option<usize>)>> = Vec::with_capacity(model.meshes.len());
+        for mesh in model.meshes {
+            let mut list = Vec::with_capacity(mesh.primitives.len());
+            for primitive in mesh.primitives {
+                self.meshes.push(primitive.mesh);
+                list.push((self.meshes.len() - 1, primitive.material.map(|m| first_material + m)));
+            }
+            primitives.push(list);
+        }
+        let parts = model
+            .nodes
+            .iter()
+            .flat_map(|node| {
+                let list = primitives.get(node.mesh).map_or(&[][..], Vec::as_slice);
+                list.iter()
+                    .map(move |&(mesh, material)| (mesh, material, node.model_from_mesh))
+            })
+            .collect();
+        Ok(ShapeParts { parts })
     }
 
     /// Number of mesh entities [`spawn`](Self::spawn) creates.

@@ -139,9 +139,11 @@ pub enum Shape {
         /// Radius in metres, > 0.
         radius: f32,
     },
-    /// A glTF model (reserved: parsed and checked for a non-empty path only).
+    /// A glTF 2.0 model (`.gltf` with its buffers and images, or `.glb`): every mesh
+    /// primitive of its default scene, placed by the node hierarchy, with the model's own
+    /// materials; primitives without a material use the object's.
     Gltf {
-        /// Model file, relative to the scene file's directory.
+        /// Model file, relative to the scene file's directory; must exist.
         path: PathBuf,
     },
 }

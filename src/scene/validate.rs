@@ -16,7 +16,7 @@ pub const MAX_GRID_INSTANCES: u64 = 10_000_000;
 const MAX_SUN_DIAMETER: f32 = 30.0;
 
 /// Every problem in `scene`, positioned in `text`, in file order. Texture files are checked
-/// for existence only when `base_dir` is given (the scene was loaded from a file).
+/// and models are checked for existence only when `base_dir` is given (the scene was loaded from a file).
 pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>) -> Vec<Problem> {
     let mut c = Checks::default();
     let root = FieldPath::default();
@@ -34,7 +34,7 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>) -
         check_material(&mut c, scene, i, m, &materials, base_dir);
     }
     for (i, o) in scene.objects.iter().enumerate() {
-        check_object(&mut c, scene, o, &root.field("objects").item(i));
+        check_object(&mut c, scene, o, &root.field("objects").item(i), base_dir);
     }
     if c.found.is_empty() {
         return Vec::new();
@@ -191,7 +191,7 @@ fn check_material(
     }
 }
 
-fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPath) {
+fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPath, base_dir: Option<&Path>) {
     let shape = at.field("shape");
     let sizes = "sizes greater than 0 (metres)";
     match &o.shape {
@@ -205,6 +205,16 @@ fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPat
         }
         Shape::Gltf { path } if path.as_os_str().is_empty() => {
             c.add(shape.field("path"), "a non-empty path", "\"\"".to_owned());
+        }
+        Shape::Gltf { path } => {
+            if let Some(file) = base_dir.map(|dir| dir.join(path))
+                && !file.is_file()
+            {
+                let expected = "an existing .gltf or .glb file (the path is relative to the scene file)";
+                let shown = format!("{:?}", path.display().to_string());
+                let found = format!("{shown} (no file at {:?})", file.display().to_string());
+                c.add(shape.field("path"), expected, found);
+            }
         }
         _ => {}
     }
