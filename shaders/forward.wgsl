@@ -4,21 +4,12 @@
 // world position and normal of every pixel, for scoring against a reference), and the filter
 // defs of penumbra::shadow.
 #import penumbra::frame::frame
-#import penumbra::mesh::{fetch_instance, INSTANCE_FLAG_RECEIVE_SHADOWS}
+#import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadow::{blend_cascade_shadow, cascade_debug_color, shadow_cascade_index}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
-
-struct VertexOutput {
-    @builtin(position) clip_position: vec4<f32>,
-    @location(0) world_position: vec3<f32>,
-    @location(1) world_normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) @interpolate(flat) base_color: vec4<f32>,
-    @location(4) @interpolate(flat) cutoff: f32,
-    @location(5) @interpolate(flat) flags: u32,
-}
 
 @vertex
 fn vs_main(
@@ -26,18 +17,8 @@ fn vs_main(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
-) -> VertexOutput {
-    let instance = fetch_instance(instance_index);
-    let world = instance.world_from_local * vec4<f32>(position, 1.0);
-    var out: VertexOutput;
-    out.clip_position = frame.clip_from_world * world;
-    out.world_position = world.xyz;
-    out.world_normal = (instance.normal_from_local * vec4<f32>(normal, 0.0)).xyz;
-    out.uv = uv;
-    out.base_color = instance.base_color;
-    out.cutoff = instance.alpha_cutoff;
-    out.flags = instance.flags;
-    return out;
+) -> ForwardVertexOutput {
+    return forward_vertex(instance_index, position, normal, uv);
 }
 
 // ACES filmic curve (Narkowicz 2015 fit): rolls highlights off instead of clipping them.
@@ -60,7 +41,7 @@ struct FragmentOutput {
 }
 
 @fragment
-fn fs_main(in: VertexOutput, @builtin(front_facing) front_facing: bool) -> FragmentOutput {
+fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> FragmentOutput {
     let texel = textureSample(base_color_texture, base_color_sampler, in.uv);
     let base = in.base_color * texel;
 #ifdef ALPHA_MASK

@@ -38,7 +38,7 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 4] = [
+const MODULES: [ModuleSource; 5] = [
     ModuleSource {
         file: "shadow_types.wgsl",
         source: include_str!("../../shaders/shadow_types.wgsl"),
@@ -50,6 +50,10 @@ const MODULES: [ModuleSource; 4] = [
     ModuleSource {
         file: "mesh.wgsl",
         source: include_str!("../../shaders/mesh.wgsl"),
+    },
+    ModuleSource {
+        file: "forward_io.wgsl",
+        source: include_str!("../../shaders/forward_io.wgsl"),
     },
     ModuleSource {
         file: "shadow.wgsl",

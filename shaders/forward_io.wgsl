@@ -1,0 +1,34 @@
+// The vertex stage every forward material shares: fetch the instance, transform the vertex
+// to world and clip space, and pass on what the fragment stage needs. A material's own
+// shader imports it and writes only its fragment stage (see examples/custom_material.wgsl).
+#define_import_path penumbra::forward_io
+
+#import penumbra::frame::frame
+#import penumbra::mesh::fetch_instance
+
+struct ForwardVertexOutput {
+    @builtin(position) clip_position: vec4<f32>,
+    @location(0) world_position: vec3<f32>,
+    @location(1) world_normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) @interpolate(flat) base_color: vec4<f32>,
+    // Alpha below this is discarded (masked materials only).
+    @location(4) @interpolate(flat) cutoff: f32,
+    // The instance flags (INSTANCE_FLAG_RECEIVE_SHADOWS).
+    @location(5) @interpolate(flat) flags: u32,
+}
+
+// The vertex stage for vertex `position`/`normal`/`uv` of draw instance `instance_index`.
+fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>) -> ForwardVertexOutput {
+    let instance = fetch_instance(instance_index);
+    let world = instance.world_from_local * vec4<f32>(position, 1.0);
+    var out: ForwardVertexOutput;
+    out.clip_position = frame.clip_from_world * world;
+    out.world_position = world.xyz;
+    out.world_normal = (instance.normal_from_local * vec4<f32>(normal, 0.0)).xyz;
+    out.uv = uv;
+    out.base_color = instance.base_color;
+    out.cutoff = instance.alpha_cutoff;
+    out.flags = instance.flags;
+    return out;
+}
