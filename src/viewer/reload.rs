@@ -50,6 +50,7 @@ impl FileWatch {
     }
 
     /// Watches `path` as if never read: the first [`changed`](Self::changed) reports it.
+    #[cfg(feature = "viewer")]
     pub fn unread(path: &Path) -> Self {
         Self {
             path: path.to_owned(),
