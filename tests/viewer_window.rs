@@ -1,9 +1,10 @@
 //! The viewer in a real window: under the display in `DISPLAY`, or under an Xvfb server this
 //! test starts (software Vulkan renders into it). It runs the scripted exercise (resize,
 //! minimise to 0×0 and restore, a lost surface, settings changes that recreate the shadow map)
-//! and checks that frames kept coming and that the screenshot shows the scene and the
-//! inspector. A plain `main` (no test harness), because winit's event loop must own the main
-//! thread.
+//! with a broken material shader given, and checks that frames kept coming, that the shader
+//! error was reported while the shipped pipeline kept drawing, and that the screenshot shows
+//! the scene and the inspector. A plain `main` (no test harness), because winit's event loop
+//! must own the main thread.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -64,12 +65,17 @@ fn main() {
     // SAFETY: as above.
     unsafe { std::env::remove_var("WAYLAND_DISPLAY") };
 
-    let screenshot = std::env::temp_dir().join(format!("penumbra-viewer-{}.png", std::process::id()));
+    let temp = std::env::temp_dir();
+    let screenshot = temp.join(format!("penumbra-viewer-{}.png", std::process::id()));
+    // A material shader with an error: reported, and the shipped pipeline keeps drawing.
+    let shader = temp.join(format!("penumbra-viewer-broken-{}.wgsl", std::process::id()));
+    std::fs::write(&shader, "@fragment fn fs_main( -> @location(0) vec4<f32> {}").unwrap();
     let options = ViewerOptions {
         width: 640,
         height: 360,
         exit_after: Some(4),
         screenshot: Some(screenshot.clone()),
+        shader: Some(shader.clone()),
         exercise: true,
         ..ViewerOptions::default()
     };
@@ -113,5 +119,6 @@ fn main() {
         "no scene on the right (mean {scene}, panel {panel})"
     );
     let _ = std::fs::remove_file(&screenshot);
+    let _ = std::fs::remove_file(&shader);
     println!("viewer_window: 1 passed, 0 failed");
 }

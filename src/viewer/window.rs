@@ -104,6 +104,8 @@ pub struct ViewerSummary {
     pub screenshot: Option<PathBuf>,
     /// The adapter used.
     pub adapter: String,
+    /// Errors shown in the inspector on the last tick (rejected reloads, shader errors).
+    pub errors: Vec<String>,
 }
 
 /// Window, surface and the renderers that draw into it.
@@ -349,6 +351,7 @@ impl Viewer {
 
         let mut errors: Vec<String> = self.reload.error.iter().chain(&self.shader_error).cloned().collect();
         errors.extend(state.renderer.pipeline_error().map(str::to_owned));
+        self.summary.errors.clone_from(&errors);
         let report = state.renderer.last_report.clone();
         let raw = state.egui_state.take_egui_input(&state.window);
         let world = self.app.world_mut();
