@@ -6,9 +6,9 @@
 //! the scene and the inspector. A plain `main` (no test harness), because winit's event loop
 //! must own the main thread.
 
-use std::path::{Path, PathBuf};
+use std::io::{BufRead, BufReader};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
 
 use penumbra::viewer::exercise::EXERCISE_TICKS;
 use penumbra::viewer::{ViewerOptions, run};
@@ -23,15 +23,12 @@ impl Drop for Xvfb {
     }
 }
 
-/// Starts Xvfb on a free display number and returns it with the display name.
+/// Starts Xvfb on a display number of its own choosing (`-displayfd`: the server writes the
+/// number once it accepts connections) and returns it with the display name.
 fn start_xvfb() -> (Xvfb, String) {
-    let number = (90..200)
-        .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
-        .expect("no free X display number");
-    let display = format!(":{number}");
-    let child = Command::new("Xvfb")
-        .args([display.as_str(), "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
-        .stdout(Stdio::null())
+    let mut child = Command::new("Xvfb")
+        .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+        .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
         .unwrap_or_else(|e| {
@@ -40,16 +37,17 @@ fn start_xvfb() -> (Xvfb, String) {
                  (on Debian/Ubuntu: apt-get install xvfb) or set DISPLAY"
             )
         });
-    let socket = PathBuf::from(format!("/tmp/.X11-unix/X{number}"));
-    let start = Instant::now();
-    while !socket.exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(10),
-            "Xvfb did not start on {display}"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    (Xvfb(child), display)
+    let stdout = child.stdout.take().expect("piped stdout");
+    let server = Xvfb(child);
+    let mut line = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut line)
+        .expect("Xvfb reports its display number");
+    let number: u32 = line
+        .trim()
+        .parse()
+        .unwrap_or_else(|_| panic!("Xvfb did not start (it wrote {line:?})"));
+    (server, format!(":{number}"))
 }
 
 fn main() {
