@@ -40,7 +40,7 @@ fn harness(state: State) -> Harness<'static, State> {
         |ui, s: &mut State| {
             let info = FrameInfo {
                 report: None,
-                errors: s.errors.clone(),
+                errors: &s.errors,
             };
             s.inspector.ui(ui, s.app.world_mut(), &info, None);
         },

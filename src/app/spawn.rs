@@ -86,10 +86,15 @@ fn load_texture(path: &Path) -> Result<ImageData, SpawnError> {
     })
 }
 
-/// The meshes (with their materials) an object's shape expands to, each with the transform
-/// from the mesh to the object.
-struct ShapeParts {
-    parts: Vec<(usize, Option<usize>, Mat4)>,
+/// One mesh an object's shape expands to.
+#[derive(Clone, Copy, Debug)]
+struct MeshPart {
+    /// Index into the prepared meshes.
+    mesh: usize,
+    /// The model's own material, or None for the object's.
+    material: Option<usize>,
+    /// Where the mesh sits in the object.
+    object_from_mesh: Mat4,
 }
 
 impl PreparedScene {
@@ -124,13 +129,20 @@ impl PreparedScene {
             meshes: Vec::new(),
             entities: Vec::new(),
         };
+        scene.add_materials(desc)?;
+        scene.add_objects(desc)?;
+        Ok(scene)
+    }
+
+    /// Adds the scene's materials, loading each texture file once.
+    fn add_materials(&mut self, desc: &SceneDesc) -> Result<(), SpawnError> {
         let mut textures: HashMap<PathBuf, usize> = HashMap::new();
         for m in &desc.materials {
             let texture = match &m.texture {
-                Some(rel) => Some(scene.texture(&mut textures, &desc.resolve_path(rel))?),
+                Some(rel) => Some(self.texture(&mut textures, &desc.resolve_path(rel))?),
                 None => None,
             };
-            scene.materials.push(Material {
+            self.materials.push(Material {
                 base_color: m.base_color,
                 base_color_texture: texture.map(|i| ImageHandle(i as u32)),
                 alpha_mode: match m.alpha {
@@ -140,17 +152,21 @@ impl PreparedScene {
                 double_sided: m.is_double_sided(),
             });
         }
-        // Shapes are built once per distinct shape, however many objects use them.
+        Ok(())
+    }
+
+    /// Builds each distinct shape once, then plans one entity per mesh part of every object
+    /// instance.
+    fn add_objects(&mut self, desc: &SceneDesc) -> Result<(), SpawnError> {
         let mut shapes: HashMap<String, usize> = HashMap::new();
-        let mut built: Vec<ShapeParts> = Vec::new();
+        let mut built: Vec<Vec<MeshPart>> = Vec::new();
         let mut object_shapes = Vec::with_capacity(desc.objects.len());
         for (i, object) in desc.objects.iter().enumerate() {
             let key = format!("{:?}", object.shape);
             let index = match shapes.get(&key) {
                 Some(&index) => index,
                 None => {
-                    let parts = scene.build_shape(desc, &object.shape, i)?;
-                    built.push(parts);
+                    built.push(self.build_shape(desc, &object.shape, i)?);
                     shapes.insert(key, built.len() - 1);
                     built.len() - 1
                 }
@@ -163,28 +179,30 @@ impl PreparedScene {
                 rotation: instance.rotation,
                 scale: instance.scale,
             };
-            for &(mesh, material, object_from_mesh) in &built[object_shapes[instance.object]].parts {
-                let transform = if object_from_mesh == Mat4::IDENTITY {
+            for part in &built[object_shapes[instance.object]] {
+                // NOTE: a part at the object's origin takes the object's transform as it is;
+                // composing and decomposing a matrix would round it.
+                let transform = if part.object_from_mesh == Mat4::IDENTITY {
                     object
                 } else {
                     let (scale, rotation, translation) =
-                        (object.world_from_local() * object_from_mesh).to_scale_rotation_translation();
+                        (object.world_from_local() * part.object_from_mesh).to_scale_rotation_translation();
                     Transform {
                         translation,
                         rotation,
                         scale,
                     }
                 };
-                scene.entities.push(EntityPlan {
+                self.entities.push(EntityPlan {
                     transform,
-                    mesh,
-                    material: material.unwrap_or(instance.material),
+                    mesh: part.mesh,
+                    material: part.material.unwrap_or(instance.material),
                     cast: instance.cast_shadows,
                     receive: instance.receive_shadows,
                 });
             }
         }
-        Ok(scene)
+        Ok(())
     }
 
     /// Index of the texture at `path` in `images`, loading it on first use.
@@ -200,7 +218,7 @@ impl PreparedScene {
     /// Builds the meshes of one shape. Primitive shapes are one mesh with the object's
     /// material; a glTF model brings its own meshes, materials and node transforms (its
     /// primitives without a material use the object's).
-    fn build_shape(&mut self, desc: &SceneDesc, shape: &Shape, object: usize) -> Result<ShapeParts, SpawnError> {
+    fn build_shape(&mut self, desc: &SceneDesc, shape: &Shape, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
         let mesh = match shape {
             Shape::Plane { size } => plane(*size),
             Shape::Cuboid { size } => cuboid(*size),
@@ -208,13 +226,15 @@ impl PreparedScene {
             Shape::Gltf { path } => return self.add_model(&desc.resolve_path(path), object),
         };
         self.meshes.push(mesh);
-        Ok(ShapeParts {
-            parts: vec![(self.meshes.len() - 1, None, Mat4::IDENTITY)],
-        })
+        Ok(vec![MeshPart {
+            mesh: self.meshes.len() - 1,
+            material: None,
+            object_from_mesh: Mat4::IDENTITY,
+        }])
     }
 
     /// Loads a glTF model and adds its images, materials and one mesh per primitive.
-    fn add_model(&mut self, file: &Path, object: usize) -> Result<ShapeParts, SpawnError> {
+    fn add_model(&mut self, file: &Path, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
         let model = gltf::load(file).map_err(|e| SpawnError::Model {
             object,
             message: e.to_string(),
@@ -241,16 +261,18 @@ impl PreparedScene {
             }
             primitives.push(list);
         }
-        let parts = model
+        Ok(model
             .nodes
             .iter()
             .flat_map(|node| {
                 let list = primitives.get(node.mesh).map_or(&[][..], Vec::as_slice);
-                list.iter()
-                    .map(move |&(mesh, material)| (mesh, material, node.model_from_mesh))
+                list.iter().map(move |&(mesh, material)| MeshPart {
+                    mesh,
+                    material,
+                    object_from_mesh: node.model_from_mesh,
+                })
             })
-            .collect();
-        Ok(ShapeParts { parts })
+            .collect())
     }
 
     /// Number of mesh entities [`spawn`](Self::spawn) creates.
@@ -260,29 +282,29 @@ impl PreparedScene {
 
     /// Adds the scene's assets to the world's stores and spawns the camera, the sun and one
     /// entity per mesh instance, each marked [`SceneEntity`]. Sets the ambient light.
-    pub fn spawn(&self, world: &mut World) -> usize {
+    pub fn spawn(self, world: &mut World) -> usize {
         world.spawn((self.camera.0, self.camera.1, SceneEntity));
         world.spawn((self.sun.0, self.sun.1, self.sun.2, SceneEntity));
         world.insert_resource(self.ambient);
         let images: Vec<ImageHandle> = {
             let mut store = world.resource_mut::<Images>();
-            self.images.iter().map(|i| store.add(i.clone())).collect()
+            self.images.into_iter().map(|i| store.add(i)).collect()
         };
         let materials: Vec<MaterialHandle> = {
             let mut store = world.resource_mut::<Materials>();
             self.materials
-                .iter()
+                .into_iter()
                 .map(|m| {
                     store.add(Material {
                         base_color_texture: m.base_color_texture.map(|t| images[t.0 as usize]),
-                        ..m.clone()
+                        ..m
                     })
                 })
                 .collect()
         };
         let meshes: Vec<_> = {
             let mut store = world.resource_mut::<Meshes>();
-            self.meshes.iter().map(|m| store.add(m.clone())).collect()
+            self.meshes.into_iter().map(|m| store.add(m)).collect()
         };
         // NOTE: one batch per combination of shadow flags, so every entity is spawned straight
         // into its final archetype.

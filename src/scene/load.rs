@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use ron::extensions::Extensions;
 use ron::options::Options;
+use serde::de::DeserializeOwned;
 
 use crate::scene::desc::SceneDesc;
 use crate::scene::error::{SceneError, parse_error};
@@ -30,11 +31,18 @@ impl SceneDesc {
     }
 }
 
-fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>) -> Result<SceneDesc, SceneError> {
+/// Parses RON text (after a byte-order mark, if any) into `T`, with located errors; returns
+/// the value and the text it was read from, for locating later problems.
+pub(crate) fn parse_ron<'t, T: DeserializeOwned>(text: &'t str, origin: &str) -> Result<(T, &'t str), SceneError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // `implicit_some` lets optional fields be written without `Some(...)`.
     let options = Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
-    let mut scene: SceneDesc = options.from_str(text).map_err(|err| parse_error(origin, text, &err))?;
+    let value = options.from_str(text).map_err(|err| parse_error(origin, text, &err))?;
+    Ok((value, text))
+}
+
+fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>) -> Result<SceneDesc, SceneError> {
+    let (mut scene, text): (SceneDesc, &str) = parse_ron(text, origin)?;
     let problems = validate(&scene, text, base_dir.as_deref());
     if !problems.is_empty() {
         return Err(SceneError::Invalid {

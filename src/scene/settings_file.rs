@@ -14,11 +14,10 @@
 
 use std::path::Path;
 
-use ron::extensions::Extensions;
-use ron::options::Options;
 use ron::ser::PrettyConfig;
 
-use crate::scene::error::{Problem, SceneError, parse_error};
+use crate::scene::error::{Problem, SceneError};
+use crate::scene::load::parse_ron;
 use crate::scene::locate::{Node, Seg};
 use crate::settings::ShadowSettings;
 
@@ -35,9 +34,7 @@ pub fn load_settings(path: impl AsRef<Path>) -> Result<ShadowSettings, SceneErro
 /// Parses and checks settings text; `origin` names it in error messages. Out-of-range values
 /// are errors here (a file is fixed by editing it), not clamped.
 pub fn settings_from_str(text: &str, origin: &str) -> Result<ShadowSettings, SceneError> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let options = Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
-    let settings: ShadowSettings = options.from_str(text).map_err(|err| parse_error(origin, text, &err))?;
+    let (settings, text): (ShadowSettings, &str) = parse_ron(text, origin)?;
     let found = settings.problems();
     if found.is_empty() {
         return Ok(settings);

@@ -23,7 +23,7 @@ use crate::render::frame::FrameInputs;
 use crate::render::target::TargetViews;
 use crate::render::{GpuContext, GpuError, Renderer};
 use crate::scene::{SceneDesc, SceneError, load_settings};
-use crate::settings::ShadowSettings;
+use crate::settings::{ShadowMode, ShadowSettings};
 use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
 use crate::viewer::fly_camera::{FlyCamera, MoveKeys};
 use crate::viewer::inspector::{FrameInfo, Inspector};
@@ -279,7 +279,7 @@ impl Viewer {
                 let mut q = world.query::<&mut ShadowSettings>();
                 for mut s in q.iter_mut(world) {
                     self.start_settings.get_or_insert(*s);
-                    s.mode = crate::settings::ShadowMode::Pcss;
+                    s.mode = ShadowMode::Pcss;
                     s.cascade_count = 2;
                     s.resolution = 1024;
                 }
@@ -349,17 +349,19 @@ impl Viewer {
         }
         self.app.update();
 
-        let mut errors: Vec<String> = self.reload.error.iter().chain(&self.shader_error).cloned().collect();
+        // NOTE: the error list is kept in the summary and refilled in place, so a frame
+        // without errors allocates nothing here.
+        let errors = &mut self.summary.errors;
+        errors.clear();
+        errors.extend(self.reload.error.iter().chain(&self.shader_error).cloned());
         errors.extend(state.renderer.pipeline_error().map(str::to_owned));
-        self.summary.errors.clone_from(&errors);
-        let report = state.renderer.last_report.clone();
         let raw = state.egui_state.take_egui_input(&state.window);
         let world = self.app.world_mut();
         let inspector = &mut self.inspector;
         let camera = &mut self.camera;
         let info = FrameInfo {
-            report: Some(&report),
-            errors,
+            report: Some(&state.renderer.last_report),
+            errors: &self.summary.errors,
         };
         let output = state.egui_ctx.run_ui(raw, |ui| {
             egui::Panel::left("inspector").show(ui, |ui| {

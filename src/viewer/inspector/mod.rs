@@ -30,7 +30,7 @@ pub struct FrameInfo<'a> {
     /// The renderer's report of the last frame.
     pub report: Option<&'a FrameReport>,
     /// Errors to show in red (a rejected reload, a failed pipeline build).
-    pub errors: Vec<String>,
+    pub errors: &'a [String],
 }
 
 /// The inspector's own state: the timing history and where settings are saved.
@@ -70,7 +70,7 @@ impl Inspector {
     /// Draws the inspector and writes edits back to the world (the sun's components and its
     /// [`ShadowSettings`]); `camera` adds the free camera's speed control.
     pub fn ui(&mut self, ui: &mut Ui, world: &mut World, frame: &FrameInfo<'_>, camera: Option<&mut FlyCamera>) {
-        for error in &frame.errors {
+        for error in frame.errors {
             ui.colored_label(Color32::from_rgb(255, 110, 100), error);
         }
         if let Some(camera) = camera {
