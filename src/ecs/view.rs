@@ -29,7 +29,7 @@ pub struct SunView {
 }
 
 /// The camera and sun of this frame. Positions (the camera, the cascade matrices) are relative
-/// to the [`RenderOrigin`](crate::ecs::origin::RenderOrigin).
+/// to the [`RenderOrigin`].
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct ActiveView {
     /// The first entity with [`Camera3d`] and a valid [`Transform`], if any.
