@@ -6,9 +6,10 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use penumbra::app::{RenderError, RenderRequest, render_scene_with};
-use penumbra::export::write_scalar_image;
+use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with};
+use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::PassTiming;
+use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::scene::SceneDesc;
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
@@ -37,14 +38,14 @@ enum Quality {
 struct RenderArgs {
     /// Scene file (RON).
     scene: PathBuf,
-    /// Output PNG.
+    /// Output PNG (checked, and its folder created, before rendering).
     #[arg(long, default_value = "out/render.png")]
     out: PathBuf,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1280)]
+    /// Image width in pixels (at most the adapter's largest texture side).
+    #[arg(long, default_value_t = 1280, value_parser = side())]
     width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 720)]
+    /// Image height in pixels (at most the adapter's largest texture side).
+    #[arg(long, default_value_t = 720, value_parser = side())]
     height: u32,
     /// Shadow filter (default: the scene's).
     #[arg(long)]
@@ -79,13 +80,13 @@ struct BenchArgs {
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
     /// Resolution of the GPU timings.
-    #[arg(long, default_value_t = 1920)]
+    #[arg(long, default_value_t = 1920, value_parser = side())]
     width: u32,
     /// Resolution of the GPU timings.
-    #[arg(long, default_value_t = 1080)]
+    #[arg(long, default_value_t = 1080, value_parser = side())]
     height: u32,
     /// Width at which errors are scored (height follows the timing aspect ratio).
-    #[arg(long, default_value_t = 480)]
+    #[arg(long, default_value_t = 480, value_parser = side())]
     analysis_width: u32,
     /// Most reference rays per point (adaptive from 16).
     #[arg(long, default_value_t = 256)]
@@ -118,11 +119,19 @@ enum Command {
     /// Score every shadow preset against a ray-traced reference and measure its GPU and CPU
     /// cost; writes report.md and plot.png.
     Bench(BenchArgs),
-    /// Load a scene file and report every problem in it.
+    /// Load scene files and everything they name (glTF models, textures), as `render` would
+    /// but without a GPU, and report every problem.
     Check {
         /// Scene files (RON).
+        #[arg(required = true)]
         scenes: Vec<PathBuf>,
     },
+}
+
+/// Image sides accepted on the command line: 1 to the largest texture side of any adapter;
+/// the adapter's own limit is checked when it is opened, before anything is rendered.
+fn side() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -162,6 +171,10 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         frames,
         shadow_out,
     } = args;
+    prepare_output(&out, OutputKind::ColorImage)?;
+    if let Some(path) = &shadow_out {
+        prepare_output(path, OutputKind::ScalarImage)?;
+    }
     let desc = SceneDesc::load(&scene)?;
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
@@ -195,16 +208,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     if let (Some(path), Some(analysis)) = (&shadow_out, &result.analysis) {
         write_scalar_image(path, analysis.width, analysis.height, &analysis.shadow)?;
     }
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| RenderError::Write {
-            path: out.display().to_string(),
-            message: e.to_string(),
-        })?;
-    }
-    result.image.save(&out).map_err(|e| RenderError::Write {
-        path: out.display().to_string(),
-        message: e.to_string(),
-    })?;
+    write_color_image(&out, &result.image)?;
 
     let s = &desc.shadows;
     println!("scene      {}", scene.display());
@@ -334,6 +338,9 @@ fn bench(args: BenchArgs) -> Result<(), String> {
         normal_offset: args.normal_offset,
         slope_bias: args.slope_bias,
     };
+    for name in ["report.md", "plot.png"] {
+        prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;
+    }
     let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
     let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
     println!("adapter    {} ({}, {})", report.adapter, report.backend, report.driver);
@@ -357,11 +364,22 @@ fn bench(args: BenchArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// Loads each scene and everything it names (glTF models, textures) exactly as `render`
+/// would, without a GPU, and reports every problem.
 fn check(scenes: Vec<PathBuf>) -> Result<(), String> {
     let mut failed = 0;
     for path in &scenes {
-        match SceneDesc::load(path) {
-            Ok(desc) => println!("{}: ok ({} instances)", path.display(), desc.instance_count()),
+        let loaded = SceneDesc::load(path).map_err(|e| e.to_string()).and_then(|desc| {
+            let prepared = PreparedScene::new(&desc).map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok((desc, prepared))
+        });
+        match loaded {
+            Ok((desc, prepared)) => println!(
+                "{}: ok ({} instances, {} mesh entities)",
+                path.display(),
+                desc.instance_count(),
+                prepared.entity_count()
+            ),
             Err(e) => {
                 eprintln!("{e}");
                 failed += 1;

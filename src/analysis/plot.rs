@@ -9,12 +9,13 @@
 use std::path::{Path, PathBuf};
 
 use ab_glyph::InvalidFont;
-use image::{ImageError, ImageFormat, Rgb, RgbImage};
+use image::{ImageFormat, Rgb, RgbImage};
 
 use crate::analysis::font::{Fonts, Style, blit, measure, render, text};
 use crate::analysis::pareto::pareto_front;
 use crate::analysis::raster::{Rect, disc, fill_rect, wu_line};
 use crate::analysis::report::BenchReport;
+use crate::export::write_file;
 
 /// Image width in pixels.
 pub(crate) const WIDTH: u32 = 1200;
@@ -41,23 +42,26 @@ pub enum PlotError {
     #[error("the embedded plot font cannot be read: {0}")]
     Font(#[from] InvalidFont),
     /// Encoding or writing the PNG failed.
-    #[error("cannot write the plot `{}`: {source}", path.display())]
+    #[error("cannot write the plot `{}`: {message}", path.display())]
     Write {
         /// Where it was to be written.
         path: PathBuf,
         /// What failed.
-        source: ImageError,
+        message: String,
     },
 }
 
 /// Writes the plot of `report` as a 1200 × 800 PNG to `path`.
 pub fn plot_png(report: &BenchReport, path: &Path) -> Result<(), PlotError> {
     let img = draw(report, &Fonts::load()?);
-    let write_error = |source| PlotError::Write {
+    let write_error = |message: String| PlotError::Write {
         path: path.to_owned(),
-        source,
+        message,
     };
-    img.save_with_format(path, ImageFormat::Png).map_err(write_error)
+    let mut png = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut png), ImageFormat::Png)
+        .map_err(|e| write_error(e.to_string()))?;
+    write_file(path, &png).map_err(|e| write_error(e.to_string()))
 }
 
 /// One axis: its range, which starts and ends on a tick, and the tick step.

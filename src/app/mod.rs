@@ -12,8 +12,9 @@ use thiserror::Error;
 use crate::ecs::components::ViewportSize;
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::render::gpu_types::InstanceGpu;
 use crate::render::target::AnalysisImage;
-use crate::render::{FrameReport, GpuError, RenderPlugin, Renderer};
+use crate::render::{FrameReport, GpuError, LimitError, RenderPlugin, Renderer};
 use crate::scene::{self, SceneDesc};
 use crate::settings::ShadowSettings;
 
@@ -124,22 +125,42 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
         Renderer::headless(width, height)?
     };
     let adapter = renderer.gpu.describe();
+    // NOTE: checked before anything is spawned or uploaded, so an oversized scene costs no
+    // GPU memory and names its cause.
+    let most = renderer.gpu.limits.storage_elements(size_of::<InstanceGpu>() as u64);
+    let wanted = desc.instance_count();
+    if wanted > most {
+        return Err(RenderError::Gpu(GpuError::Limit(LimitError {
+            what: "the scene's instance count".to_owned(),
+            found: wanted,
+            min: 0,
+            max: most,
+        })));
+    }
     let mut app = headless_app(renderer);
     let instances = spawn_scene(app.world_mut(), &desc)?;
     let mut reports = Vec::new();
+    let mut warnings = Vec::new();
     for _ in 0..frames.max(1) {
         app.update();
-        reports.push(app.world().resource::<Renderer>().last_report.clone());
+        let mut renderer = app.world_mut().resource_mut::<Renderer>();
+        let errors = renderer.take_errors();
+        if !errors.is_empty() {
+            return Err(RenderError::Gpu(GpuError::Validation(errors.join("; "))));
+        }
+        warnings.extend(renderer.take_warnings());
+        reports.push(renderer.last_report.clone());
     }
     let world = app.world();
     let renderer = world.resource::<Renderer>();
+    warnings.extend(world.resource::<ShadowDiagnostics>().current.iter().cloned());
     Ok(HeadlessFrame {
         image: renderer.read_image(),
         analysis: renderer.read_analysis(),
         report: renderer.last_report.clone(),
         stats: world.resource::<ShadowStats>().clone(),
         frames: reports,
-        warnings: world.resource::<ShadowDiagnostics>().current.clone(),
+        warnings,
         adapter,
         instances,
     })

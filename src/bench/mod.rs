@@ -14,6 +14,7 @@ use thiserror::Error;
 
 use crate::analysis::plot::{PlotError, plot_png};
 use crate::analysis::report::{BenchReport, markdown};
+use crate::export::write_file;
 
 /// The report could not be written.
 #[derive(Debug, Error)]
@@ -41,6 +42,9 @@ pub fn write_report(report: &BenchReport, dir: &Path) -> Result<PathBuf, ReportE
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     plot_png(report, &dir.join("plot.png"))?;
     let path = dir.join("report.md");
-    std::fs::write(&path, markdown(report, Some("plot.png"))).map_err(|e| io(&path, e))?;
+    write_file(&path, markdown(report, Some("plot.png")).as_bytes()).map_err(|e| ReportError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
     Ok(path)
 }

@@ -2,9 +2,13 @@
 //! features penumbra uses (timestamp queries, unclipped depth) turned on where the adapter
 //! has them.
 
+use std::sync::{Arc, Mutex};
+
 use thiserror::Error;
 
-/// Why no GPU device could be opened.
+use crate::render::limits::{DeviceLimits, LimitError, requested_limits};
+
+/// Why no GPU device could be opened, or why the device refused the work.
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum GpuError {
@@ -32,6 +36,25 @@ pub enum GpuError {
         /// wgpu's reason.
         message: String,
     },
+    /// A size derived from the input is beyond what the device allows.
+    #[error(transparent)]
+    Limit(#[from] LimitError),
+    /// The device reported an error for work it was given (a validation error that no check
+    /// before it caught); the frame's output is not to be trusted.
+    #[error("the GPU reported an error: {0}")]
+    Validation(String),
+}
+
+/// Most device errors kept between two reads of [`GpuContext::take_errors`]; later ones are
+/// counted, not kept.
+const MAX_KEPT_ERRORS: usize = 8;
+
+/// Device errors reported outside any error scope, collected instead of panicking (wgpu's
+/// default handler panics).
+#[derive(Debug, Default)]
+struct ErrorSink {
+    kept: Vec<String>,
+    dropped: usize,
 }
 
 /// An open device and what it can do.
@@ -50,6 +73,9 @@ pub struct GpuContext {
     pub timestamps: bool,
     /// Depth can be left unclipped (casters in front of the near plane are clamped to it).
     pub unclipped_depth: bool,
+    /// The limits user data is checked against.
+    pub limits: DeviceLimits,
+    errors: Arc<Mutex<ErrorSink>>,
 }
 
 impl GpuContext {
@@ -82,11 +108,7 @@ impl GpuContext {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("penumbra"),
                 required_features,
-                required_limits: wgpu::Limits {
-                    // The analysis targets (colour + three Rgba32Float) need 56 bytes per sample.
-                    max_color_attachment_bytes_per_sample: adapter.limits().max_color_attachment_bytes_per_sample,
-                    ..wgpu::Limits::default().using_resolution(adapter.limits())
-                },
+                required_limits: requested_limits(&adapter.limits()),
                 ..Default::default()
             })
             .await
@@ -94,7 +116,22 @@ impl GpuContext {
                 adapter: adapter_info.name.clone(),
                 message: e.to_string(),
             })?;
+        let errors = Arc::new(Mutex::new(ErrorSink::default()));
+        let sink = Arc::clone(&errors);
+        device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
+            log::error!("GPU error: {error}");
+            // NOTE: a poisoned lock only means another thread panicked while pushing; the
+            // list is still usable.
+            let mut sink = sink.lock().unwrap_or_else(|p| p.into_inner());
+            if sink.kept.len() < MAX_KEPT_ERRORS {
+                sink.kept.push(error.to_string());
+            } else {
+                sink.dropped += 1;
+            }
+        }));
         Ok(Self {
+            limits: DeviceLimits::of(&device),
+            errors,
             instance,
             adapter,
             device,
@@ -103,6 +140,18 @@ impl GpuContext {
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             adapter_info,
         })
+    }
+
+    /// The device errors reported since the last call (each a message; a last line counts
+    /// those not kept), emptying the list.
+    pub fn take_errors(&self) -> Vec<String> {
+        let mut sink = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        let mut errors = std::mem::take(&mut sink.kept);
+        if sink.dropped > 0 {
+            errors.push(format!("and {} more GPU errors", sink.dropped));
+            sink.dropped = 0;
+        }
+        errors
     }
 
     /// One line naming the adapter, its driver and backend.

@@ -11,6 +11,7 @@ use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
 use crate::render::graph::RenderGraph;
 use crate::render::layouts::Layouts;
+use crate::render::limits::UploadProblems;
 use crate::render::probe::{ProbeGpu, ProbePass};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadow_map::ShadowMap;
@@ -57,14 +58,18 @@ pub struct Renderer {
     probes: ProbePass,
     counters: RenderCounters,
     pipeline_error: Option<String>,
+    problems: UploadProblems,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
 
 impl Renderer {
-    /// Opens a headless device and a `width`×`height` target.
+    /// Opens a headless device and a `width`×`height` target (each side from 1 to the
+    /// device's largest texture side, else [`GpuError::Limit`]).
     pub fn headless(width: u32, height: u32) -> Result<Self, GpuError> {
-        Ok(Self::new(GpuContext::headless()?, width.max(1), height.max(1)))
+        let gpu = GpuContext::headless()?;
+        gpu.limits.check_target(width, height)?;
+        Ok(Self::new(gpu, width, height))
     }
 
     /// Like [`headless`](Self::headless), with analysis targets: every frame also records
@@ -72,6 +77,7 @@ impl Renderer {
     /// [`read_analysis`](Self::read_analysis).
     pub fn headless_with_analysis(width: u32, height: u32) -> Result<Self, GpuError> {
         let gpu = GpuContext::headless()?;
+        gpu.limits.check_target(width, height)?;
         let bytes = gpu.device.limits().max_color_attachment_bytes_per_sample;
         if bytes < 56 {
             return Err(GpuError::Unsupported {
@@ -79,13 +85,8 @@ impl Renderer {
                 what: format!("write analysis targets: 56 colour bytes per sample needed, {bytes} available"),
             });
         }
-        let mut renderer = Self::new(gpu, width.max(1), height.max(1));
-        renderer.target = Some(HeadlessTarget::new(
-            &renderer.gpu.device,
-            width.max(1),
-            height.max(1),
-            true,
-        ));
+        let mut renderer = Self::new(gpu, width, height);
+        renderer.target = Some(HeadlessTarget::new(&renderer.gpu.device, width, height, true));
         Ok(renderer)
     }
 
@@ -97,8 +98,11 @@ impl Renderer {
         renderer
     }
 
-    /// Builds the renderer on an open device, with a `width`×`height` offscreen target.
+    /// Builds the renderer on an open device, with a `width`×`height` offscreen target (each
+    /// side clamped to 1 ..= the device's largest texture side).
     pub fn new(gpu: GpuContext, width: u32, height: u32) -> Self {
+        let max = gpu.limits.max_texture_side.max(1);
+        let (width, height) = (width.clamp(1, max), height.clamp(1, max));
         let layouts = Layouts::new(&gpu.device);
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
         let scene = SceneGpu::new(&gpu.device, &layouts);
@@ -123,6 +127,7 @@ impl Renderer {
             probes,
             counters: RenderCounters::default(),
             pipeline_error: None,
+            problems: UploadProblems::default(),
             last_report: FrameReport::default(),
         }
     }
@@ -156,6 +161,21 @@ impl Renderer {
     /// The last pipeline build that failed since the shader was last set, if any.
     pub fn pipeline_error(&self) -> Option<&str> {
         self.pipeline_error.as_deref()
+    }
+
+    /// Inputs the renderer had to change to fit the device since the last call (an image
+    /// downscaled), emptying the list. Each is also logged as a warning.
+    pub fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.problems.warnings)
+    }
+
+    /// Errors since the last call, emptying the list: inputs too large for the device (the
+    /// frame was not drawn), images that could not be used, and any error the device itself
+    /// reported. Each is also logged. Empty after a frame that rendered as asked.
+    pub fn take_errors(&mut self) -> Vec<String> {
+        let mut errors = std::mem::take(&mut self.problems.errors);
+        errors.extend(self.gpu.take_errors());
+        errors
     }
 
     /// Size of the render target.
@@ -221,12 +241,28 @@ impl Renderer {
             Some(s) => ShadowUniformsGpu::new(&s.cascades, &s.settings, s.direction, input.frame_index),
             None => ShadowUniformsGpu::disabled(),
         };
-        if self
-            .scene
-            .prepare(&self.gpu, &self.layouts, shadow_map, input, &frame, &shadow)
-        {
-            self.counters.view_groups += 1;
+        let mut problems = UploadProblems::default();
+        let prepared = self.scene.prepare(
+            &self.gpu,
+            &self.layouts,
+            shadow_map,
+            input,
+            (&frame, &shadow),
+            &mut problems,
+        );
+        let drawable = prepared.is_ok();
+        match prepared {
+            Ok(true) => self.counters.view_groups += 1,
+            Ok(false) => {}
+            Err(e) => problems.errors.push(format!("the frame is not drawn: {e}")),
         }
+        for warning in &problems.warnings {
+            log::warn!("{warning}");
+        }
+        for error in &problems.errors {
+            log::error!("{error}");
+        }
+        self.problems.append(problems);
         self.timer.begin_frame();
         let mut encoder = self
             .gpu
@@ -247,7 +283,7 @@ impl Renderer {
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
         };
-        if input.view.camera.is_some() {
+        if input.view.camera.is_some() && drawable {
             self.graph.execute(&mut ctx, &mut encoder);
         }
         let draw_calls = ctx.draw_calls;

@@ -3,13 +3,15 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::ecs::assets::{ImageData, Images, Materials, Meshes};
+use crate::ecs::assets::Meshes;
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame::FrameInputs;
 use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, PoissonTapsGpu, ShadowUniformsGpu};
 use crate::render::layouts::Layouts;
+use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadow_map::ShadowMap;
+use crate::render::textures::{fit_image, upload, white};
 use crate::settings::MAX_CASCADES;
 
 /// Where one mesh lives in the mega-buffers.
@@ -23,7 +25,8 @@ pub struct MeshRange {
     pub base_vertex: i32,
 }
 
-/// A storage buffer that grows (by doubling) and reports when it was replaced.
+/// A storage buffer that grows (by doubling, up to the device's storage-binding size) and
+/// reports when it was replaced.
 struct GrowBuffer {
     buffer: wgpu::Buffer,
     label: &'static str,
@@ -41,16 +44,23 @@ impl GrowBuffer {
     }
 
     /// Writes `data`, growing first if needed; returns true when the buffer was replaced.
-    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, data: &[u8]) -> bool {
+    /// Data larger than one storage binding is refused before any wgpu call.
+    fn write(&mut self, gpu: &GpuContext, data: &[u8]) -> Result<bool, LimitError> {
+        let limits = &gpu.limits;
+        let needed = data.len() as u64;
+        limits.check_buffer(self.label, needed, true)?;
         let mut replaced = false;
-        if data.len() as u64 > self.buffer.size() {
-            *self = Self::new(device, self.label, (data.len() as u64).next_power_of_two());
+        if needed > self.buffer.size() {
+            let most = limits.max_storage_binding_bytes.min(limits.max_buffer_bytes);
+            // NOTE: storage bindings are sized in multiples of 4 bytes.
+            let size = needed.next_power_of_two().min(most & !3).max(needed);
+            *self = Self::new(&gpu.device, self.label, size);
             replaced = true;
         }
         if !data.is_empty() {
-            queue.write_buffer(&self.buffer, 0, data);
+            gpu.queue.write_buffer(&self.buffer, 0, data);
         }
-        replaced
+        Ok(replaced)
     }
 }
 
@@ -179,38 +189,39 @@ impl SceneGpu {
     }
 
     /// Uploads what changed since the last frame and this frame's lists and uniforms; returns
-    /// true when the view bind group was (re)created.
+    /// true when the view bind group was (re)created. Sizes are checked against the device's
+    /// limits first: an oversized image is downscaled (a warning in `problems`); mesh, instance
+    /// or draw lists too large for the device are refused with an error, and the frame must
+    /// not be drawn.
     pub fn prepare(
         &mut self,
         gpu: &GpuContext,
         layouts: &Layouts,
         shadow_map: &ShadowMap,
         input: &FrameInputs<'_>,
-        frame: &FrameUniformsGpu,
-        shadow: &ShadowUniformsGpu,
-    ) -> bool {
+        uniforms: (&FrameUniformsGpu, &ShadowUniformsGpu),
+        problems: &mut UploadProblems,
+    ) -> Result<bool, LimitError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
+        let (frame, shadow) = uniforms;
         if input.meshes.generation() != self.mesh_generation {
-            self.upload_meshes(device, input.meshes);
+            self.upload_meshes(gpu, input.meshes)?;
         }
         if (input.materials.generation(), input.images.generation()) != self.material_generation {
-            self.upload_materials(device, queue, layouts, input.materials, input.images);
+            self.upload_materials(gpu, layouts, input, problems);
         }
         let mut regroup = false;
         if input.instances.generation != self.instance_generation {
-            regroup |= self.instances.write(
-                device,
-                queue,
-                bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu),
-            );
+            let instances = bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu);
+            regroup |= self.instances.write(gpu, instances)?;
             self.instance_generation = input.instances.generation;
         }
-        let shadow_replaced =
-            self.shadow_indices
-                .write(device, queue, bytemuck::cast_slice(&input.shadow_groups.indices));
+        let shadow_replaced = self
+            .shadow_indices
+            .write(gpu, bytemuck::cast_slice(&input.shadow_groups.indices))?;
         let view_replaced = self
             .view_indices
-            .write(device, queue, bytemuck::cast_slice(&input.view_groups.indices));
+            .write(gpu, bytemuck::cast_slice(&input.view_groups.indices))?;
         if regroup || shadow_replaced {
             self.shadow_instances_group = instances_group(
                 device,
@@ -239,9 +250,9 @@ impl SceneGpu {
         if self.view_group.is_none() || self.shadow_map_resolution != shadow_map.resolution {
             self.view_group = Some(self.create_view_group(device, layouts, shadow_map));
             self.shadow_map_resolution = shadow_map.resolution;
-            return true;
+            return Ok(true);
         }
-        false
+        Ok(false)
     }
 
     fn create_view_group(&self, device: &wgpu::Device, layouts: &Layouts, shadow_map: &ShadowMap) -> wgpu::BindGroup {
@@ -277,9 +288,29 @@ impl SceneGpu {
         })
     }
 
-    fn upload_meshes(&mut self, device: &wgpu::Device, meshes: &Meshes) {
-        let mut vertices: Vec<Vertex> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
+    /// Packs every mesh into one vertex and one index buffer, after checking that both fit.
+    fn upload_meshes(&mut self, gpu: &GpuContext, meshes: &Meshes) -> Result<(), LimitError> {
+        let vertex_count: u64 = meshes.as_slice().iter().map(|m| m.vertices.len() as u64).sum();
+        let index_count: u64 = meshes.as_slice().iter().map(|m| m.indices.len() as u64).sum();
+        let limits = &gpu.limits;
+        limits.check_buffer("mesh vertex", vertex_count * size_of::<Vertex>() as u64, false)?;
+        limits.check_buffer("mesh index", index_count * 4, false)?;
+        // NOTE: draws address indices with u32 and vertices with an i32 base.
+        for (what, count, max) in [
+            ("the vertices of all meshes", vertex_count, i32::MAX as u64),
+            ("the indices of all meshes", index_count, u32::MAX as u64),
+        ] {
+            if count > max {
+                return Err(LimitError {
+                    what: what.to_owned(),
+                    found: count,
+                    min: 0,
+                    max,
+                });
+            }
+        }
+        let mut vertices: Vec<Vertex> = Vec::with_capacity(vertex_count as usize + 1);
+        let mut indices: Vec<u32> = Vec::with_capacity(index_count as usize + 3);
         self.mesh_ranges.clear();
         for mesh in meshes.as_slice() {
             self.mesh_ranges.push(MeshRange {
@@ -295,6 +326,7 @@ impl SceneGpu {
             vertices.push(Vertex::default());
             indices.extend([0, 0, 0]);
         }
+        let device = &gpu.device;
         self.vertex_buffer = Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("mesh vertices"),
             contents: bytemuck::cast_slice(&vertices),
@@ -306,45 +338,25 @@ impl SceneGpu {
             usage: wgpu::BufferUsages::INDEX,
         }));
         self.mesh_generation = meshes.generation();
+        Ok(())
     }
 
+    /// Uploads every image (fitted to the device, see [`fit_image`]) and makes one bind
+    /// group per material.
     fn upload_materials(
         &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        gpu: &GpuContext,
         layouts: &Layouts,
-        materials: &Materials,
-        images: &Images,
+        input: &FrameInputs<'_>,
+        problems: &mut UploadProblems,
     ) {
-        let white = ImageData {
-            width: 1,
-            height: 1,
-            rgba: vec![255; 4],
-        };
-        let views: Vec<wgpu::TextureView> = std::iter::once(&white)
-            .chain(images.as_slice())
-            .map(|image| {
-                let texture = device.create_texture_with_data(
-                    queue,
-                    &wgpu::TextureDescriptor {
-                        label: Some("base colour"),
-                        size: wgpu::Extent3d {
-                            width: image.width,
-                            height: image.height,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: wgpu::TextureFormat::Rgba8UnormSrgb,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    },
-                    wgpu::util::TextureDataOrder::LayerMajor,
-                    &image.rgba,
-                );
-                texture.create_view(&wgpu::TextureViewDescriptor::default())
-            })
+        let (materials, images) = (input.materials, input.images);
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let views: Vec<wgpu::TextureView> = std::iter::once(upload(device, queue, &white()))
+            .chain(images.as_slice().iter().enumerate().map(|(i, image)| {
+                let fitted = fit_image(image, &format!("image {i}"), &gpu.limits, problems);
+                upload(device, queue, &fitted)
+            }))
             .collect();
         self.material_groups = materials
             .as_slice()

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::render::limits::MAX_TEXTURE_SIDE;
 use crate::viewer::window::ViewerOptions;
 
 /// Arguments of the viewer.
@@ -21,10 +22,10 @@ pub struct ViewerArgs {
     #[arg(long)]
     pub shader: Option<PathBuf>,
     /// Window width.
-    #[arg(long, default_value_t = 1600)]
+    #[arg(long, default_value_t = 1600, value_parser = side())]
     pub width: u32,
     /// Window height.
-    #[arg(long, default_value_t = 900)]
+    #[arg(long, default_value_t = 900, value_parser = side())]
     pub height: u32,
     /// Close after this many frames.
     #[arg(long)]
@@ -36,6 +37,12 @@ pub struct ViewerArgs {
     /// settings changes that recreate GPU resources.
     #[arg(long)]
     pub exercise: bool,
+}
+
+/// Window sides accepted: 1 to the largest texture side of any adapter (the surface is
+/// clamped to the device's own limit).
+fn side() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
 }
 
 impl ViewerArgs {

@@ -45,11 +45,12 @@ impl WindowSurface {
         if can_copy {
             usage |= wgpu::TextureUsages::COPY_SRC;
         }
+        let max = device.limits().max_texture_dimension_2d.max(1);
         let config = wgpu::SurfaceConfiguration {
             usage,
             format,
-            width: width.max(1),
-            height: height.max(1),
+            width: width.clamp(1, max),
+            height: height.clamp(1, max),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode: caps.alpha_modes[0],
@@ -72,13 +73,16 @@ impl WindowSurface {
         s
     }
 
-    /// Follows a window resize; a zero width or height marks the window minimised.
+    /// Follows a window resize; a zero width or height marks the window minimised. A side
+    /// larger than the device's largest texture is clamped to it (the image is stretched).
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         if width == 0 || height == 0 {
             self.minimised = true;
             return;
         }
         self.minimised = false;
+        let max = device.limits().max_texture_dimension_2d.max(1);
+        let (width, height) = (width.min(max), height.min(max));
         if (width, height) != (self.config.width, self.config.height) {
             self.config.width = width;
             self.config.height = height;

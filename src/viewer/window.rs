@@ -19,6 +19,7 @@ use crate::app::{PreparedScene, SpawnError};
 use crate::ecs::components::{Camera3d, Transform, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;
+use crate::export::{OutputKind, prepare_output, write_color_image};
 use crate::render::frame::FrameInputs;
 use crate::render::target::TargetViews;
 use crate::render::{GpuContext, GpuError, Renderer};
@@ -146,6 +147,13 @@ pub fn default_settings_path(scene: &Path) -> PathBuf {
 /// Opens a window on the scene file at `scene_path` and runs until it is closed (or the
 /// scripted frame count is reached).
 pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, ViewerError> {
+    if let Some(path) = &options.screenshot {
+        // NOTE: checked before the window opens, not after the last frame.
+        prepare_output(path, OutputKind::ColorImage).map_err(|e| ViewerError::Screenshot {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+    }
     let desc = SceneDesc::load(scene_path)?;
     let settings_path = options
         .settings
@@ -448,7 +456,7 @@ impl Viewer {
         if finished && let Some(path) = self.options.screenshot.clone() {
             let gpu = &state.renderer.gpu;
             match state.surface.screenshot(&gpu.device, &gpu.queue, &frame.texture) {
-                Some(image) => match image.save(&path) {
+                Some(image) => match write_color_image(&path, &image) {
                     Ok(()) => self.summary.screenshot = Some(path),
                     Err(e) => {
                         self.error = Some(ViewerError::Screenshot {

@@ -1,0 +1,179 @@
+//! The command line as a user meets it: sizes and output paths are checked before any work,
+//! every failed write is a non-zero exit with the reason, nothing half-written is left, and
+//! `check` loads everything `render` would.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn penumbra(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(args)
+        .output()
+        .expect("the penumbra binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penumbra-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn image_sizes_are_checked_when_the_command_line_is_parsed() {
+    for (flag, value) in [
+        ("--width", "0"),
+        ("--height", "0"),
+        ("--width", "40000"),
+        ("--height", "-3"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let out = penumbra(&["render", "assets/scenes/default.ron", &arg]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!("invalid value '{value}' for '{flag} <")),
+            "{flag} {value}: {err}"
+        );
+    }
+}
+
+#[test]
+fn bad_output_paths_fail_before_rendering_and_leave_nothing() {
+    let dir = scratch("paths");
+    let jpg = dir.join("out.jpg");
+    let out = penumbra(&["render", "assets/scenes/default.ron", "--out", jpg.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        stderr(&out).trim_end(),
+        format!("error: {}: unknown image type, expected a .png path", jpg.display())
+    );
+    assert!(stdout(&out).is_empty(), "nothing rendered: {}", stdout(&out));
+    let shadow = dir.join("shadow.exr");
+    let png = dir.join("out.png");
+    let out = penumbra(&[
+        "render",
+        "assets/scenes/default.ron",
+        "--out",
+        png.to_str().unwrap(),
+        "--shadow-out",
+        shadow.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("expected a .png (16-bit greyscale) or .pfm (32-bit float) path"),
+        "{}",
+        stderr(&out)
+    );
+    // A folder where the image's folder should be.
+    std::fs::write(dir.join("file"), b"x").unwrap();
+    let under_file = dir.join("file/out.png");
+    let out = penumbra(&[
+        "render",
+        "assets/scenes/default.ron",
+        "--out",
+        under_file.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("cannot create its folder"), "{}", stderr(&out));
+    assert_eq!(files_in(&dir), ["file"], "no file left behind");
+}
+
+#[test]
+fn a_write_that_fails_is_a_non_zero_exit() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full on this system; this check runs on Linux");
+        return;
+    }
+    let out = penumbra(&[
+        "render",
+        "assets/scenes/default.ron",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+        "--out",
+        "/dev/full",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    // NOTE: a Vulkan driver may print its own lines on stderr first.
+    assert!(err.lines().any(|l| l.starts_with("error: /dev/full: ")), "{err}");
+    assert!(err.to_lowercase().contains("no space left"), "{err}");
+}
+
+#[test]
+fn a_render_writes_its_image_and_nothing_else() {
+    let dir = scratch("render");
+    let png = dir.join("sub/out.png");
+    let pfm = dir.join("sub/shadow.pfm");
+    let out = penumbra(&[
+        "render",
+        "assets/scenes/default.ron",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+        "--out",
+        png.to_str().unwrap(),
+        "--shadow-out",
+        pfm.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let image = image::open(&png).expect("a PNG was written").to_rgba8();
+    assert_eq!(image.dimensions(), (48, 32));
+    let header = "Pf\n48 32\n-1.0\n".len() as u64;
+    assert_eq!(std::fs::metadata(&pfm).unwrap().len(), header + 48 * 32 * 4);
+    assert_eq!(files_in(&dir.join("sub")), ["out.png", "shadow.pfm"]);
+}
+
+#[test]
+fn check_loads_models_and_textures_like_render() {
+    let out = penumbra(&["check", "assets/scenes/garden.ron", "assets/scenes/default.ron"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("garden.ron: ok ("), "{text}");
+    assert!(text.contains(" mesh entities)"), "{text}");
+    // A model whose buffer is cut short: the scene text is fine, the model is not.
+    let dir = scratch("check");
+    for name in ["fern.gltf", "fern_leaf.png"] {
+        std::fs::copy(Path::new("assets/models").join(name), dir.join(name)).unwrap();
+    }
+    let bin = std::fs::read("assets/models/fern.bin").unwrap();
+    std::fs::write(dir.join("fern.bin"), &bin[..bin.len() / 2]).unwrap();
+    let scene = r#"Scene(
+    camera: (position: (0, 2, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 100),
+    sun: (direction: (0, -1, 0)),
+    materials: { "m": () },
+    objects: [(shape: Gltf(path: "fern.gltf"), material: "m")],
+)"#;
+    std::fs::write(dir.join("scene.ron"), scene).unwrap();
+    let out = penumbra(&["check", dir.join("scene.ron").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(err.contains("scene.ron: object 0: "), "{err}");
+    assert!(err.contains("is truncated"), "{err}");
+    assert!(err.contains("error: 1 of 1 scene files have errors"), "{err}");
+}
