@@ -382,3 +382,31 @@ fn one_hundred_and_fifty_degree_field_of_view() {
         &FOV_150_LIMITS,
     );
 }
+
+/// Limits of the 10:1 view. Of its 70 lit caster pixels one is acne with either filter
+/// (1.4 %: a single pixel, in a view spanning ~160° horizontally), and PCSS
+/// darkens 6 of 8,358 lit ground pixels (0.072 %; PCF 0.036 %), on edges where one texel of
+/// cascade 0 spans more than a pixel.
+const ASPECT_10_1_LIMITS: Limits = Limits {
+    ground_acne: 0.001,
+    caster_acne: 0.015,
+    leak: LEAK_LIMIT,
+};
+
+#[test]
+fn aspect_ten_to_one() {
+    let wide = Case {
+        camera: WIDE_CAMERA,
+        target: WIDE_TARGET,
+        ..Case::default()
+    };
+    judge("aspect 10:1", &wide.desc(), 320, 32).assert_within(
+        &Floors {
+            judged: 6000,
+            ground_lit: 5000,
+            caster_lit: 45,
+            umbra: 1000,
+        },
+        &ASPECT_10_1_LIMITS,
+    );
+}
