@@ -435,3 +435,32 @@ fn sun_half_a_degree_above_the_horizon() {
         &HALF_DEGREE_SUN_LIMITS,
     );
 }
+
+/// Leak limit of the view from below under a sun straight up: it sees only 25 umbra pixels
+/// (the box's shadow on the roof's underside), and one of them is lit
+/// with either filter (4 %).
+const SUN_UP_FROM_BELOW_LEAK: f64 = 0.04;
+
+#[test]
+fn sun_straight_up_seen_from_below() {
+    // The ground is single-sided: from below, the undersides face the sun and the box shades
+    // the roof's underside.
+    let below = Case {
+        sun: Vec3::Y,
+        camera: Vec3::new(1.0, -4.0, 7.0),
+        target: Vec3::new(-1.0, 2.0, 1.0),
+        ..Case::default()
+    };
+    judge("sun straight up, from below", &below.desc(), 96, 64).assert_within(
+        &Floors {
+            judged: 1000,
+            ground_lit: 0,
+            caster_lit: 1000,
+            umbra: 20,
+        },
+        &Limits {
+            leak: SUN_UP_FROM_BELOW_LEAK,
+            ..judge::TARGET
+        },
+    );
+}
