@@ -31,6 +31,16 @@ const MAX_PENUMBRA_TEXELS: f32 = 32.0;
 const MAX_RECEIVER_SLOPE: f32 = 40.0;
 // Receiver-plane bias leaves this much extra depth (in texels of slope) for quantisation.
 const RECEIVER_PLANE_EPSILON_TEXELS: f32 = 0.5;
+// Largest step between filter taps, and smallest filter radius, in metres: in a cascade whose
+// texels are larger (very wide views, far cascades) the kernel shrinks below a texel instead
+// of smearing each shadow edge over several large texels.
+const MAX_FILTER_STEP_METRES: f32 = 0.01;
+// Largest normal offset, in metres: large texels would otherwise move a receiver out of a
+// thin umbra.
+const MAX_NORMAL_OFFSET_METRES: f32 = 0.02;
+// Share of the normal offset applied to a surface that faces the light: it still moves a
+// little towards the light, so its own depth never ties with the stored one.
+const MIN_NORMAL_OFFSET_SHARE: f32 = 0.1;
 const GOLDEN_RATIO_FRACT: f32 = 0.618033988749;
 const TAU: f32 = 6.283185307;
 
@@ -49,6 +59,9 @@ struct ShadowProjection {
     // Receiver-plane depth gradient: change of depth per unit of UV.
     dz_duv: vec2<f32>,
     layer: u32,
+    // Step between filter taps in UV along u and v: one texel, or less where a texel is wider
+    // than MAX_FILTER_STEP_METRES.
+    filter_step: vec2<f32>,
 }
 
 // Maps a view-space depth to a cascade and a blend factor towards the next cascade.
@@ -100,10 +113,12 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
     let cascade = shadow.cascades[index];
     let m = cascade.clip_from_world;
     let texel_world = cascade.params.x;
-    // NOTE: the offset grows as the surface turns away from the light (0 facing it, the full
-    // normal_offset at grazing angles), where depth changes fastest across a texel.
-    let slope = saturate(1.0 - abs(dot(normal, shadow.light_direction)));
-    let offset_pos = world_pos + normal * (shadow.normal_offset * texel_world * slope);
+    // NOTE: the offset grows as the surface turns away from the light (MIN_NORMAL_OFFSET_SHARE
+    // of it facing the light, the full normal_offset at grazing angles), where depth changes
+    // fastest across a texel; it never exceeds MAX_NORMAL_OFFSET_METRES.
+    let slope = max(saturate(1.0 - abs(dot(normal, shadow.light_direction))), MIN_NORMAL_OFFSET_SHARE);
+    let offset = min(shadow.normal_offset * texel_world, MAX_NORMAL_OFFSET_METRES) * slope;
+    let offset_pos = world_pos + normal * offset;
     let clip = m * vec4<f32>(offset_pos, 1.0);
     var out: ShadowProjection;
     out.uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
@@ -111,6 +126,9 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
     // stored caster (depth > 0) still shadows it, an empty texel (cleared to 0) does not.
     out.depth = max(clip.z, 0.0);
     out.layer = index;
+    // World size of a texel along u and along v (params.w is width_x / width_y).
+    let texel_metres = vec2<f32>(texel_world, texel_world / max(cascade.params.w, 1e-30));
+    out.filter_step = shadow.texel_size * min(vec2<f32>(1.0), MAX_FILTER_STEP_METRES / max(texel_metres, vec2<f32>(1e-30)));
     out.dz_duv = vec2<f32>(0.0);
     if (shadow.flags & SHADOW_FLAG_RECEIVER_PLANE) != 0u {
         let a0 = linear_row(m, 0u) * 0.5;
@@ -152,7 +170,7 @@ fn sample_shadow_pcf(p: ShadowProjection) -> f32 {
     var sum = 0.0;
     for (var y = -r; y <= r; y++) {
         for (var x = -r; x <= r; x++) {
-            sum += compare_tap(p, vec2<f32>(f32(x), f32(y)) * shadow.texel_size);
+            sum += compare_tap(p, vec2<f32>(f32(x), f32(y)) * p.filter_step);
         }
     }
     let side = f32(2 * r + 1);
@@ -210,11 +228,13 @@ fn sample_shadow_pcss(p: ShadowProjection, frag_coord: vec2<f32>) -> f32 {
     let pcss_scale = cascade.params.z;
     let aspect = vec2<f32>(1.0, cascade.params.w);
     let texel = shadow.texel_size;
+    // Smallest kernel radius in u units (the kernel's v extent is the radius times aspect.y).
+    let min_radius = min(p.filter_step.x, p.filter_step.y / aspect.y);
     let rotation = poisson_rotation(frag_coord);
 
     // Blocker search: the widest penumbra any caster between the light-side plane and the
     // receiver could throw, bounded to MAX_PENUMBRA_TEXELS.
-    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, texel, MAX_PENUMBRA_TEXELS * texel);
+    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, min_radius, MAX_PENUMBRA_TEXELS * texel);
     var blocker_sum = 0.0;
     var blocker_count = 0.0;
     for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
@@ -237,7 +257,7 @@ fn sample_shadow_pcss(p: ShadowProjection, frag_coord: vec2<f32>) -> f32 {
     // half of it.
     let blocker_depth = blocker_sum / blocker_count;
     let penumbra = 0.5 * max(blocker_depth - p.depth, 0.0) * pcss_scale;
-    let radius = clamp(penumbra, texel, MAX_PENUMBRA_TEXELS * texel);
+    let radius = clamp(penumbra, min_radius, MAX_PENUMBRA_TEXELS * texel);
 
     var lit = 0.0;
     for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {

@@ -102,9 +102,11 @@ pub struct ShadowSettings {
     /// Largest depth bias the hardware may apply, in reverse-Z NDC depth, 0–0.05.
     pub bias_clamp: f32,
     /// Offset of the sampling position along the surface normal, in shadow texels, 0–5, applied
-    /// in full at grazing angles and scaled by `1 − n·l` (none where the surface faces the light).
+    /// in full at grazing angles and scaled by `1 − n·l` (a tenth of it where the surface faces
+    /// the light), and never more than 2 cm.
     pub normal_offset: f32,
-    /// PCF kernel radius, 0 (a single hardware comparison) to 5 (11×11).
+    /// PCF kernel radius, 0 (a single hardware comparison) to 5 (11×11); taps are one texel
+    /// apart, or 1 cm where a texel is larger.
     pub pcf_radius: u32,
     /// PCSS sample counts.
     pub pcss_quality: PcssQuality,
