@@ -4,11 +4,13 @@
 //! [`mesh`] (CPU meshes), [`ecs`] (components, resources, the per-frame systems and
 //! [`ShadowPlugin`](ecs::ShadowPlugin)), [`shader`] (the WGSL library composed with
 //! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
-//! [`gltf`](mod@gltf) reads glTF 2.0 models as pure data.
+//! [`gltf`](mod@gltf) reads glTF 2.0 models as pure data; [`asset_io`] confines the files
+//! they and scenes name to an asset root.
 #![warn(missing_docs)]
 
 pub mod analysis;
 pub mod app;
+pub mod asset_io;
 pub mod bench;
 pub mod ecs;
 pub mod export;

@@ -59,6 +59,10 @@ struct RenderArgs {
     /// Tint pixels by the cascade they sample.
     #[arg(long)]
     debug_cascades: bool,
+    /// Folder every file the scene names must stay inside (default: the nearest enclosing
+    /// folder named `assets`, else the scene's folder).
+    #[arg(long)]
+    asset_root: Option<PathBuf>,
     /// Frames to render; timings are the median over frames after the first.
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -125,6 +129,10 @@ enum Command {
         /// Scene files (RON).
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
+        /// Folder every file the scenes name must stay inside (default: the nearest
+        /// enclosing folder named `assets`, else each scene's folder).
+        #[arg(long)]
+        asset_root: Option<PathBuf>,
     },
 }
 
@@ -168,6 +176,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         quality,
         pcf_radius,
         debug_cascades,
+        asset_root,
         frames,
         shadow_out,
     } = args;
@@ -175,7 +184,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     if let Some(path) = &shadow_out {
         prepare_output(path, OutputKind::ScalarImage)?;
     }
-    let desc = SceneDesc::load(&scene)?;
+    let mut desc = SceneDesc::load(&scene)?;
+    desc.asset_root = asset_root;
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
             s.mode = match m {
@@ -366,10 +376,11 @@ fn bench(args: BenchArgs) -> Result<(), String> {
 
 /// Loads each scene and everything it names (glTF models, textures) exactly as `render`
 /// would, without a GPU, and reports every problem.
-fn check(scenes: Vec<PathBuf>) -> Result<(), String> {
+fn check(scenes: Vec<PathBuf>, asset_root: Option<PathBuf>) -> Result<(), String> {
     let mut failed = 0;
     for path in &scenes {
-        let loaded = SceneDesc::load(path).map_err(|e| e.to_string()).and_then(|desc| {
+        let loaded = SceneDesc::load(path).map_err(|e| e.to_string()).and_then(|mut desc| {
+            desc.asset_root = asset_root.clone();
             let prepared = PreparedScene::new(&desc).map_err(|e| format!("{}: {e}", path.display()))?;
             Ok((desc, prepared))
         });
@@ -400,7 +411,7 @@ fn main() -> ExitCode {
         #[cfg(feature = "viewer")]
         Command::View(args) => view(args),
         Command::Bench(args) => bench(args),
-        Command::Check { scenes } => check(scenes),
+        Command::Check { scenes, asset_root } => check(scenes, asset_root),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

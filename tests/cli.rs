@@ -177,3 +177,28 @@ fn check_loads_models_and_textures_like_render() {
     assert!(err.contains("is truncated"), "{err}");
     assert!(err.contains("error: 1 of 1 scene files have errors"), "{err}");
 }
+
+#[test]
+fn the_asset_root_is_the_scene_folder_unless_given() {
+    let dir = scratch("root");
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    std::fs::copy("assets/textures/foliage.png", dir.join("leaf.png")).unwrap();
+    let scene = r#"Scene(
+    camera: (position: (0, 2, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 100),
+    sun: (direction: (0, -1, 0)),
+    materials: { "m": (texture: "../leaf.png") },
+    objects: [(shape: Cuboid(size: (1, 1, 1)), material: "m")],
+)"#;
+    let path = dir.join("scenes/scene.ron");
+    std::fs::write(&path, scene).unwrap();
+    let out = penumbra(&["check", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("outside the asset folder"), "{}", stderr(&out));
+    let out = penumbra(&["check", "--asset-root", dir.to_str().unwrap(), path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("scene.ron: ok (1 instances, 1 mesh entities)"),
+        "{}",
+        stdout(&out)
+    );
+}

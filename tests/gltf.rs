@@ -349,7 +349,7 @@ fn missing_bin_file() {
     let scratch = Scratch::new("missing-bin");
     let path = scratch.write(None, Some(&[]), None);
     let bin = scratch.path(SAMPLE_BIN).display().to_string();
-    load_err(&path, &["buffer 0 (`fern.bin`): cannot read ", &bin]);
+    load_err(&path, &["buffer 0 (`fern.bin`): no file at ", &bin]);
 }
 
 #[test]
@@ -455,7 +455,7 @@ fn missing_image_file() {
     let scratch = Scratch::new("missing-png");
     let path = scratch.write(None, None, Some(&[]));
     let png = scratch.path(SAMPLE_PNG).display().to_string();
-    load_err(&path, &["image 0 (`fern_leaf.png`): cannot read ", &png]);
+    load_err(&path, &["image 0 (`fern_leaf.png`): no file at ", &png]);
 }
 
 #[test]
@@ -463,7 +463,7 @@ fn undecodable_image() {
     let scratch = Scratch::new("bad-png");
     let path = scratch.write(None, None, Some(b"not a png at all"));
     let err = load_err(&path, &["image 0 (`fern_leaf.png`): cannot decode: "]);
-    assert!(matches!(err, GltfError::Image { .. }));
+    assert!(matches!(err, GltfError::Asset { .. }));
 }
 
 #[test]

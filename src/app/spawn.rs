@@ -4,7 +4,7 @@
 //! only then replaces the old one, so a bad edit never leaves a half-spawned world.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use bevy_ecs::bundle::{Bundle, NoBundleEffect};
 use bevy_ecs::component::Component;
@@ -14,6 +14,7 @@ use bevy_ecs::world::World;
 use glam::{Mat4, Vec3};
 use thiserror::Error;
 
+use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{
     AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
@@ -59,6 +60,26 @@ struct EntityPlan {
     receive: bool,
 }
 
+/// What an object's shape is built from: a model file, or a primitive (by its description).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum ShapeKey {
+    Model(AssetPath),
+    Primitive(String),
+}
+
+/// Resolves a path written in the scene inside the asset root.
+fn resolve(desc: &SceneDesc, io: &AssetIo, rel: &Path) -> Result<AssetPath, AssetError> {
+    io.resolve(&desc.base_dir, &rel.to_string_lossy())
+}
+
+/// The error for a model path that does not resolve.
+fn model_error(object: usize, e: AssetError) -> SpawnError {
+    SpawnError::Model {
+        object,
+        message: e.to_string(),
+    }
+}
+
 /// A scene with every file read and every mesh built, ready to spawn.
 #[derive(Clone, Debug)]
 pub struct PreparedScene {
@@ -70,20 +91,6 @@ pub struct PreparedScene {
     materials: Vec<Material>,
     meshes: Vec<MeshData>,
     entities: Vec<EntityPlan>,
-}
-
-fn load_texture(path: &Path) -> Result<ImageData, SpawnError> {
-    let image = image::open(path)
-        .map_err(|e| SpawnError::Texture {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?
-        .to_rgba8();
-    Ok(ImageData {
-        width: image.width(),
-        height: image.height(),
-        rgba: image.into_raw(),
-    })
 }
 
 /// One mesh an object's shape expands to.
@@ -98,8 +105,15 @@ struct MeshPart {
 }
 
 impl PreparedScene {
-    /// Reads every texture and model the scene uses and builds its meshes.
+    /// Reads every texture and model the scene uses and builds its meshes; files are confined
+    /// to the scene's asset root (see [`SceneDesc::asset_io`]).
     pub fn new(desc: &SceneDesc) -> Result<Self, SpawnError> {
+        Self::with_assets(desc, &desc.asset_io())
+    }
+
+    /// Like [`new`](Self::new), with files confined to `io`'s asset root and read under its
+    /// limits.
+    pub fn with_assets(desc: &SceneDesc, io: &AssetIo) -> Result<Self, SpawnError> {
         let c = &desc.camera;
         let camera = (
             Camera3d {
@@ -129,17 +143,17 @@ impl PreparedScene {
             meshes: Vec::new(),
             entities: Vec::new(),
         };
-        scene.add_materials(desc)?;
-        scene.add_objects(desc)?;
+        scene.add_materials(desc, io)?;
+        scene.add_objects(desc, io)?;
         Ok(scene)
     }
 
-    /// Adds the scene's materials, loading each texture file once.
-    fn add_materials(&mut self, desc: &SceneDesc) -> Result<(), SpawnError> {
-        let mut textures: HashMap<PathBuf, usize> = HashMap::new();
+    /// Adds the scene's materials, loading each texture file once (however it is spelt).
+    fn add_materials(&mut self, desc: &SceneDesc, io: &AssetIo) -> Result<(), SpawnError> {
+        let mut textures: HashMap<AssetPath, usize> = HashMap::new();
         for m in &desc.materials {
             let texture = match &m.texture {
-                Some(rel) => Some(self.texture(&mut textures, &desc.resolve_path(rel))?),
+                Some(rel) => Some(self.texture(&mut textures, desc, io, rel)?),
                 None => None,
             };
             self.materials.push(Material {
@@ -157,16 +171,24 @@ impl PreparedScene {
 
     /// Builds each distinct shape once, then plans one entity per mesh part of every object
     /// instance.
-    fn add_objects(&mut self, desc: &SceneDesc) -> Result<(), SpawnError> {
-        let mut shapes: HashMap<String, usize> = HashMap::new();
+    fn add_objects(&mut self, desc: &SceneDesc, io: &AssetIo) -> Result<(), SpawnError> {
+        let mut shapes: HashMap<ShapeKey, usize> = HashMap::new();
         let mut built: Vec<Vec<MeshPart>> = Vec::new();
         let mut object_shapes = Vec::with_capacity(desc.objects.len());
         for (i, object) in desc.objects.iter().enumerate() {
-            let key = format!("{:?}", object.shape);
+            // NOTE: a model is keyed by its file, so two spellings of one path load it once.
+            let key = match &object.shape {
+                Shape::Gltf { path } => ShapeKey::Model(resolve(desc, io, path).map_err(|e| model_error(i, e))?),
+                other => ShapeKey::Primitive(format!("{other:?}")),
+            };
             let index = match shapes.get(&key) {
                 Some(&index) => index,
                 None => {
-                    built.push(self.build_shape(desc, &object.shape, i)?);
+                    let parts = match &key {
+                        ShapeKey::Model(file) => self.add_model(file, io, i)?,
+                        ShapeKey::Primitive(_) => self.build_primitive(&object.shape),
+                    };
+                    built.push(parts);
                     shapes.insert(key, built.len() - 1);
                     built.len() - 1
                 }
@@ -205,37 +227,52 @@ impl PreparedScene {
         Ok(())
     }
 
-    /// Index of the texture at `path` in `images`, loading it on first use.
-    fn texture(&mut self, loaded: &mut HashMap<PathBuf, usize>, path: &Path) -> Result<usize, SpawnError> {
-        if let Some(&i) = loaded.get(path) {
+    /// Index of the texture `rel` in `images`, loading it on first use.
+    fn texture(
+        &mut self,
+        loaded: &mut HashMap<AssetPath, usize>,
+        desc: &SceneDesc,
+        io: &AssetIo,
+        rel: &Path,
+    ) -> Result<usize, SpawnError> {
+        let texture_error = |e: AssetError| SpawnError::Texture {
+            path: rel.display().to_string(),
+            message: e.to_string(),
+        };
+        let file = resolve(desc, io, rel).map_err(texture_error)?;
+        if let Some(&i) = loaded.get(&file) {
             return Ok(i);
         }
-        self.images.push(load_texture(path)?);
-        loaded.insert(path.to_owned(), self.images.len() - 1);
+        let reference = rel.to_string_lossy();
+        let bytes = io.read(&file, &reference, None).map_err(texture_error)?;
+        self.images
+            .push(io.decode_image(&bytes, &reference).map_err(texture_error)?);
+        loaded.insert(file, self.images.len() - 1);
         Ok(self.images.len() - 1)
     }
 
-    /// Builds the meshes of one shape. Primitive shapes are one mesh with the object's
-    /// material; a glTF model brings its own meshes, materials and node transforms (its
-    /// primitives without a material use the object's).
-    fn build_shape(&mut self, desc: &SceneDesc, shape: &Shape, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
+    /// Builds a primitive shape: one mesh with the object's material.
+    fn build_primitive(&mut self, shape: &Shape) -> Vec<MeshPart> {
         let mesh = match shape {
             Shape::Plane { size } => plane(*size),
             Shape::Cuboid { size } => cuboid(*size),
             Shape::Sphere { radius } => sphere(*radius, 32, 16),
-            Shape::Gltf { path } => return self.add_model(&desc.resolve_path(path), object),
+            // NOTE: models are keyed and built by `add_model`; an empty part list is never drawn.
+            Shape::Gltf { .. } => return Vec::new(),
         };
         self.meshes.push(mesh);
-        Ok(vec![MeshPart {
+        vec![MeshPart {
             mesh: self.meshes.len() - 1,
             material: None,
             object_from_mesh: Mat4::IDENTITY,
-        }])
+        }]
     }
 
-    /// Loads a glTF model and adds its images, materials and one mesh per primitive.
-    fn add_model(&mut self, file: &Path, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
-        let model = gltf::load(file).map_err(|e| SpawnError::Model {
+    /// Loads a glTF model and adds its images, materials and one mesh per primitive (its
+    /// primitives without a material use the object's).
+    fn add_model(&mut self, file: &AssetPath, io: &AssetIo, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
+        let file = file.path();
+        let model = gltf::load_with(file, io).map_err(|e| SpawnError::Model {
             object,
             message: e.to_string(),
         })?;

@@ -4,6 +4,8 @@
 use std::io;
 use std::path::PathBuf;
 
+use crate::asset_io::AssetError;
+
 /// Why a glTF file could not be loaded.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -25,17 +27,16 @@ pub enum GltfError {
         /// What is wrong, with the JSON path where the rules are broken.
         message: String,
     },
-    /// An external buffer or image file could not be read.
-    #[error("{}: {what}: cannot read {}: {source}", path.display(), file.display())]
-    Resource {
+    /// An external buffer or image could not be used: its URI leaves the asset folder or
+    /// names no regular file, it is larger than allowed, or it cannot be read or decoded.
+    #[error("{}: {what}: {source}", path.display())]
+    Asset {
         /// The file given to [`load`](crate::gltf::load).
         path: PathBuf,
         /// The referring object and its URI, like ``buffer 0 (`fern.bin`)``.
         what: String,
-        /// The file the URI resolves to.
-        file: PathBuf,
-        /// The underlying error.
-        source: io::Error,
+        /// What is wrong.
+        source: AssetError,
     },
     /// A buffer holds fewer bytes than its `byteLength` declares.
     #[error("{}: {what} is truncated: {actual} bytes, {declared} declared", path.display())]
@@ -48,16 +49,6 @@ pub enum GltfError {
         actual: u64,
         /// The buffer's `byteLength`.
         declared: u64,
-    },
-    /// An image's bytes could not be decoded.
-    #[error("{}: {what}: cannot decode: {source}", path.display())]
-    Image {
-        /// The file given to [`load`](crate::gltf::load).
-        path: PathBuf,
-        /// The image and where its bytes come from, like ``image 0 (`leaf.png`)``.
-        what: String,
-        /// The decoder's error.
-        source: image::ImageError,
     },
     /// A mesh primitive has no `POSITION` attribute.
     #[error("{}: mesh {mesh} primitive {primitive} has no POSITION attribute", path.display())]

@@ -2,7 +2,7 @@
 //! `gltf` crate's own validation and readers, buffers (external, `data:` or GLB chunk),
 //! buffer views and images.
 
-use std::fs;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use ::gltf::json::validation::{Error as RuleError, Validate};
@@ -11,26 +11,42 @@ use ::gltf::{Document, binary::Glb, buffer, image as gimage};
 use base64::Engine;
 use base64::engine::general_purpose::STANDARD as BASE64;
 
+use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::ImageData;
 use crate::gltf::{GltfError, GltfModel, material, mesh, nodes};
 
-/// The file being loaded, its directory and the warnings collected so far.
+/// The file being loaded, its directory, the asset root and the warnings collected so far.
 pub(super) struct Cx<'a> {
     /// The file given to `load`.
     pub path: &'a Path,
     /// Directory relative URIs resolve against.
     dir: PathBuf,
+    /// Where URIs may point, and the read limits.
+    io: &'a AssetIo,
     /// Things skipped or approximated.
     pub warnings: Vec<String>,
 }
 
 impl<'a> Cx<'a> {
-    fn new(path: &'a Path) -> Self {
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    fn new(path: &'a Path, io: &'a AssetIo) -> Self {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
         Self {
             path,
             dir,
+            io,
             warnings: Vec::new(),
+        }
+    }
+
+    /// A [`GltfError::Asset`] about `what`.
+    fn asset(&self, what: &str, source: AssetError) -> GltfError {
+        GltfError::Asset {
+            path: self.path.to_path_buf(),
+            what: what.to_owned(),
+            source,
         }
     }
 
@@ -57,13 +73,27 @@ impl<'a> Cx<'a> {
     }
 }
 
-/// Loads the file at `path`; see [`crate::gltf::load`].
-pub(super) fn load(path: &Path) -> Result<GltfModel, GltfError> {
-    let bytes = fs::read(path).map_err(|source| GltfError::Io {
+/// Reads the glTF file itself: a regular file, at most the read cap.
+fn read_model_file(path: &Path, io: &AssetIo) -> Result<Vec<u8>, GltfError> {
+    let io_error = |source| GltfError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    let mut cx = Cx::new(path);
+    };
+    let meta = std::fs::metadata(path).map_err(io_error)?;
+    if !meta.is_file() {
+        return Err(io_error(std::io::Error::other("not a regular file")));
+    }
+    if meta.len() > io.max_file_bytes {
+        let message = format!("{} bytes, more than the {} allowed", meta.len(), io.max_file_bytes);
+        return Err(io_error(std::io::Error::other(message)));
+    }
+    std::fs::read(path).map_err(io_error)
+}
+
+/// Loads the file at `path`; see [`crate::gltf::load_with`].
+pub(super) fn load(path: &Path, io: &AssetIo) -> Result<GltfModel, GltfError> {
+    let bytes = read_model_file(path, io)?;
+    let mut cx = Cx::new(path, io);
     let (root, blob) = parse(&cx, &bytes)?;
     drop(bytes);
     precheck(&cx, &root)?;
@@ -76,8 +106,12 @@ pub(super) fn load(path: &Path) -> Result<GltfModel, GltfError> {
     let document = Document::from_json_without_validation(root);
     let buffers = load_buffers(&cx, &document, blob)?;
     check_views(&cx, &document)?;
-    let images = load_images(&cx, &document, &buffers)?;
-    let materials = material::read_materials(&mut cx, &document);
+    let (images, image_slots) = load_images(&cx, &document, &buffers)?;
+    let mut materials = material::read_materials(&mut cx, &document);
+    // Materials index the distinct images.
+    for m in &mut materials {
+        m.base_color_texture = m.base_color_texture.and_then(|i| image_slots.get(i).copied());
+    }
     let meshes = mesh::read_meshes(&mut cx, &document, &buffers)?;
     let nodes = nodes::flatten(&mut cx, &document)?;
     Ok(GltfModel {
@@ -179,10 +213,10 @@ fn validate(cx: &Cx, root: &json::Root) -> Result<(), GltfError> {
     }
 }
 
-/// Where a URI points: embedded bytes or a file next to the glTF file.
+/// Where a URI points: embedded bytes or a file inside the asset root.
 enum Uri {
     Data(Vec<u8>),
-    File(PathBuf),
+    File(AssetPath, String),
 }
 
 /// A URI as it appears in messages: the text for files, `data URI` for embedded data.
@@ -195,7 +229,8 @@ fn describe_uri(uri: &str) -> String {
 }
 
 /// Resolves a URI: `data:` (base64 or percent-encoded), or a relative reference, percent
-/// decoded, against the file's directory. Other schemes are refused.
+/// decoded, against the file's directory and confined to the asset root. Other schemes are
+/// refused.
 fn resolve_uri(cx: &Cx, what: &str, uri: &str) -> Result<Uri, GltfError> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((header, payload)) = rest.split_once(',') else {
@@ -227,7 +262,8 @@ fn resolve_uri(cx: &Cx, what: &str, uri: &str) -> Result<Uri, GltfError> {
         ));
     }
     let decoded = String::from_utf8_lossy(&percent_decode(uri)).into_owned();
-    Ok(Uri::File(cx.dir.join(decoded)))
+    let file = cx.io.resolve(&cx.dir, &decoded).map_err(|e| cx.asset(what, e))?;
+    Ok(Uri::File(file, decoded))
 }
 
 /// Decodes `%XX` escapes; malformed escapes are kept as they are.
@@ -253,16 +289,14 @@ pub(super) fn percent_decode(text: &str) -> Vec<u8> {
     out
 }
 
-/// Reads a URI's bytes.
-fn read_uri(cx: &Cx, what: &str, uri: &str) -> Result<Vec<u8>, GltfError> {
+/// Reads a buffer URI's bytes: at most `declared` bytes of a file.
+fn read_buffer_uri(cx: &Cx, what: &str, uri: &str, declared: u64) -> Result<Vec<u8>, GltfError> {
     match resolve_uri(cx, what, uri)? {
         Uri::Data(bytes) => Ok(bytes),
-        Uri::File(file) => fs::read(&file).map_err(|source| GltfError::Resource {
-            path: cx.path.to_path_buf(),
-            what: what.to_owned(),
-            file,
-            source,
-        }),
+        Uri::File(file, reference) => cx
+            .io
+            .read(&file, &reference, Some(declared))
+            .map_err(|e| cx.asset(what, e)),
     }
 }
 
@@ -281,7 +315,7 @@ fn load_buffers(cx: &Cx, document: &Document, blob: Option<Vec<u8>>) -> Result<V
             }
             buffer::Source::Uri(uri) => {
                 let what = format!("buffer {i} ({})", describe_uri(uri));
-                let data = read_uri(cx, &what, uri)?;
+                let data = read_buffer_uri(cx, &what, uri, buffer.length() as u64)?;
                 (what, data)
             }
         };
@@ -327,36 +361,40 @@ pub(super) fn view_bytes<'b>(view: &buffer::View, buffers: &'b [Vec<u8>]) -> &'b
     &buffers[view.buffer().index()][view.offset()..view.offset() + view.length()]
 }
 
-/// Every image decoded to RGBA8.
-fn load_images(cx: &Cx, document: &Document, buffers: &[Vec<u8>]) -> Result<Vec<ImageData>, GltfError> {
+/// Every distinct image decoded to RGBA8 (under the image limits), and for each glTF image
+/// the index of its decoded copy: images naming one file (by any spelling) decode once.
+fn load_images(cx: &Cx, document: &Document, buffers: &[Vec<u8>]) -> Result<(Vec<ImageData>, Vec<usize>), GltfError> {
     let mut out = Vec::new();
+    let mut slots = Vec::new();
+    let mut by_file: HashMap<AssetPath, usize> = HashMap::new();
     for image in document.images() {
         let i = image.index();
         let (what, bytes) = match image.source() {
             gimage::Source::Uri { uri, .. } => {
                 let what = format!("image {i} ({})", describe_uri(uri));
-                let bytes = read_uri(cx, &what, uri)?;
-                (what, bytes)
+                match resolve_uri(cx, &what, uri)? {
+                    Uri::Data(bytes) => (what, bytes),
+                    Uri::File(file, reference) => {
+                        if let Some(&slot) = by_file.get(&file) {
+                            slots.push(slot);
+                            continue;
+                        }
+                        let bytes = cx.io.read(&file, &reference, None).map_err(|e| cx.asset(&what, e))?;
+                        by_file.insert(file, out.len());
+                        (what, bytes)
+                    }
+                }
             }
             gimage::Source::View { view, .. } => (
                 format!("image {i} (buffer view {})", view.index()),
                 view_bytes(&view, buffers).to_vec(),
             ),
         };
-        let decoded = image::load_from_memory(&bytes)
-            .map_err(|source| GltfError::Image {
-                path: cx.path.to_path_buf(),
-                what,
-                source,
-            })?
-            .to_rgba8();
-        out.push(ImageData {
-            width: decoded.width(),
-            height: decoded.height(),
-            rgba: decoded.into_raw(),
-        });
+        let decoded = cx.io.decode_image(&bytes, &what).map_err(|e| cx.asset(&what, e))?;
+        slots.push(out.len());
+        out.push(decoded);
     }
-    Ok(out)
+    Ok((out, slots))
 }
 
 #[cfg(test)]

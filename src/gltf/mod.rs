@@ -23,6 +23,7 @@ use std::path::Path;
 
 use glam::{Mat4, Vec4};
 
+use crate::asset_io::AssetIo;
 use crate::ecs::assets::{AlphaMode, ImageData};
 use crate::mesh::MeshData;
 
@@ -35,7 +36,8 @@ pub struct GltfModel {
     pub meshes: Vec<GltfMesh>,
     /// Materials; the index is the glTF material index.
     pub materials: Vec<GltfMaterial>,
-    /// Images decoded to RGBA8; the index is the glTF image index.
+    /// Distinct images decoded to RGBA8 (glTF images that name one file share an entry);
+    /// [`GltfMaterial::base_color_texture`] indexes this list.
     pub images: Vec<ImageData>,
     /// Every node with a mesh in the loaded scene, flattened, depth first in file order.
     pub nodes: Vec<GltfNodeInstance>,
@@ -90,8 +92,13 @@ pub struct GltfNodeInstance {
 }
 
 /// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to the
-/// file's directory. The scene drawn is the file's `scene`, else scene 0, else every root
-/// node.
+/// file's directory, inside the default asset root of [`AssetIo::for_file`]. The scene drawn
+/// is the file's `scene`, else scene 0, else every root node.
 pub fn load(path: &Path) -> Result<GltfModel, GltfError> {
-    load::load(path)
+    load::load(path, &AssetIo::for_file(path))
+}
+
+/// Like [`load`], with URIs confined to `io`'s asset root and read under its limits.
+pub fn load_with(path: &Path, io: &AssetIo) -> Result<GltfModel, GltfError> {
+    load::load(path, io)
 }

@@ -11,6 +11,7 @@ use glam::{UVec3, Vec2, Vec3, Vec4};
 use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
+use crate::asset_io::AssetIo;
 use crate::settings::ShadowSettings;
 
 /// A whole scene: what [`SceneDesc::load`] returns.
@@ -39,6 +40,11 @@ pub struct SceneDesc {
     /// [`SceneDesc::from_str`](crate::scene::SceneDesc::from_str).
     #[serde(skip)]
     pub base_dir: PathBuf,
+    /// The folder every file the scene names must stay inside; None for the default: the
+    /// nearest enclosing folder named `assets`, else [`base_dir`](Self::base_dir) (see
+    /// [`AssetIo`]).
+    #[serde(skip)]
+    pub asset_root: Option<PathBuf>,
 }
 
 /// A perspective camera looking from `position` at `target`.
@@ -209,6 +215,15 @@ pub struct Jitter {
 }
 
 impl SceneDesc {
+    /// Where the scene's files are read from, and the read limits: [`asset_root`](Self::asset_root)
+    /// or the default root for [`base_dir`](Self::base_dir).
+    pub fn asset_io(&self) -> AssetIo {
+        match &self.asset_root {
+            Some(root) => AssetIo::with_root(root),
+            None => AssetIo::for_dir(&self.base_dir),
+        }
+    }
+
     /// Resolves a path written in the scene (a texture or model) against
     /// [`base_dir`](Self::base_dir): absolute paths are returned unchanged.
     pub fn resolve_path(&self, path: &Path) -> PathBuf {
