@@ -131,6 +131,9 @@ struct Viewer {
     reload: LiveReload,
     shader: Option<FileWatch>,
     shader_error: Option<String>,
+    /// The renderer's last errors (inputs beyond the device's limits, device errors), shown
+    /// until a frame brings new ones.
+    render_errors: Vec<String>,
     inspector: Inspector,
     start_settings: Option<ShadowSettings>,
     restore_size: Option<PhysicalSize<u32>>,
@@ -184,6 +187,7 @@ pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, V
         reload,
         shader: options.shader.as_deref().map(FileWatch::unread),
         shader_error: None,
+        render_errors: Vec::new(),
         inspector: Inspector::new(settings_path),
         start_settings: None,
         restore_size: None,
@@ -363,6 +367,7 @@ impl Viewer {
         errors.clear();
         errors.extend(self.reload.error.iter().chain(&self.shader_error).cloned());
         errors.extend(state.renderer.pipeline_error().map(str::to_owned));
+        errors.extend(self.render_errors.iter().cloned());
         let raw = state.egui_state.take_egui_input(&state.window);
         let world = self.app.world_mut();
         let inspector = &mut self.inspector;
@@ -449,6 +454,12 @@ impl Viewer {
         );
         self.inspector
             .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
+        // NOTE: warnings are already logged by the renderer; errors stay on screen.
+        state.renderer.take_warnings();
+        let render_errors = state.renderer.take_errors();
+        if !render_errors.is_empty() {
+            self.render_errors = render_errors;
+        }
         self.summary.frames += 1;
         self.summary.surface_recoveries = state.surface.recoveries;
         let finished = self.finished();
