@@ -379,11 +379,13 @@ fn aspect_ten_to_one() {
         target: WIDE_TARGET,
         ..Case::default()
     };
-    judge("aspect 10:1", &wide.desc(), 320, 32).assert_judged(&Floors {
-        judged: 6000,
-        ground_lit: 5000,
-        caster_lit: 45,
-        umbra: 1000,
+    // NOTE: 960×96 so that the casters' lit faces, a thin strip of this view, cover over 600
+    // pixels (at 320×32 they covered 70, where one pixel was 1.4 %).
+    judge("aspect 10:1", &wide.desc(), 960, 96).assert_judged(&Floors {
+        judged: 60_000,
+        ground_lit: 50_000,
+        caster_lit: 500,
+        umbra: 9_000,
     });
 }
 
