@@ -31,6 +31,10 @@ const MAX_PENUMBRA_TEXELS: f32 = 32.0;
 const MAX_RECEIVER_SLOPE: f32 = 40.0;
 // Receiver-plane bias leaves this much extra depth (in texels of slope) for quantisation.
 const RECEIVER_PLANE_EPSILON_TEXELS: f32 = 0.5;
+// Steepest receiver slope PCSS's true-plane comparison follows: a surface within 0.006° of
+// the light direction; it only keeps the gradient finite (a surface containing the light
+// direction has an infinite one).
+const MAX_TRUE_SLOPE: f32 = 1.0e4;
 // Largest step between filter taps, and smallest filter radius, in metres: in a cascade whose
 // texels are larger (very wide views, far cascades) the kernel shrinks below a texel instead
 // of smearing each shadow edge over several large texels.
@@ -56,8 +60,11 @@ struct ShadowProjection {
     uv: vec2<f32>,
     // Reverse-Z depth of the receiver in the cascade (1 near the light, 0 far).
     depth: f32,
-    // Receiver-plane depth gradient: change of depth per unit of UV.
+    // Receiver-plane depth gradient: change of depth per unit of UV, at most
+    // MAX_RECEIVER_SLOPE.
     dz_duv: vec2<f32>,
+    // The same gradient clamped only to MAX_TRUE_SLOPE, for PCSS (see `pcss_tap_depth`).
+    dz_duv_true: vec2<f32>,
     layer: u32,
     // Step between filter taps in UV along u and v: one texel, or less where a texel is wider
     // than MAX_FILTER_STEP_METRES.
@@ -130,6 +137,7 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
     let texel_metres = vec2<f32>(texel_world, texel_world / max(cascade.params.w, 1e-30));
     out.filter_step = shadow.texel_size * min(vec2<f32>(1.0), MAX_FILTER_STEP_METRES / max(texel_metres, vec2<f32>(1e-30)));
     out.dz_duv = vec2<f32>(0.0);
+    out.dz_duv_true = vec2<f32>(0.0);
     if (shadow.flags & SHADOW_FLAG_RECEIVER_PLANE) != 0u {
         let a0 = linear_row(m, 0u) * 0.5;
         let a1 = linear_row(m, 1u) * -0.5;
@@ -144,7 +152,9 @@ fn project_to_cascade(index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> Sh
         let width_x = texel_world / shadow.texel_size;
         let max_gradient = MAX_RECEIVER_SLOPE * width_x / max(cascade.range.z, 1e-6);
         let denom = select(cov.z, 1e-30, abs(cov.z) < 1e-30);
-        out.dz_duv = clamp(-cov.xy / denom, vec2<f32>(-max_gradient), vec2<f32>(max_gradient));
+        let max_true = MAX_TRUE_SLOPE * width_x / max(cascade.range.z, 1e-6);
+        out.dz_duv_true = clamp(-cov.xy / denom, vec2<f32>(-max_true), vec2<f32>(max_true));
+        out.dz_duv = clamp(out.dz_duv_true, vec2<f32>(-max_gradient), vec2<f32>(max_gradient));
     }
     return out;
 }
@@ -196,6 +206,21 @@ fn poisson_rotation(frag_coord: vec2<f32>) -> mat2x2<f32> {
 }
 
 #ifdef SHADOW_FILTER_PCSS
+// Comparison depth of a PCSS tap: `tap_depth`, or the true (unclamped) receiver plane where
+// that is nearer the light. A stored depth behind the receiver's own tangent plane cannot
+// shade it, but where the slope was clamped the clamped plane falls behind the surface on the
+// side that rises towards the light, and PCSS's wide search and kernel then find the
+// receiver's own faces there (a caster's top face under a sun 0.5° above the horizon).
+//
+// NOTE: the true plane carries no slack: the slack scales with the slope, and 0.5 texel of an
+// uncapped slope (115 at 0.5°) lets real blockers a metre away fail (10.6 % of the umbra lit
+// with MAX_RECEIVER_SLOPE at 200). PCF keeps `tap_depth` alone: its kernel spans about a
+// texel, where the clamped plane plus slack already holds, and the true plane there only lit
+// more contact shadow (5 of 498 umbra pixels instead of 3 under that sun).
+fn pcss_tap_depth(p: ShadowProjection, offset_uv: vec2<f32>) -> f32 {
+    return max(tap_depth(p, offset_uv), p.depth + dot(p.dz_duv_true, offset_uv));
+}
+
 // Tap `i` of a pattern stored two per vec4.
 fn unpack_tap(pair: vec4<f32>, i: u32) -> vec2<f32> {
     return select(pair.xy, pair.zw, (i & 1u) == 1u);
@@ -240,7 +265,7 @@ fn sample_shadow_pcss(p: ShadowProjection, frag_coord: vec2<f32>) -> f32 {
     for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
         let offset = rotation * blocker_tap(i) * search_radius * aspect;
         let depths = textureGather(shadow_map, shadow_point, p.uv + offset, p.layer);
-        let reference = tap_depth(p, offset);
+        let reference = pcss_tap_depth(p, offset);
         let is_blocker = vec4<f32>(depths > vec4<f32>(reference));
         blocker_sum += dot(depths, is_blocker);
         blocker_count += dot(is_blocker, vec4<f32>(1.0));
@@ -261,7 +286,10 @@ fn sample_shadow_pcss(p: ShadowProjection, frag_coord: vec2<f32>) -> f32 {
 
     var lit = 0.0;
     for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
-        lit += compare_tap(p, rotation * filter_tap(i) * radius * aspect);
+        let offset = rotation * filter_tap(i) * radius * aspect;
+        lit += textureSampleCompareLevel(
+            shadow_map, shadow_compare, p.uv + offset, p.layer, pcss_tap_depth(p, offset)
+        );
     }
     lit /= f32(#{PCSS_FILTER_SAMPLES});
     // Few blockers found means the search only grazed the penumbra's outer edge: fade

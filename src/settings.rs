@@ -91,7 +91,8 @@ pub struct ShadowSettings {
     pub cascade_count: u32,
     /// Shadow-map resolution per cascade in texels, 512–4096.
     pub resolution: u32,
-    /// PSSM split blend: 0 is linear, 1 is logarithmic.
+    /// PSSM split blend: 0 is linear, 1 is logarithmic. Views wider than 120° pull the splits
+    /// in towards the logarithmic ones ([`crate::math::splits::wide_view_splits`]).
     pub split_lambda: f32,
     /// Distance from the camera (view depth, metres) where shadows end.
     pub max_distance: f32,

@@ -9,7 +9,7 @@ use crate::math::frustum::{CameraBasis, CameraView};
 use crate::math::light_space::light_rotation;
 use crate::math::pcss::pcss_params_f64;
 use crate::math::snapping::{TexelSnap, f32_down, f32_sat, f32_up, snap_interval};
-use crate::math::splits::pssm_splits;
+use crate::math::splits::wide_view_splits;
 use crate::settings::{CascadeFit, MAX_CASCADES};
 
 /// Smallest lateral extent or depth range of a cascade box, in world units.
@@ -115,8 +115,8 @@ impl CascadeSet {
 /// Computes the cascades for one frame. Allocation-free; every output is finite and every
 /// active box has positive width, height and depth for any finite input.
 ///
-/// - Splits: [`pssm_splits`] from the camera's near plane to `min(max_distance,
-///   camera.far, MAX_SHADOW_DISTANCE)`.
+/// - Splits: [`wide_view_splits`] (PSSM, pulled in for views wider than 120°) from the
+///   camera's near plane to `min(max_distance, camera.far, MAX_SHADOW_DISTANCE)`.
 /// - [`CascadeFit::Tight`]: x and y bound the slice's eight corners in the shared light
 ///   frame.
 /// - [`CascadeFit::Stable`]: x and y bound the sphere around the camera position that reaches
@@ -139,13 +139,19 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
     } else {
         camera.near
     };
-    let splits = pssm_splits(near, shadow_far, count, input.split_lambda);
+    let basis = camera.basis();
+    let splits = wide_view_splits(
+        near,
+        shadow_far,
+        count,
+        input.split_lambda,
+        basis.tan_half_x.max(basis.tan_half_y),
+    );
 
     let light_rotation = light_rotation(input.light_direction);
     // NOTE: all geometry is done in f64 but with the *f32* rotation the set publishes, so
     // culling (which only has the f32 matrix) and the boxes agree exactly.
     let rot = light_rotation.as_dmat3();
-    let basis = camera.basis();
     let frame = Frame {
         rot,
         camera: rot * basis.position,

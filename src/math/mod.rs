@@ -27,4 +27,4 @@ pub use light_space::{light_from_world, light_rotation};
 pub use pcss::{PcssParams, pcss_params};
 pub use poisson::{STANDARD_SETS, min_pairwise_distance, poisson_disk};
 pub use projection::{ndc_to_uv, ortho_reverse_z, perspective_reverse_z, uv_to_ndc};
-pub use splits::pssm_splits;
+pub use splits::{pssm_splits, wide_view_splits};

@@ -1,5 +1,6 @@
 //! Cascade split distances by the practical split scheme (PSSM): a blend of logarithmic and
-//! linear distributions of view depth.
+//! linear distributions of view depth, pulled in towards the logarithmic one for views wider
+//! than 120°.
 
 use crate::settings::MAX_CASCADES;
 
@@ -67,6 +68,47 @@ pub fn pssm_splits(near: f32, max_distance: f32, count: usize, lambda: f32) -> [
     out
 }
 
+/// Tangent of the widest half-angle (on either axis) whose splits [`wide_view_splits`] leaves
+/// unchanged: a view up to 120° across.
+///
+/// NOTE: a slice's lateral extent, and so every texel of its cascade, grows with the tangent
+/// of the half field of view. Up to 120° (a 16:9 view of 90° vertical is 121° across) the
+/// PSSM splits are used as given; wider views pull them in (see [`wide_view_splits`]).
+pub const WIDE_VIEW_TAN: f64 = 1.732_050_807_568_877_2;
+
+/// The splits of a view whose widest half-angle has tangent `tan_half`: [`pssm_splits`] with
+/// each inner split divided by `tan_half / WIDE_VIEW_TAN` (when above 1), so that its slice is
+/// no wider than in a 120° view, but never nearer than the logarithmic split (`λ = 1`, which
+/// keeps the shadow-map texel to screen-pixel ratio even across the cascades).
+///
+/// Takes the same arguments as [`pssm_splits`], sanitised the same way; a NaN or infinite
+/// `tan_half` counts as a 120° view. The first `count + 1` entries still strictly increase,
+/// the first is `near` and the last `max_distance`.
+pub fn wide_view_splits(
+    near: f32,
+    max_distance: f32,
+    count: usize,
+    lambda: f32,
+    tan_half: f64,
+) -> [f32; MAX_CASCADES + 1] {
+    let mut out = pssm_splits(near, max_distance, count, lambda);
+    let widen = if tan_half.is_finite() {
+        (tan_half / WIDE_VIEW_TAN).max(1.0)
+    } else {
+        1.0
+    };
+    if widen > 1.0 {
+        let log = pssm_splits(near, max_distance, count, 1.0);
+        let count = count.clamp(1, MAX_CASCADES);
+        // NOTE: the maximum of two strictly increasing sequences strictly increases, and both
+        // share the first and last entries.
+        for i in 1..count {
+            out[i] = ((f64::from(out[i]) / widen) as f32).max(log[i]);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,6 +121,21 @@ mod tests {
         for (got, want) in log.iter().zip([1.0, 10.0, 100.0, 1000.0, 10_000.0]) {
             assert!((got - want).abs() <= want * 1e-6, "{log:?}");
         }
+    }
+
+    #[test]
+    fn wide_views_pull_the_splits_in_down_to_the_logarithmic_ones() {
+        let pssm = pssm_splits(0.1, 120.0, 4, 0.6);
+        assert_eq!(wide_view_splits(0.1, 120.0, 4, 0.6, WIDE_VIEW_TAN), pssm);
+        assert_eq!(wide_view_splits(0.1, 120.0, 4, 0.6, f64::NAN), pssm);
+        let log = pssm_splits(0.1, 120.0, 4, 1.0);
+        let wide = wide_view_splits(0.1, 120.0, 4, 0.6, 2.0 * WIDE_VIEW_TAN);
+        for i in 1..4 {
+            let want = (pssm[i] / 2.0).max(log[i]);
+            assert!((wide[i] - want).abs() <= 1e-6 * want, "{wide:?}");
+        }
+        assert_eq!((wide[0], wide[4]), (0.1, 120.0));
+        assert_eq!(wide_view_splits(0.1, 120.0, 4, 0.6, 1.0e30), log);
     }
 
     #[test]

@@ -186,6 +186,17 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
             let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
             dump(Path::new(&dir), &tag, analysis, &judged, &technique, &reference);
         }
+        if std::env::var_os("PENUMBRA_PIXELS").is_some() {
+            let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
+            list_failures(
+                &format!("{name} [{mode:?}]"),
+                analysis,
+                &judged,
+                &technique,
+                &reference,
+                &thresholds,
+            );
+        }
         let surface = &surface;
         let on = |s: Surface| move |i: usize| surface[i] == s;
         *score = (
@@ -276,6 +287,43 @@ impl Judged {
     /// The mean absolute error of each filter.
     pub fn mae(&self) -> [f64; 2] {
         self.filters.map(|(_, s)| s.all.mae)
+    }
+}
+
+/// Prints every acne and leak pixel (debugging aid: `PENUMBRA_PIXELS=1`): where it is, its
+/// cascade, both values, and how far (in pixels, Chebyshev, and in metres) the nearest judged
+/// pixel of another class lies, which tells shadow-edge blur (1 pixel away) from
+/// self-shadowing inside a lit surface.
+fn list_failures(tag: &str, a: &AnalysisImage, pixels: &[usize], technique: &[f32], reference: &[f32], t: &Thresholds) {
+    let w = a.width as usize;
+    let xy = |i: usize| ((i % w) as i64, (i / w) as i64);
+    for (k, (&value, &truth)) in technique.iter().zip(reference).enumerate() {
+        let acne = truth >= t.lit && value < t.acne_below;
+        if !(acne || (truth <= t.shadowed && value > t.leak_above)) {
+            continue;
+        }
+        let (i, (x, y)) = (pixels[k], xy(pixels[k]));
+        let other = |r: f32| if acne { r < t.lit } else { r > t.shadowed };
+        let nearest = pixels
+            .iter()
+            .zip(reference)
+            .filter(|&(_, &r)| other(r))
+            .map(|(&j, _)| {
+                let (xj, yj) = xy(j);
+                (
+                    (xj - x).abs().max((yj - y).abs()),
+                    (a.position[j] - a.position[i]).length(),
+                )
+            })
+            .min_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        eprintln!(
+            "{tag} {} at ({x}, {y}), cascade {}, position {}, normal {}: technique {value:.3}, reference \
+             {truth:.3}; other class {nearest:?} (pixels, metres) away",
+            if acne { "acne" } else { "leak" },
+            a.cascade[i],
+            a.position[i],
+            a.normal[i],
+        );
     }
 }
 

@@ -20,7 +20,7 @@ use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
 use penumbra::settings::ShadowSettings;
 
-use judge::{ACNE_LIMIT, Floors, LEAK_LIMIT, Limits, judge, sun_at_elevation};
+use judge::{Floors, judge, sun_at_elevation};
 use scenes::{Case, SUN, load};
 
 /// How much worse (mean absolute error) a scene far from the origin may score than the same
@@ -349,20 +349,12 @@ fn sub_texel_camera_translation_does_not_shimmer() {
 }
 
 /// A camera under the roof, 1.6 m above its shadow, so that very wide views still see the
-/// shadows large.
+/// shadows large. Views wider than 120° pull the cascade splits in (`wide_view_splits`):
+/// with the PSSM splits alone cascade 0 of the 150° view had 3.4 cm texels and of the 170° view
+/// 10.5 cm, against a 5.8 cm penumbra, and blurred every shadow edge over lit pixels.
 const WIDE_CAMERA: Vec3 = Vec3::new(-2.5, 1.6, 2.0);
 /// What the wide views look at.
 const WIDE_TARGET: Vec3 = Vec3::new(-1.5, 0.0, 0.5);
-
-/// Limits of the 150° view. Ground acne measured 0.21 % (PCF) and 0.25 % (PCSS), 5–6 of 2,426
-/// lit ground pixels, all on shadow edges near the camera: cascade 0 spans the whole 150° slice
-/// (3.4 cm texels against a 5.8 cm penumbra), and even with the 1 cm cap on the filter step a
-/// single bilinear comparison blurs each edge over a texel, wider than a pixel there.
-const FOV_150_LIMITS: Limits = Limits {
-    ground_acne: 0.003,
-    caster_acne: ACNE_LIMIT,
-    leak: LEAK_LIMIT,
-};
 
 #[test]
 fn one_hundred_and_fifty_degree_field_of_view() {
@@ -372,26 +364,13 @@ fn one_hundred_and_fifty_degree_field_of_view() {
         target: WIDE_TARGET,
         ..Case::default()
     };
-    judge("fov 150°", &wide.desc(), 128, 96).assert_within(
-        &Floors {
-            judged: 4500,
-            ground_lit: 1500,
-            caster_lit: 130,
-            umbra: 3000,
-        },
-        &FOV_150_LIMITS,
-    );
+    judge("fov 150°", &wide.desc(), 128, 96).assert_judged(&Floors {
+        judged: 4500,
+        ground_lit: 1500,
+        caster_lit: 130,
+        umbra: 3000,
+    });
 }
-
-/// Limits of the 10:1 view. Of its 70 lit caster pixels one is acne with either filter
-/// (1.4 %: a single pixel, in a view spanning ~160° horizontally), and PCSS
-/// darkens 6 of 8,358 lit ground pixels (0.072 %; PCF 0.036 %), on edges where one texel of
-/// cascade 0 spans more than a pixel.
-const ASPECT_10_1_LIMITS: Limits = Limits {
-    ground_acne: 0.001,
-    caster_acne: 0.015,
-    leak: LEAK_LIMIT,
-};
 
 #[test]
 fn aspect_ten_to_one() {
@@ -400,79 +379,48 @@ fn aspect_ten_to_one() {
         target: WIDE_TARGET,
         ..Case::default()
     };
-    judge("aspect 10:1", &wide.desc(), 320, 32).assert_within(
-        &Floors {
-            judged: 6000,
-            ground_lit: 5000,
-            caster_lit: 45,
-            umbra: 1000,
-        },
-        &ASPECT_10_1_LIMITS,
-    );
+    // NOTE: 960×96 so that the casters' lit faces, a thin strip of this view, cover over 600
+    // pixels (at 320×32 they covered 70, where one pixel was 1.4 %).
+    judge("aspect 10:1", &wide.desc(), 960, 96).assert_judged(&Floors {
+        judged: 60_000,
+        ground_lit: 50_000,
+        caster_lit: 500,
+        umbra: 9_000,
+    });
 }
-
-/// Limits under a 0.5° sun. PCSS darkens 336 of 877 lit caster pixels (38.3 %; PCF none): the
-/// casters' top faces meet the light at 0.5°, a slope of 115 that the receiver-plane bias
-/// follows only up to MAX_RECEIVER_SLOPE (40), so the wide PCSS blocker search finds the face
-/// itself. Raising that cap to 200 removed this acne but let 7–11 % of the umbra leak
-/// (measured before the metre caps on the filter).
-const HALF_DEGREE_SUN_LIMITS: Limits = Limits {
-    ground_acne: ACNE_LIMIT,
-    caster_acne: 0.39,
-    leak: LEAK_LIMIT,
-};
 
 #[test]
 fn sun_half_a_degree_above_the_horizon() {
     let case = Case::sun(sun_at_elevation(0.5));
-    judge("sun 0.5° above the horizon", &case.desc(), 128, 96).assert_within(
-        &Floors {
-            judged: 6000,
-            ground_lit: 5000,
-            caster_lit: 500,
-            umbra: 300,
-        },
-        &HALF_DEGREE_SUN_LIMITS,
-    );
+    // The casters' top faces meet the light at 0.5°, a slope of 115 that the receiver-plane
+    // bias clamps at 40: PCSS compares its wide search and kernel with the true plane too.
+    judge("sun 0.5° above the horizon", &case.desc(), 128, 96).assert_judged(&Floors {
+        judged: 6000,
+        ground_lit: 5000,
+        caster_lit: 500,
+        umbra: 300,
+    });
 }
-
-/// Leak limit of the view from below under a sun straight up: it sees only 25 umbra pixels
-/// (the box's shadow on the roof's underside), and one of them is lit
-/// with either filter (4 %).
-const SUN_UP_FROM_BELOW_LEAK: f64 = 0.04;
 
 #[test]
 fn sun_straight_up_seen_from_below() {
-    // The ground is single-sided: from below, the undersides face the sun and the box shades
-    // the roof's underside.
+    // Under the roof, looking up at its underside over the box: the undersides face a sun
+    // straight up, and the box (0.85 m below) shades a 2 × 0.5 m patch of the roof's underside.
+    // NOTE: this framing judges about 750 umbra pixels; the view from under the ground judged
+    // 25, where one pixel was 4 %.
     let below = Case {
         sun: Vec3::Y,
-        camera: Vec3::new(1.0, -4.0, 7.0),
-        target: Vec3::new(-1.0, 2.0, 1.0),
+        camera: Vec3::new(0.0, 1.8, 2.0),
+        target: Vec3::new(0.0, 2.85, 0.75),
         ..Case::default()
     };
-    judge("sun straight up, from below", &below.desc(), 96, 64).assert_within(
-        &Floors {
-            judged: 1000,
-            ground_lit: 0,
-            caster_lit: 1000,
-            umbra: 20,
-        },
-        &Limits {
-            leak: SUN_UP_FROM_BELOW_LEAK,
-            ..judge::TARGET
-        },
-    );
+    judge("sun straight up, from below", &below.desc(), 96, 64).assert_judged(&Floors {
+        judged: 2500,
+        ground_lit: 0,
+        caster_lit: 1800,
+        umbra: 500,
+    });
 }
-
-/// Limits of the 170° view (measured PCF / PCSS: ground acne 2.9 % / 2.9 % of 2,163, leaks
-/// 1.6 % / 1.5 % of 4,319): cascade 0 is 215 m wide (10.5 cm texels) against a
-/// 5.8 cm penumbra, so even one bilinear comparison blurs every edge over several pixels.
-const FOV_170_LIMITS: Limits = Limits {
-    ground_acne: 0.03,
-    caster_acne: ACNE_LIMIT,
-    leak: 0.02,
-};
 
 #[test]
 fn one_hundred_and_seventy_degree_field_of_view() {
@@ -482,13 +430,10 @@ fn one_hundred_and_seventy_degree_field_of_view() {
         target: WIDE_TARGET,
         ..Case::default()
     };
-    judge("fov 170°", &wide.desc(), 128, 96).assert_within(
-        &Floors {
-            judged: 4000,
-            ground_lit: 1300,
-            caster_lit: 100,
-            umbra: 2500,
-        },
-        &FOV_170_LIMITS,
-    );
+    judge("fov 170°", &wide.desc(), 128, 96).assert_judged(&Floors {
+        judged: 4000,
+        ground_lit: 1300,
+        caster_lit: 100,
+        umbra: 2500,
+    });
 }
