@@ -202,8 +202,8 @@ fn undefined_material() {
     let msg = error(&[("material: \"leaf\"", "material: \"leef\"")]);
     assert_eq!(
         msg,
-        "scenes/test.ron:12:48: expected a material defined in `materials` (\"ground\", \
-         \"leaf\") for `objects[2].material`, found \"leef\""
+        "scenes/test.ron:12:48: expected a material defined in `materials` (\"leaf\", \
+         \"ground\") for `objects[2].material`, found \"leef\""
     );
 }
 
@@ -255,7 +255,7 @@ fn sizes_cutoff_and_grid_checks() {
     let msg = error(&[("translation: (0, 1, 0)", grid)]);
     assert_eq!(
         msg,
-        "scenes/test.ron:11:76: expected at most 10000000 copies in all for \
+        "scenes/test.ron:11:76: expected at most 1000000 copies in one grid for \
          `objects[1].grid.count`, found (1000, 1000, 11) = 11000000 copies"
     );
 }
