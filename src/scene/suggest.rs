@@ -22,14 +22,19 @@ const SHOWN_CHARS: usize = 40;
 pub(crate) struct Suggester<'s> {
     /// Defined names in file order.
     names: Vec<&'s str>,
+    /// Characters of all names, each counted up to `MAX_COMPARED_CHARS`.
+    name_chars: usize,
     cells_left: usize,
     said: HashMap<&'s str, String>,
 }
 
 impl<'s> Suggester<'s> {
     pub(crate) fn new(names: impl IntoIterator<Item = &'s str>) -> Self {
+        let names: Vec<&str> = names.into_iter().collect();
+        let name_chars = names.iter().map(|n| n.len().min(MAX_COMPARED_CHARS)).sum();
         Suggester {
-            names: names.into_iter().collect(),
+            names,
+            name_chars,
             cells_left: CELL_BUDGET,
             said: HashMap::new(),
         }
@@ -62,11 +67,7 @@ impl<'s> Suggester<'s> {
         if query.len() > MAX_COMPARED_CHARS {
             return None;
         }
-        let cost: usize = self
-            .names
-            .iter()
-            .map(|n| n.len().min(MAX_COMPARED_CHARS) * query.len().max(1))
-            .sum();
+        let cost = self.name_chars.saturating_mul(query.len().max(1));
         if cost > self.cells_left {
             return None;
         }
