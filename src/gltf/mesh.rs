@@ -11,8 +11,86 @@ use crate::gltf::load::Cx;
 use crate::gltf::{GltfError, GltfMesh, GltfPrimitive};
 use crate::mesh::{MeshData, Vertex};
 
-/// Reads every mesh of the document.
+/// The most vertices one primitive may have once read (after un-welding for flat normals):
+/// 128 MiB of vertex data.
+pub const MAX_PRIMITIVE_VERTICES: usize = 1 << 22;
+
+/// The most triangle-list indices one primitive may have once read (after strips and fans
+/// become lists): 64 MiB of indices.
+pub const MAX_PRIMITIVE_INDICES: usize = 1 << 24;
+
+/// The most vertices all primitives of one model may have together: 256 MiB.
+pub const MAX_MODEL_VERTICES: usize = 1 << 23;
+
+/// The most indices all primitives of one model may have together: 128 MiB.
+pub const MAX_MODEL_INDICES: usize = 1 << 25;
+
+/// Vertices and indices planned so far, checked against the caps above before any
+/// primitive is read (from accessor counts, so before anything is allocated).
+#[derive(Default)]
+struct Budget {
+    vertices: usize,
+    indices: usize,
+}
+
+impl Budget {
+    /// Takes `vertices` and `indices` for the primitive `context`, or says which cap they pass.
+    fn take(&mut self, cx: &Cx, context: &str, vertices: usize, indices: usize) -> Result<(), GltfError> {
+        let over = |what: &str, n: usize, max: usize, per: &str| {
+            cx.data(context, format!("{n} {what} once read; at most {max} {what} per {per}"))
+        };
+        if vertices > MAX_PRIMITIVE_VERTICES {
+            return Err(over("vertices", vertices, MAX_PRIMITIVE_VERTICES, "primitive"));
+        }
+        if indices > MAX_PRIMITIVE_INDICES {
+            return Err(over("indices", indices, MAX_PRIMITIVE_INDICES, "primitive"));
+        }
+        self.vertices += vertices;
+        self.indices += indices;
+        if self.vertices > MAX_MODEL_VERTICES {
+            return Err(over("vertices", self.vertices, MAX_MODEL_VERTICES, "model"));
+        }
+        if self.indices > MAX_MODEL_INDICES {
+            return Err(over("indices", self.indices, MAX_MODEL_INDICES, "model"));
+        }
+        Ok(())
+    }
+}
+
+/// What reading `primitive` will allocate, from its accessor counts alone: vertices and
+/// triangle-list indices (a strip or fan of n indices gives at most 3 (n - 2); computed
+/// normals need one vertex per index). Zero for primitives that are skipped.
+fn planned(primitive: &Primitive) -> (usize, usize) {
+    let mode = primitive.mode();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return (0, 0);
+    }
+    let vertex_count = primitive.get(&::gltf::Semantic::Positions).map_or(0, |a| a.count());
+    let raw = primitive.indices().map_or(vertex_count, |a| a.count());
+    let listed = match mode {
+        Mode::TriangleStrip | Mode::TriangleFan => raw.saturating_sub(2).saturating_mul(3),
+        _ => raw / 3 * 3,
+    };
+    let has_normals = primitive.get(&::gltf::Semantic::Normals).is_some();
+    let vertices = if has_normals {
+        vertex_count
+    } else {
+        listed.max(vertex_count)
+    };
+    (vertices, listed.max(raw))
+}
+
+/// Reads every mesh of the document, after checking what all of them will allocate
+/// against the caps.
 pub(super) fn read_meshes(cx: &mut Cx, document: &Document, buffers: &[Vec<u8>]) -> Result<Vec<GltfMesh>, GltfError> {
+    let mut budget = Budget::default();
+    for mesh in document.meshes() {
+        for primitive in mesh.primitives() {
+            let (vertices, indices) = planned(&primitive);
+            let context = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            budget.take(cx, &context, vertices, indices)?;
+        }
+    }
     let mut meshes = Vec::new();
     for mesh in document.meshes() {
         let mut primitives = Vec::new();

@@ -28,6 +28,8 @@ use crate::ecs::assets::{AlphaMode, ImageData};
 use crate::mesh::MeshData;
 
 pub use error::GltfError;
+pub use mesh::{MAX_MODEL_INDICES, MAX_MODEL_VERTICES, MAX_PRIMITIVE_INDICES, MAX_PRIMITIVE_VERTICES};
+pub use nodes::{MAX_DRAWN_PRIMITIVES, MAX_NODE_VISITS};
 
 /// Everything penumbra uses from a glTF file.
 #[derive(Clone, Debug, PartialEq)]

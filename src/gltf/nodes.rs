@@ -12,8 +12,15 @@ use crate::gltf::{GltfError, GltfNodeInstance};
 const MAX_DEPTH: usize = 256;
 
 /// The most node visits accepted: a node listed as the child of several parents is visited
-/// once per path, which a malicious file can make exponential.
-const MAX_VISITS: usize = 1 << 20;
+/// once per path from the scene root, which a small file can make exponential (a chain of
+/// nodes each listing the next one twice). With this cap the walk stays linear in the size
+/// of the document plus a constant.
+pub const MAX_NODE_VISITS: usize = 1 << 18;
+
+/// The most mesh primitives one model may draw (each node with a mesh draws all of its
+/// primitives, once per path from the scene root): each becomes an instance to spawn, cull
+/// and upload, per copy of the model in a scene.
+pub const MAX_DRAWN_PRIMITIVES: usize = 1 << 16;
 
 /// The nodes drawn: the file's `scene`, else scene 0, else every node that is no node's
 /// child, in index order.
@@ -39,6 +46,7 @@ pub(super) fn flatten(cx: &mut Cx, document: &Document) -> Result<Vec<GltfNodeIn
         on_path: vec![false; nodes.len()],
         path: Vec::new(),
         visits: 0,
+        drawn: 0,
         out: Vec::new(),
         skinned: 0,
     };
@@ -61,6 +69,8 @@ struct Walk<'n, 'd> {
     /// The current path from the root.
     path: Vec<usize>,
     visits: usize,
+    /// Mesh primitives drawn by the nodes flattened so far.
+    drawn: usize,
     out: Vec<GltfNodeInstance>,
     skinned: usize,
 }
@@ -82,10 +92,13 @@ impl Walk<'_, '_> {
             ));
         }
         self.visits += 1;
-        if self.visits > MAX_VISITS {
+        if self.visits > MAX_NODE_VISITS {
             return Err(cx.data(
                 format!("node {index}"),
-                format!("more than {MAX_VISITS} node visits (nodes shared by several parents)"),
+                format!(
+                    "more than {MAX_NODE_VISITS} node visits (a node listed as the child of several parents \
+                     is visited once per path from the scene root)"
+                ),
             ));
         }
         let node = &self.nodes[index];
@@ -95,6 +108,16 @@ impl Walk<'_, '_> {
         }
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
+            self.drawn = self.drawn.saturating_add(mesh.primitives().len());
+            if self.drawn > MAX_DRAWN_PRIMITIVES {
+                return Err(cx.data(
+                    format!("node {index}"),
+                    format!(
+                        "the scene draws more than {MAX_DRAWN_PRIMITIVES} mesh primitives (a node is drawn once \
+                         per path from the scene root)"
+                    ),
+                ));
+            }
             self.skinned += usize::from(node.skin().is_some());
             self.out.push(GltfNodeInstance {
                 mesh: mesh.index(),

@@ -4,6 +4,7 @@
 //! the field names are the names written in the file, and every optional field has a serde
 //! default so that simple objects fit on one line.
 
+use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -187,7 +188,9 @@ pub struct ObjectDesc {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(rename = "Grid", deny_unknown_fields)]
 pub struct GridDesc {
-    /// Copies along x, y and z, each ≥ 1; at most 10 million in all.
+    /// Copies along x, y and z, each ≥ 1; at most
+    /// [`SceneLimits::max_grid_instances`](crate::scene::SceneLimits::max_grid_instances) in
+    /// all (one million by default).
     pub count: UVec3,
     /// Offset between neighbouring copies along each axis, metres (may be negative).
     pub spacing: Vec3,
@@ -230,9 +233,35 @@ impl SceneDesc {
         self.base_dir.join(path)
     }
 
-    /// Index of the material called `name` in [`materials`](Self::materials).
+    /// Index of the (first) material called `name` in [`materials`](Self::materials). A
+    /// linear search: for many lookups, build a [`material_lookup`](Self::material_lookup).
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.materials.iter().position(|m| m.name == name)
+    }
+
+    /// An index from material name to position in [`materials`](Self::materials) (the first
+    /// of duplicate names, like [`material_index`](Self::material_index)), built once in
+    /// linear time for constant-time lookups. It borrows the scene, so it cannot go stale.
+    pub fn material_lookup(&self) -> MaterialLookup<'_> {
+        let mut index = HashMap::with_capacity(self.materials.len());
+        for (i, m) in self.materials.iter().enumerate() {
+            index.entry(m.name.as_str()).or_insert(i);
+        }
+        MaterialLookup { index }
+    }
+}
+
+/// Material names of a [`SceneDesc`] mapped to their index; see
+/// [`SceneDesc::material_lookup`].
+#[derive(Clone, Debug)]
+pub struct MaterialLookup<'a> {
+    index: HashMap<&'a str, usize>,
+}
+
+impl MaterialLookup<'_> {
+    /// Index of the material called `name`, like [`SceneDesc::material_index`].
+    pub fn get(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
     }
 }
 

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use ron::error::{Error as RonError, SpannedError};
 
+use crate::scene::limits::MAX_LISTED_PROBLEMS;
 use crate::scene::locate::{Node, Pos, token_at};
 
 /// Why a scene could not be loaded. Every message starts with the file name; parse and
@@ -33,13 +34,14 @@ pub enum SceneError {
         /// What was expected and what was found.
         message: String,
     },
-    /// The scene parsed but has invalid values; every problem found is listed, in file
-    /// order, one per line.
+    /// The scene parsed but has invalid values; the problems are listed in file order, one
+    /// per line, at most [`MAX_LISTED_PROBLEMS`](crate::scene::MAX_LISTED_PROBLEMS) of them
+    /// and then a line `FILE: and N more problems`.
     #[error("{}", list_problems(origin, problems))]
     Invalid {
         /// File name (or the name given to `from_str`).
         origin: String,
-        /// The problems, sorted by position.
+        /// Every problem, sorted by position.
         problems: Vec<Problem>,
     },
 }
@@ -70,20 +72,25 @@ impl fmt::Display for Problem {
 }
 
 fn list_problems(origin: &str, problems: &[Problem]) -> String {
-    let lines: Vec<String> = problems.iter().map(|p| format!("{origin}:{p}")).collect();
+    let mut lines: Vec<String> = (problems.iter().take(MAX_LISTED_PROBLEMS))
+        .map(|p| format!("{origin}:{p}"))
+        .collect();
+    if let Some(more) = problems.len().checked_sub(MAX_LISTED_PROBLEMS).filter(|&n| n > 0) {
+        let s = if more == 1 { "" } else { "s" };
+        lines.push(format!("{origin}: and {more} more problem{s}"));
+    }
     lines.join("\n")
 }
 
 /// Turns ron's error into a [`SceneError::Parse`] that says what was expected where.
 pub(crate) fn parse_error(origin: &str, text: &str, err: &SpannedError) -> SceneError {
-    let tree = Node::parse(text);
     let mut pos = Pos {
         line: err.span.start.line.max(1),
         column: err.span.start.col.max(1),
     };
     if let RonError::ExpectedDifferentLength { .. } = err.code {
         // ron points at the closing bracket; the tuple's start is easier to find.
-        pos = tree.opening_of(pos).unwrap_or(pos);
+        pos = Node::parse_until(text, pos).opening_of(pos).unwrap_or(pos);
     }
     let mut code = &err.code;
     let found = match token_at(text, pos) {
@@ -107,7 +114,8 @@ pub(crate) fn parse_error(origin: &str, text: &str, err: &SpannedError) -> Scene
         }
         None => "the end of the file".to_owned(),
     };
-    let path = tree.path_at(pos);
+    // Only the text up to the error is read again, and only the groups around it are kept.
+    let path = Node::parse_until(text, pos).path_at(pos);
     SceneError::Parse {
         origin: origin.to_owned(),
         line: pos.line,

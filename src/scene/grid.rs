@@ -38,8 +38,9 @@ impl SceneDesc {
     /// then z). Lazy: a 100k-copy grid costs nothing until iterated. Objects whose material is
     /// not defined are skipped; [`SceneDesc::load`] never returns such a scene.
     pub fn instances(&self) -> impl Iterator<Item = ObjectInstance<'_>> + '_ {
+        let lookup = self.material_lookup();
         self.objects.iter().enumerate().flat_map(move |(index, object)| {
-            let material = self.material_index(&object.material);
+            let material = lookup.get(&object.material);
             let copies = match (material, &object.grid) {
                 (None, _) => 0,
                 (Some(_), None) => 1,
@@ -51,9 +52,10 @@ impl SceneDesc {
 
     /// How many instances [`instances`](Self::instances) yields (saturating).
     pub fn instance_count(&self) -> u64 {
+        let lookup = self.material_lookup();
         self.objects
             .iter()
-            .filter(|o| self.material_index(&o.material).is_some())
+            .filter(|o| lookup.get(&o.material).is_some())
             .map(|o| o.grid.as_ref().map_or(1, GridDesc::len))
             .fold(0u64, u64::saturating_add)
     }

@@ -8,26 +8,39 @@ use serde::de::DeserializeOwned;
 
 use crate::scene::desc::SceneDesc;
 use crate::scene::error::{SceneError, parse_error};
+use crate::scene::limits::SceneLimits;
 use crate::scene::validate::validate;
 
 impl SceneDesc {
     /// Reads, parses and validates the scene file at `path`. Relative texture and model
     /// paths in it are relative to its directory, which becomes
-    /// [`base_dir`](SceneDesc::base_dir); textures must exist.
+    /// [`base_dir`](SceneDesc::base_dir); textures must exist. The default
+    /// [`SceneLimits`] apply.
     pub fn load(path: impl AsRef<Path>) -> Result<SceneDesc, SceneError> {
+        Self::load_with(path, &SceneLimits::default())
+    }
+
+    /// [`load`](Self::load) with other budgets than the default ones.
+    pub fn load_with(path: impl AsRef<Path>, limits: &SceneLimits) -> Result<SceneDesc, SceneError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
             path: path.to_owned(),
             source,
         })?;
         let base_dir = path.parent().map(Path::to_owned).unwrap_or_default();
-        parse(&text, &path.display().to_string(), Some(base_dir))
+        parse(&text, &path.display().to_string(), Some(base_dir), limits)
     }
 
     /// Parses and validates scene text; `origin` names it in error messages (a file name,
     /// say). Texture files are not checked, and [`base_dir`](SceneDesc::base_dir) is empty.
+    /// The default [`SceneLimits`] apply.
     pub fn from_str(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
-        parse(text, origin, None)
+        Self::from_str_with(text, origin, &SceneLimits::default())
+    }
+
+    /// [`from_str`](Self::from_str) with other budgets than the default ones.
+    pub fn from_str_with(text: &str, origin: &str, limits: &SceneLimits) -> Result<SceneDesc, SceneError> {
+        parse(text, origin, None, limits)
     }
 }
 
@@ -41,9 +54,9 @@ pub(crate) fn parse_ron<'t, T: DeserializeOwned>(text: &'t str, origin: &str) ->
     Ok((value, text))
 }
 
-fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>) -> Result<SceneDesc, SceneError> {
+fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>, limits: &SceneLimits) -> Result<SceneDesc, SceneError> {
     let (mut scene, text): (SceneDesc, &str) = parse_ron(text, origin)?;
-    let problems = validate(&scene, text, base_dir.as_deref());
+    let problems = validate(&scene, text, base_dir.as_deref(), limits);
     if !problems.is_empty() {
         return Err(SceneError::Invalid {
             origin: origin.to_owned(),

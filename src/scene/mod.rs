@@ -16,13 +16,17 @@
 mod desc;
 mod error;
 mod grid;
+mod limits;
 mod load;
 mod locate;
 mod settings_file;
+mod suggest;
 mod validate;
 
-pub use desc::{AlphaMode, CameraDesc, GridDesc, Jitter, MaterialDesc, ObjectDesc, SceneDesc, Shape, SunDesc};
+pub use desc::{
+    AlphaMode, CameraDesc, GridDesc, Jitter, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
+};
 pub use error::{Problem, SceneError};
 pub use grid::ObjectInstance;
+pub use limits::{DEFAULT_MAX_INSTANCES, MAX_GRID_INSTANCES, MAX_LISTED_PROBLEMS, SceneLimits};
 pub use settings_file::{load_settings, save_settings, settings_from_str, settings_to_ron};
-pub use validate::MAX_GRID_INSTANCES;

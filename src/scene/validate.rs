@@ -5,20 +5,28 @@ use std::path::Path;
 
 use glam::{UVec3, Vec2, Vec3, Vec4};
 
-use crate::scene::desc::{AlphaMode, CameraDesc, GridDesc, MaterialDesc, ObjectDesc, SceneDesc, Shape, SunDesc};
+use crate::scene::desc::{
+    AlphaMode, CameraDesc, GridDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
+};
 use crate::scene::error::Problem;
+use crate::scene::limits::SceneLimits;
 use crate::scene::locate::{Node, Seg};
-
-/// The most copies one grid may hold.
-pub const MAX_GRID_INSTANCES: u64 = 10_000_000;
+use crate::scene::suggest::{Suggester, quoted};
 
 /// The largest sun angular diameter accepted, degrees.
 const MAX_SUN_DIAMETER: f32 = 30.0;
 
 /// Every problem in `scene`, positioned in `text`, in file order. Texture files are checked
-/// and models are checked for existence only when `base_dir` is given (the scene was loaded from a file).
-pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>) -> Vec<Problem> {
-    let mut c = Checks::default();
+/// and models are checked for existence only when `base_dir` is given (the scene was loaded
+/// from a file). Linear in the size of the scene.
+pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, limits: &SceneLimits) -> Vec<Problem> {
+    let lookup = scene.material_lookup();
+    let mut c = Checks {
+        found: Vec::new(),
+        lookup: &lookup,
+        suggest: Suggester::new(scene.materials.iter().map(|m| m.name.as_str())),
+        limits,
+    };
     let root = FieldPath::default();
     check_camera(&mut c, &scene.camera, &root.field("camera"));
     check_sun(&mut c, &scene.sun, &root.field("sun"));
@@ -31,11 +39,12 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>) -
     }
     let materials = root.field("materials");
     for (i, m) in scene.materials.iter().enumerate() {
-        check_material(&mut c, scene, i, m, &materials, base_dir);
+        check_material(&mut c, i, m, &materials, base_dir);
     }
     for (i, o) in scene.objects.iter().enumerate() {
-        check_object(&mut c, scene, o, &root.field("objects").item(i), base_dir);
+        check_object(&mut c, o, &root.field("objects").item(i), base_dir);
     }
+    check_instance_budget(&mut c, scene);
     if c.found.is_empty() {
         return Vec::new();
     }
@@ -82,13 +91,16 @@ impl FieldPath {
     }
 }
 
-/// The problems found so far: where, what was expected, what was found.
-#[derive(Default)]
-struct Checks {
+/// The problems found so far (where, what was expected, what was found), and what the checks
+/// consult.
+struct Checks<'s> {
     found: Vec<(FieldPath, String, String)>,
+    lookup: &'s MaterialLookup<'s>,
+    suggest: Suggester<'s>,
+    limits: &'s SceneLimits,
 }
 
-impl Checks {
+impl Checks<'_> {
     fn add(&mut self, at: FieldPath, expected: impl Into<String>, found: String) {
         self.found.push((at, expected.into(), found));
     }
@@ -151,17 +163,10 @@ fn check_sun(c: &mut Checks, sun: &SunDesc, at: &FieldPath) {
     }
 }
 
-fn check_material(
-    c: &mut Checks,
-    scene: &SceneDesc,
-    i: usize,
-    m: &MaterialDesc,
-    materials: &FieldPath,
-    base_dir: Option<&Path>,
-) {
-    let name = format!("{:?}", m.name);
+fn check_material(c: &mut Checks, i: usize, m: &MaterialDesc, materials: &FieldPath, base_dir: Option<&Path>) {
+    let name = quoted(&m.name);
     let at = materials.then(Seg::Entry(i), &format!("[{name}]"));
-    if scene.material_index(&m.name) != Some(i) {
+    if c.lookup.get(&m.name) != Some(i) {
         let key = materials.then(Seg::Key(i), &format!("[{name}]"));
         c.add(key, "a material name not used before", format!("{name} again"));
     }
@@ -191,7 +196,7 @@ fn check_material(
     }
 }
 
-fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPath, base_dir: Option<&Path>) {
+fn check_object<'s>(c: &mut Checks<'s>, o: &'s ObjectDesc, at: &FieldPath, base_dir: Option<&Path>) {
     let shape = at.field("shape");
     let sizes = "sizes greater than 0 (metres)";
     match &o.shape {
@@ -218,9 +223,9 @@ fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPat
         }
         _ => {}
     }
-    if scene.material_index(&o.material).is_none() {
-        let found = format!("{:?}", o.material);
-        c.add(at.field("material"), material_names(scene), found);
+    if c.lookup.get(&o.material).is_none() {
+        let expected = c.suggest.expected(&o.material);
+        c.add(at.field("material"), expected, quoted(&o.material));
     }
     if !o.translation.is_finite() {
         c.add(at.field("translation"), "a finite position", o.translation.shown());
@@ -233,17 +238,18 @@ fn check_object(c: &mut Checks, scene: &SceneDesc, o: &ObjectDesc, at: &FieldPat
         c.add(at.field("scale"), "scale factors greater than 0", o.scale.shown());
     }
     if let Some(grid) = &o.grid {
-        check_grid(c, grid, &at.field("grid"));
+        let per_grid = c.limits.max_grid_instances();
+        check_grid(c, grid, &at.field("grid"), per_grid);
     }
 }
 
-fn check_grid(c: &mut Checks, grid: &GridDesc, at: &FieldPath) {
+fn check_grid(c: &mut Checks, grid: &GridDesc, at: &FieldPath, per_grid: u64) {
     let n = grid.count;
     if n.min_element() == 0 {
         let expected = "counts of at least 1 along each axis";
         c.add(at.field("count"), expected, n.shown());
-    } else if grid.len() > MAX_GRID_INSTANCES {
-        let expected = format!("at most {MAX_GRID_INSTANCES} copies in all");
+    } else if grid.len() > per_grid {
+        let expected = format!("at most {per_grid} copies in one grid");
         let found = format!("{} = {} copies", n.shown(), grid.len());
         c.add(at.field("count"), expected, found);
     }
@@ -269,13 +275,41 @@ fn check_grid(c: &mut Checks, grid: &GridDesc, at: &FieldPath) {
     }
 }
 
-/// What `material` must be: one of the defined names.
-fn material_names(scene: &SceneDesc) -> String {
-    if scene.materials.is_empty() {
-        return "the name of a material defined in `materials` (none are)".to_owned();
+/// The instances of the whole scene within [`SceneLimits::max_instances`]; reported at the
+/// object or grid where the running total passes it. Grids already reported as too big on
+/// their own are left out of the total.
+fn check_instance_budget(c: &mut Checks, scene: &SceneDesc) {
+    let (max, per_grid) = (c.limits.max_instances, c.limits.max_grid_instances());
+    let mut total = 0u64;
+    let mut passed_at = None;
+    for (i, o) in scene.objects.iter().enumerate() {
+        let copies = o.grid.as_ref().map_or(1, GridDesc::len);
+        if copies > per_grid {
+            continue;
+        }
+        total = total.saturating_add(copies);
+        if total > max && passed_at.is_none() {
+            passed_at = Some(i);
+        }
     }
-    let names: Vec<String> = scene.materials.iter().map(|m| format!("{:?}", m.name)).collect();
-    format!("a material defined in `materials` ({})", names.join(", "))
+    let Some(i) = passed_at else { return };
+    let expected = format!("at most {max} instances in all objects and grids");
+    let at = FieldPath::default().field("objects").item(i);
+    match &scene.objects[i].grid {
+        Some(grid) => {
+            let found = format!(
+                "{total} instances in all, the limit passed at this grid of {} = {} copies",
+                grid.count.shown(),
+                grid.len()
+            );
+            c.add(at.field("grid").field("count"), expected, found);
+        }
+        None => c.add(
+            at,
+            expected,
+            format!("{total} instances in all, the limit passed at this object"),
+        ),
+    }
 }
 
 fn is_direction(v: Vec3) -> bool {
