@@ -10,7 +10,7 @@ use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::PassTiming;
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::scene::SceneDesc;
+use penumbra::scene::{SceneDesc, SceneLimits};
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
 #[derive(Parser)]
@@ -184,8 +184,11 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     if let Some(path) = &shadow_out {
         prepare_output(path, OutputKind::ScalarImage)?;
     }
-    let mut desc = SceneDesc::load(&scene)?;
-    desc.asset_root = asset_root;
+    let limits = SceneLimits {
+        asset_root,
+        ..SceneLimits::default()
+    };
+    let desc = SceneDesc::load_with(&scene, &limits)?;
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
             s.mode = match m {
@@ -378,12 +381,17 @@ fn bench(args: BenchArgs) -> Result<(), String> {
 /// would, without a GPU, and reports every problem.
 fn check(scenes: Vec<PathBuf>, asset_root: Option<PathBuf>) -> Result<(), String> {
     let mut failed = 0;
+    let limits = SceneLimits {
+        asset_root,
+        ..SceneLimits::default()
+    };
     for path in &scenes {
-        let loaded = SceneDesc::load(path).map_err(|e| e.to_string()).and_then(|mut desc| {
-            desc.asset_root = asset_root.clone();
-            let prepared = PreparedScene::new(&desc).map_err(|e| format!("{}: {e}", path.display()))?;
-            Ok((desc, prepared))
-        });
+        let loaded = SceneDesc::load_with(path, &limits)
+            .map_err(|e| e.to_string())
+            .and_then(|desc| {
+                let prepared = PreparedScene::new(&desc).map_err(|e| format!("{}: {e}", path.display()))?;
+                Ok((desc, prepared))
+            });
         match loaded {
             Ok((desc, prepared)) => println!(
                 "{}: ok ({} instances, {} mesh entities)",

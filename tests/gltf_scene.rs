@@ -4,12 +4,12 @@
 //! problem, never a panic.
 
 use bevy_app::App;
-use penumbra::app::spawn_scene;
+use penumbra::app::{PreparedScene, spawn_scene};
 use penumbra::ecs::assets::{AlphaMode, Materials};
 use penumbra::ecs::instances::RenderInstances;
 use penumbra::ecs::plugin::ShadowPlugin;
 use penumbra::gltf;
-use penumbra::scene::SceneDesc;
+use penumbra::scene::{SceneDesc, SceneLimits};
 
 #[test]
 fn the_garden_spawns_every_node_primitive_with_the_models_materials() {
@@ -66,8 +66,31 @@ fn a_missing_model_is_a_located_scene_error() {
     let text = err.to_string();
     assert!(text.contains("scene.ron:7:"), "{text}");
     assert!(
-        text.contains("an existing .gltf or .glb file") && text.contains("fern.gltf"),
+        text.contains("expected a .gltf or .glb file inside the asset folder")
+            && text.contains("found \"fern.gltf\" (no file at `"),
         "{text}"
+    );
+}
+
+#[test]
+fn models_count_their_primitives_against_the_instance_budget() {
+    let dir = scene_with_model("budget");
+    let desc = SceneDesc::load(dir.join("scene.ron")).unwrap();
+    let entities = PreparedScene::new(&desc).unwrap().entity_count() as u64;
+    assert!(entities > desc.instance_count(), "the model has several primitives");
+    let limits = SceneLimits {
+        max_instances: entities - 1,
+        ..SceneLimits::default()
+    };
+    let desc = SceneDesc::load_with(dir.join("scene.ron"), &limits).expect("within the scene's own count");
+    let err = PreparedScene::new(&desc).map(|_| ()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "the scene would spawn {entities} mesh entities (each glTF object counts its primitives), \
+             more than the {} its instance budget allows",
+            entities - 1
+        )
     );
 }
 

@@ -94,6 +94,7 @@ fn grids_over_the_instance_budget_in_all() {
     // The budget is configurable; the instances are not made until iterated.
     let limits = SceneLimits {
         max_instances: 4_000_000,
+        ..SceneLimits::default()
     };
     let ((), bytes) = peak_bytes(|| {
         let scene = SceneDesc::load_with(corpus("budget_grids.ron"), &limits).unwrap();
@@ -110,7 +111,10 @@ fn one_grid_over_the_instance_budget() {
          `objects[0].grid.count`, found (10000, 1000, 1) = 10000000 copies"
     );
     let text = std::fs::read_to_string(corpus("budget_one_grid.ron")).unwrap();
-    let limits = SceneLimits { max_instances: 1 << 40 };
+    let limits = SceneLimits {
+        max_instances: 1 << 40,
+        ..SceneLimits::default()
+    };
     assert_eq!(
         SceneDesc::from_str_with(&text, "g.ron", &limits)
             .unwrap()

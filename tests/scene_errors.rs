@@ -335,13 +335,40 @@ fn missing_texture_is_reported_relative_to_the_scene_file() {
     let msg = SceneDesc::load(dir.join("bad.ron")).unwrap_err().to_string();
     let file = dir.join("bad.ron");
     let expected = format!(
-        "{}:7:27: expected an existing image file (the path is relative to the scene file) for \
-         `materials[\"leaf\"].texture`, found \"textures/leaves.png\"",
+        "{}:7:27: expected an image file inside the asset folder (the path is relative to the \
+         scene file) for `materials[\"leaf\"].texture`, found \"textures/leaves.png\" (no file at `",
         file.display()
     );
     assert!(msg.starts_with(&expected), "{msg}");
     // from_str does not look at the file system.
     SceneDesc::from_str(&bad, "bad.ron").unwrap();
+
+    // Outside the asset folder (the scene's, here): the same words whether or not the file
+    // exists, and nothing is read.
+    std::fs::write(dir.with_extension("png"), b"outside").unwrap();
+    let outside_name = format!(
+        "../{}",
+        dir.with_extension("png").file_name().unwrap().to_string_lossy()
+    );
+    let messages: Vec<String> = [outside_name.as_str(), "../absent.png"]
+        .iter()
+        .map(|name| {
+            std::fs::write(dir.join("out.ron"), good.replace("textures/leaf.png", name)).unwrap();
+            let msg = SceneDesc::load(dir.join("out.ron")).unwrap_err().to_string();
+            msg.replace(name, "NAME")
+        })
+        .collect();
+    assert_eq!(messages[0], messages[1]);
+    let root = std::fs::canonicalize(&dir).unwrap();
+    assert!(
+        messages[0].ends_with(&format!(
+            "found \"NAME\" (outside the asset folder `{}` (only relative paths inside it are read))",
+            root.display()
+        )),
+        "{}",
+        messages[0]
+    );
+    std::fs::remove_file(dir.with_extension("png")).ok();
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -36,6 +36,17 @@ pub enum SpawnError {
         /// Why.
         message: String,
     },
+    /// The scene would spawn more mesh entities (instances × the primitives of their shape)
+    /// than its instance budget allows.
+    #[error(
+        "the scene would spawn {entities} mesh entities (each glTF object counts its primitives), more than the {max} its instance budget allows"
+    )]
+    Budget {
+        /// Mesh entities the scene would spawn.
+        entities: u64,
+        /// [`SceneLimits::max_instances`](crate::scene::SceneLimits::max_instances).
+        max: u64,
+    },
     /// A glTF model could not be loaded (the message names the file and the problem).
     #[error("object {object}: {message}")]
     Model {
@@ -195,6 +206,21 @@ impl PreparedScene {
             };
             object_shapes.push(index);
         }
+        // NOTE: counted before any entity is planned: a model with many primitives placed by
+        // a large grid multiplies into more entities than the scene's instance budget.
+        let entities = desc
+            .objects
+            .iter()
+            .zip(&object_shapes)
+            .fold(0u64, |sum, (object, &shape)| {
+                let copies = object.grid.as_ref().map_or(1, |g| g.len());
+                sum.saturating_add(copies.saturating_mul(built[shape].len() as u64))
+            });
+        let max = desc.limits.max_instances;
+        if entities > max {
+            return Err(SpawnError::Budget { entities, max });
+        }
+        self.entities.reserve(entities as usize);
         for instance in desc.instances() {
             let object = Transform {
                 translation: instance.translation,

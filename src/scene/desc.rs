@@ -13,6 +13,7 @@ use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
 use crate::asset_io::AssetIo;
+use crate::scene::limits::SceneLimits;
 use crate::settings::ShadowSettings;
 
 /// A whole scene: what [`SceneDesc::load`] returns.
@@ -41,11 +42,10 @@ pub struct SceneDesc {
     /// [`SceneDesc::from_str`](crate::scene::SceneDesc::from_str).
     #[serde(skip)]
     pub base_dir: PathBuf,
-    /// The folder every file the scene names must stay inside; None for the default: the
-    /// nearest enclosing folder named `assets`, else [`base_dir`](Self::base_dir) (see
-    /// [`AssetIo`]).
+    /// The budgets the scene was loaded with, and where its files may be read from; spawning
+    /// holds to them too.
     #[serde(skip)]
-    pub asset_root: Option<PathBuf>,
+    pub limits: SceneLimits,
 }
 
 /// A perspective camera looking from `position` at `target`.
@@ -218,10 +218,11 @@ pub struct Jitter {
 }
 
 impl SceneDesc {
-    /// Where the scene's files are read from, and the read limits: [`asset_root`](Self::asset_root)
-    /// or the default root for [`base_dir`](Self::base_dir).
+    /// Where the scene's files are read from, and the read limits: the
+    /// [`asset_root`](SceneLimits::asset_root) of its [`limits`](Self::limits), or the default
+    /// root for [`base_dir`](Self::base_dir).
     pub fn asset_io(&self) -> AssetIo {
-        match &self.asset_root {
+        match &self.limits.asset_root {
             Some(root) => AssetIo::with_root(root),
             None => AssetIo::for_dir(&self.base_dir),
         }

@@ -1,5 +1,7 @@
 //! Budgets that bound what a scene file can make penumbra do: how many instances it may
-//! place, and how many problems an error message lists.
+//! place, which folder its files must stay in, and how many problems an error message lists.
+
+use std::path::PathBuf;
 
 /// The default of [`SceneLimits::max_instances`]: one million instances.
 ///
@@ -23,19 +25,26 @@ pub const MAX_LISTED_PROBLEMS: usize = 50;
 
 /// Budgets checked when a scene is validated; a scene over one is rejected with a located
 /// problem. `SceneLimits::default()` is what [`SceneDesc::load`](crate::scene::SceneDesc::load)
-/// and `penumbra check` use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// and `penumbra check` use. A loaded scene keeps them in
+/// [`SceneDesc::limits`](crate::scene::SceneDesc::limits), and spawning it holds to them too
+/// (a glTF object counts one instance per drawn primitive there).
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SceneLimits {
     /// The most instances (objects, with every grid copy counted) a scene may place in all.
     /// Default [`DEFAULT_MAX_INSTANCES`]. One grid may hold at most this many copies, and at
     /// most [`MAX_GRID_INSTANCES`].
     pub max_instances: u64,
+    /// The folder every file the scene names (textures, models, their buffers and images)
+    /// must stay inside; None for the default: the nearest enclosing folder named `assets`,
+    /// else the scene's folder (see [`AssetIo`](crate::asset_io::AssetIo)).
+    pub asset_root: Option<PathBuf>,
 }
 
 impl Default for SceneLimits {
     fn default() -> Self {
         SceneLimits {
             max_instances: DEFAULT_MAX_INSTANCES,
+            asset_root: None,
         }
     }
 }

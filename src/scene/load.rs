@@ -14,8 +14,8 @@ use crate::scene::validate::validate;
 impl SceneDesc {
     /// Reads, parses and validates the scene file at `path`. Relative texture and model
     /// paths in it are relative to its directory, which becomes
-    /// [`base_dir`](SceneDesc::base_dir); textures must exist. The default
-    /// [`SceneLimits`] apply.
+    /// [`base_dir`](SceneDesc::base_dir); textures and models must exist inside the asset
+    /// root. The default [`SceneLimits`] apply.
     pub fn load(path: impl AsRef<Path>) -> Result<SceneDesc, SceneError> {
         Self::load_with(path, &SceneLimits::default())
     }
@@ -64,5 +64,6 @@ fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>, limits: &SceneLimi
         });
     }
     scene.base_dir = base_dir.unwrap_or_default();
+    scene.limits = limits.clone();
     Ok(scene)
 }

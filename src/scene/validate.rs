@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::{UVec3, Vec2, Vec3, Vec4};
 
+use crate::asset_io::AssetIo;
 use crate::scene::desc::{
     AlphaMode, CameraDesc, GridDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
 };
@@ -16,16 +17,22 @@ use crate::scene::suggest::{Suggester, quoted};
 /// The largest sun angular diameter accepted, degrees.
 const MAX_SUN_DIAMETER: f32 = 30.0;
 
-/// Every problem in `scene`, positioned in `text`, in file order. Texture files are checked
-/// and models are checked for existence only when `base_dir` is given (the scene was loaded
-/// from a file). Linear in the size of the scene.
+/// Every problem in `scene`, positioned in `text`, in file order. Texture and model files are
+/// checked (they must exist inside the asset root of `limits`) only when `base_dir` is given
+/// (the scene was loaded from a file). Linear in the size of the scene.
 pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, limits: &SceneLimits) -> Vec<Problem> {
     let lookup = scene.material_lookup();
+    let assets = match (&limits.asset_root, base_dir) {
+        (Some(root), _) => AssetIo::with_root(root),
+        (None, Some(dir)) => AssetIo::for_dir(dir),
+        (None, None) => AssetIo::for_dir(Path::new("")),
+    };
     let mut c = Checks {
         found: Vec::new(),
         lookup: &lookup,
         suggest: Suggester::new(scene.materials.iter().map(|m| m.name.as_str())),
         limits,
+        assets,
     };
     let root = FieldPath::default();
     check_camera(&mut c, &scene.camera, &root.field("camera"));
@@ -98,6 +105,8 @@ struct Checks<'s> {
     lookup: &'s MaterialLookup<'s>,
     suggest: Suggester<'s>,
     limits: &'s SceneLimits,
+    /// Where texture and model paths must resolve.
+    assets: AssetIo,
 }
 
 impl Checks<'_> {
@@ -178,12 +187,9 @@ fn check_material(c: &mut Checks, i: usize, m: &MaterialDesc, materials: &FieldP
         let shown = format!("{:?}", texture.display().to_string());
         if texture.as_os_str().is_empty() {
             c.add(at.field("texture"), "a non-empty path", shown);
-        } else if let Some(file) = base_dir.map(|dir| dir.join(texture))
-            && !file.is_file()
-        {
-            let expected = "an existing image file (the path is relative to the scene file)";
-            let found = format!("{shown} (no file at {:?})", file.display().to_string());
-            c.add(at.field("texture"), expected, found);
+        } else if let Some(Err(e)) = base_dir.map(|dir| c.assets.resolve(dir, &texture.to_string_lossy())) {
+            let expected = "an image file inside the asset folder (the path is relative to the scene file)";
+            c.add(at.field("texture"), expected, format!("{shown} ({e})"));
         }
     }
     if let AlphaMode::Mask(cutoff) = m.alpha
@@ -212,13 +218,10 @@ fn check_object<'s>(c: &mut Checks<'s>, o: &'s ObjectDesc, at: &FieldPath, base_
             c.add(shape.field("path"), "a non-empty path", "\"\"".to_owned());
         }
         Shape::Gltf { path } => {
-            if let Some(file) = base_dir.map(|dir| dir.join(path))
-                && !file.is_file()
-            {
-                let expected = "an existing .gltf or .glb file (the path is relative to the scene file)";
+            if let Some(Err(e)) = base_dir.map(|dir| c.assets.resolve(dir, &path.to_string_lossy())) {
+                let expected = "a .gltf or .glb file inside the asset folder (the path is relative to the scene file)";
                 let shown = format!("{:?}", path.display().to_string());
-                let found = format!("{shown} (no file at {:?})", file.display().to_string());
-                c.add(shape.field("path"), expected, found);
+                c.add(shape.field("path"), expected, format!("{shown} ({e})"));
             }
         }
         _ => {}
