@@ -202,3 +202,54 @@ fn the_asset_root_is_the_scene_folder_unless_given() {
         stdout(&out)
     );
 }
+
+/// The largest texture side of the adapter the tests run on.
+fn max_texture_side() -> u32 {
+    penumbra::render::GpuContext::headless()
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)")
+        .limits
+        .max_texture_side
+}
+
+#[test]
+fn sizes_past_the_adapter_are_errors_and_textures_past_it_are_downscaled() {
+    let max = max_texture_side();
+    let wide = (max + 1).to_string();
+    let out = penumbra(&["render", "assets/scenes/default.ron", "--width", &wide, "--height", "8"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let expected = format!("error: the render target width is {wide}; this GPU allows 1 to {max}");
+    assert!(stderr(&out).lines().any(|l| l == expected), "{}", stderr(&out));
+
+    // A texture one texel wider than the adapter allows (a PNG of a few hundred bytes).
+    let dir = scratch("wide-texture");
+    image::RgbaImage::from_pixel(max + 1, 1, image::Rgba([200, 180, 90, 255]))
+        .save(dir.join("wide.png"))
+        .unwrap();
+    let scene = r#"Scene(
+    camera: (position: (0, 2, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 100),
+    sun: (direction: (0.3, -1, 0.2)),
+    materials: { "m": (texture: "wide.png") },
+    objects: [(shape: Plane(size: (10, 10)), material: "m"), (shape: Cuboid(size: (1, 1, 1)), material: "m")],
+)"#;
+    std::fs::write(dir.join("scene.ron"), scene).unwrap();
+    let png = dir.join("out.png");
+    let out = penumbra(&[
+        "render",
+        dir.join("scene.ron").to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--frames",
+        "1",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let warning = format!(
+        "warning    image 0: {}×1 is larger than this GPU's largest texture ({max}); downscaled to {max}×1",
+        max + 1
+    );
+    assert!(stdout(&out).lines().any(|l| l == warning), "{}", stdout(&out));
+    assert!(png.is_file());
+}
