@@ -12,6 +12,22 @@ fn penumbra(args: &[&str]) -> Output {
         .expect("the penumbra binary runs")
 }
 
+/// `penumbra render` of the default scene at 48×32, one frame, with `extra` arguments.
+fn small_render(extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        "assets/scenes/default.ron",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+    ];
+    args.extend_from_slice(extra);
+    penumbra(&args)
+}
+
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
@@ -103,18 +119,7 @@ fn a_write_that_fails_is_a_non_zero_exit() {
         eprintln!("no /dev/full on this system; this check runs on Linux");
         return;
     }
-    let out = penumbra(&[
-        "render",
-        "assets/scenes/default.ron",
-        "--width",
-        "48",
-        "--height",
-        "32",
-        "--frames",
-        "1",
-        "--out",
-        "/dev/full",
-    ]);
+    let out = small_render(&["--out", "/dev/full"]);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let err = stderr(&out);
     // NOTE: a Vulkan driver may print its own lines on stderr first.
@@ -127,20 +132,7 @@ fn a_render_writes_its_image_and_nothing_else() {
     let dir = scratch("render");
     let png = dir.join("sub/out.png");
     let pfm = dir.join("sub/shadow.pfm");
-    let out = penumbra(&[
-        "render",
-        "assets/scenes/default.ron",
-        "--width",
-        "48",
-        "--height",
-        "32",
-        "--frames",
-        "1",
-        "--out",
-        png.to_str().unwrap(),
-        "--shadow-out",
-        pfm.to_str().unwrap(),
-    ]);
+    let out = small_render(&["--out", png.to_str().unwrap(), "--shadow-out", pfm.to_str().unwrap()]);
     assert!(out.status.success(), "{}", stderr(&out));
     let image = image::open(&png).expect("a PNG was written").to_rgba8();
     assert_eq!(image.dimensions(), (48, 32));
