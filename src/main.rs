@@ -10,7 +10,7 @@ use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::PassTiming;
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::scene::{SceneDesc, SceneLimits};
+use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
 #[derive(Parser)]
@@ -63,6 +63,9 @@ struct RenderArgs {
     /// folder named `assets`, else the scene's folder).
     #[arg(long)]
     asset_root: Option<PathBuf>,
+    /// Most instances the scene may place (grid copies and glTF primitives counted).
+    #[arg(long, default_value_t = DEFAULT_MAX_INSTANCES)]
+    max_instances: u64,
     /// Frames to render; timings are the median over frames after the first.
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -133,6 +136,9 @@ enum Command {
         /// enclosing folder named `assets`, else each scene's folder).
         #[arg(long)]
         asset_root: Option<PathBuf>,
+        /// Most instances a scene may place (grid copies and glTF primitives counted).
+        #[arg(long, default_value_t = DEFAULT_MAX_INSTANCES)]
+        max_instances: u64,
     },
 }
 
@@ -177,6 +183,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         pcf_radius,
         debug_cascades,
         asset_root,
+        max_instances,
         frames,
         shadow_out,
     } = args;
@@ -186,7 +193,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     }
     let limits = SceneLimits {
         asset_root,
-        ..SceneLimits::default()
+        max_instances,
     };
     let desc = SceneDesc::load_with(&scene, &limits)?;
     let tweak = |s: &mut ShadowSettings| {
@@ -379,12 +386,8 @@ fn bench(args: BenchArgs) -> Result<(), String> {
 
 /// Loads each scene and everything it names (glTF models, textures) exactly as `render`
 /// would, without a GPU, and reports every problem.
-fn check(scenes: Vec<PathBuf>, asset_root: Option<PathBuf>) -> Result<(), String> {
+fn check(scenes: Vec<PathBuf>, limits: SceneLimits) -> Result<(), String> {
     let mut failed = 0;
-    let limits = SceneLimits {
-        asset_root,
-        ..SceneLimits::default()
-    };
     for path in &scenes {
         let loaded = SceneDesc::load_with(path, &limits)
             .map_err(|e| e.to_string())
@@ -419,7 +422,17 @@ fn main() -> ExitCode {
         #[cfg(feature = "viewer")]
         Command::View(args) => view(args),
         Command::Bench(args) => bench(args),
-        Command::Check { scenes, asset_root } => check(scenes, asset_root),
+        Command::Check {
+            scenes,
+            asset_root,
+            max_instances,
+        } => check(
+            scenes,
+            SceneLimits {
+                asset_root,
+                max_instances,
+            },
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

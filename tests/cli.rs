@@ -245,3 +245,25 @@ fn sizes_past_the_adapter_are_errors_and_textures_past_it_are_downscaled() {
     assert!(stdout(&out).lines().any(|l| l == warning), "{}", stdout(&out));
     assert!(png.is_file());
 }
+
+#[test]
+fn the_instance_budget_is_set_on_the_command_line() {
+    let out = penumbra(&["check", "assets/scenes/garden.ron"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Fewer than the scene's 12 instances: a located error at the grid that passes it.
+    let out = penumbra(&["check", "--max-instances", "10", "assets/scenes/garden.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("assets/scenes/garden.ron:28:24: expected at most 10 instances in all"),
+        "{err}"
+    );
+    // More than its instances, fewer than the entities its ferns' primitives make.
+    let out = penumbra(&["check", "--max-instances", "20", "assets/scenes/garden.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("assets/scenes/garden.ron: the scene would spawn 111 mesh entities"),
+        "{err}"
+    );
+}
