@@ -1,8 +1,9 @@
-//! Ray-traced ground truth for sun shadows: the fraction of the sun's disc visible from each
-//! of a list of surface points, estimated by casting rays at the casters' triangles.
+//! Ray-traced ground truth for shadows: the fraction of the sun's disc — or of a spherical
+//! light (a spot or point light with a radius) — visible from each of a list of surface
+//! points, estimated by casting rays at the casters' triangles.
 //!
-//! Build a [`ReferenceScene`] from the shadow casters once, then call [`sun_visibility`] with
-//! the points to score. Every shadow technique is measured against these values, so the
+//! Build a [`ReferenceScene`] from the shadow casters once, then call [`sun_visibility`] or
+//! [`sphere_light_visibility`] with the points to score. Every shadow technique is measured against these values, so the
 //! estimator favours being right over being fast:
 //!
 //! - directions are uniform over the solid angle of the sun's disc (a spherical cap, not a
@@ -15,9 +16,11 @@
 
 mod sampling;
 mod scene;
+mod sphere;
 mod triangle;
 
 pub use scene::ReferenceScene;
+pub use sphere::{SphereLight, sphere_light_visibility};
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -157,33 +160,58 @@ pub fn sun_visibility(
     settings: &ReferenceSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Vec<Visibility> {
-    let mut out = vec![Visibility::NOT_ESTIMATED; points.len()];
-    if let Some(cap) = SunCap::new(sun.direction, sun.angular_diameter) {
-        let max = settings.max_samples.max(1);
-        let budget = Budget {
-            min: settings.min_samples.clamp(1, max),
-            max,
-        };
-        let done = AtomicUsize::new(0);
-        // The last count reported; held while reporting so that reports never go backwards.
-        let reported = Mutex::new(0usize);
-        out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, chunk)| {
-            let first = c * CHUNK;
-            for (k, slot) in chunk.iter_mut().enumerate() {
-                let i = first + k;
-                *slot = estimate(scene, &cap, &points[i], i as u64, settings.seed, budget);
-            }
-            done.fetch_add(chunk.len(), Ordering::Relaxed);
-            // A worker that finds another one reporting skips its report instead of waiting.
-            if let Ok(mut last) = reported.try_lock() {
-                let now = done.load(Ordering::Relaxed);
-                if now > *last {
-                    *last = now;
-                    progress(now);
-                }
-            }
-        });
+    match SunCap::new(sun.direction, sun.angular_diameter) {
+        Some(cap) => trace(scene, Target::Sun(cap), points, settings, progress),
+        None => {
+            progress(points.len());
+            vec![Visibility::NOT_ESTIMATED; points.len()]
+        }
     }
+}
+
+/// What the rays of one estimate aim at.
+#[derive(Clone, Copy, Debug)]
+enum Target {
+    /// The sun: the same cap of directions from every point, casters at any distance.
+    Sun(SunCap),
+    /// A spherical light: the cap it covers seen from each point, casters only before it.
+    Sphere(SphereLight),
+}
+
+/// Estimates the visibility of `target` from every point in parallel (see [`sun_visibility`]
+/// for the budget, determinism and progress reports).
+fn trace(
+    scene: &ReferenceScene,
+    target: Target,
+    points: &[ReferencePoint],
+    settings: &ReferenceSettings,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<Visibility> {
+    let mut out = vec![Visibility::NOT_ESTIMATED; points.len()];
+    let max = settings.max_samples.max(1);
+    let budget = Budget {
+        min: settings.min_samples.clamp(1, max),
+        max,
+    };
+    let done = AtomicUsize::new(0);
+    // The last count reported; held while reporting so that reports never go backwards.
+    let reported = Mutex::new(0usize);
+    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, chunk)| {
+        let first = c * CHUNK;
+        for (k, slot) in chunk.iter_mut().enumerate() {
+            let i = first + k;
+            *slot = estimate(scene, &target, &points[i], i as u64, settings.seed, budget);
+        }
+        done.fetch_add(chunk.len(), Ordering::Relaxed);
+        // A worker that finds another one reporting skips its report instead of waiting.
+        if let Ok(mut last) = reported.try_lock() {
+            let now = done.load(Ordering::Relaxed);
+            if now > *last {
+                *last = now;
+                progress(now);
+            }
+        }
+    });
     progress(points.len());
     out
 }
@@ -195,10 +223,10 @@ struct Budget {
     max: u32,
 }
 
-/// The visibility of the sun from one point.
+/// The visibility of the target from one point.
 fn estimate(
     scene: &ReferenceScene,
-    cap: &SunCap,
+    target: &Target,
     point: &ReferencePoint,
     index: u64,
     seed: u64,
@@ -213,10 +241,19 @@ fn estimate(
         // Within a few ulps of f32::MAX: a lifted origin could overflow.
         return Visibility::NOT_ESTIMATED;
     }
+    let (cap, light) = match target {
+        Target::Sun(cap) => (*cap, None),
+        Target::Sphere(light) => match light.cap_from(base) {
+            Some(cap) => (cap, Some(light)),
+            None => return Visibility::NOT_ESTIMATED,
+        },
+    };
     let sequence = PointSequence::new(seed, index);
     let lit = |i: u32| {
         let dir = cap.direction(sequence.sample(i));
-        u32::from(!scene.occluded(base + dir * eps, dir))
+        let origin = base + dir * eps;
+        let reach = light.map_or(f32::INFINITY, |l| l.distance_along(origin, dir));
+        u32::from(!scene.occluded_within(origin, dir, reach))
     };
     if cap.is_point() {
         return Visibility {

@@ -168,7 +168,14 @@ impl ReferenceScene {
     ///
     /// NOTE: obvhs's CWBVH node test clamps the near distance to 1e-4 (in units of `dir`), so
     /// a triangle whose leaf box lies entirely within that distance of `origin` is not seen.
+    #[cfg(test)]
     pub(crate) fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
+        self.occluded_within(origin, dir, f32::INFINITY)
+    }
+
+    /// Like [`occluded`](Self::occluded), counting only hits at `t < t_max` (a light at a
+    /// finite distance: casters behind it do not shadow).
+    pub(crate) fn occluded_within(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let Some(bvh) = &self.bvh else {
             return false;
         };
@@ -176,12 +183,12 @@ impl ReferenceScene {
         // picks the box planes by `component < 0.0`, so a -0.0 component makes the box test
         // miss everything. Canonicalise to +0.0.
         let dir = Vec3::select(dir.cmpeq(Vec3::ZERO), Vec3::ZERO, dir);
-        let ray = Ray::new(origin.to_array().into(), dir.to_array().into(), 0.0, f32::INFINITY);
+        let ray = Ray::new(origin.to_array().into(), dir.to_array().into(), 0.0, t_max);
         // `ray_traverse_miss` stops at the first primitive whose distance is below the ray's
-        // `tmax` (infinite); reporting a let-through hit as infinitely far makes it an any-hit
-        // query with our own alpha test.
+        // `tmax`; reporting a let-through hit as infinitely far makes it an any-hit query with
+        // our own alpha test.
         let missed = bvh.ray_traverse_miss(ray, |_, id| {
-            if self.blocks(id, origin, dir) {
+            if self.blocks(id, origin, dir, t_max) {
                 0.0
             } else {
                 f32::INFINITY
@@ -192,9 +199,9 @@ impl ReferenceScene {
 
     /// Whether triangle `id` (in BVH order) stops the ray.
     #[inline(always)]
-    fn blocks(&self, id: usize, origin: Vec3, dir: Vec3) -> bool {
+    fn blocks(&self, id: usize, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let tri = &self.tris[id];
-        let Some(bary) = tri.intersect(origin, dir) else {
+        let Some(bary) = tri.intersect(origin, dir, t_max) else {
             return false;
         };
         if tri.masked == OPAQUE {

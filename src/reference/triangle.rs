@@ -31,9 +31,10 @@ pub(crate) struct Tri {
 
 impl Tri {
     /// Möller–Trumbore, both faces: the barycentric weights `(u, v)` of the second and third
-    /// corners where the ray `origin + t·dir`, `t > 0`, crosses the triangle, if it does.
+    /// corners where the ray `origin + t·dir`, `0 < t < t_max`, crosses the triangle, if it
+    /// does.
     #[inline(always)]
-    pub(crate) fn intersect(&self, origin: Vec3, dir: Vec3) -> Option<Vec2> {
+    pub(crate) fn intersect(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Vec2> {
         let p = dir.cross(self.e2);
         let det = self.e1.dot(p);
         if det == 0.0 {
@@ -52,7 +53,7 @@ impl Tri {
             return None;
         }
         let t = self.e2.dot(q) * inv;
-        (t > 0.0).then_some(Vec2::new(u, v))
+        (t > 0.0 && t < t_max).then_some(Vec2::new(u, v))
     }
 }
 
@@ -142,26 +143,40 @@ mod tests {
     #[test]
     fn hits_both_faces_and_reports_barycentrics() {
         let t = tri(Vec3::ZERO, Vec3::X, Vec3::Z);
-        let up = t.intersect(Vec3::new(0.25, -1.0, 0.5), Vec3::Y).unwrap();
+        let up = t.intersect(Vec3::new(0.25, -1.0, 0.5), Vec3::Y, f32::INFINITY).unwrap();
         assert!((up - Vec2::new(0.25, 0.5)).length() < 1e-6, "{up}");
-        let down = t.intersect(Vec3::new(0.25, 1.0, 0.5), Vec3::NEG_Y).unwrap();
+        let down = t
+            .intersect(Vec3::new(0.25, 1.0, 0.5), Vec3::NEG_Y, f32::INFINITY)
+            .unwrap();
         assert!((down - Vec2::new(0.25, 0.5)).length() < 1e-6, "{down}");
         // Oblique ray.
         let d = Vec3::new(0.1, 1.0, -0.2).normalize();
         let o = Vec3::new(0.3, 0.0, 0.3) - d * 5.0;
-        let b = t.intersect(o, d).unwrap();
+        let b = t.intersect(o, d, f32::INFINITY).unwrap();
         assert!((b - Vec2::new(0.3, 0.3)).length() < 1e-5, "{b}");
     }
 
     #[test]
     fn misses_outside_behind_and_parallel() {
         let t = tri(Vec3::ZERO, Vec3::X, Vec3::Z);
-        assert!(t.intersect(Vec3::new(0.6, -1.0, 0.6), Vec3::Y).is_none()); // past the hypotenuse
-        assert!(t.intersect(Vec3::new(-0.1, -1.0, 0.5), Vec3::Y).is_none());
-        assert!(t.intersect(Vec3::new(0.5, -1.0, -0.1), Vec3::Y).is_none());
-        assert!(t.intersect(Vec3::new(0.2, 1.0, 0.2), Vec3::Y).is_none()); // behind the origin
-        assert!(t.intersect(Vec3::new(-1.0, 0.0, 0.2), Vec3::X).is_none()); // in the plane
-        assert!(t.intersect(Vec3::new(0.2, -1.0, 0.2), Vec3::NAN).is_none());
+        assert!(t.intersect(Vec3::new(0.6, -1.0, 0.6), Vec3::Y, f32::INFINITY).is_none()); // past the hypotenuse
+        assert!(
+            t.intersect(Vec3::new(-0.1, -1.0, 0.5), Vec3::Y, f32::INFINITY)
+                .is_none()
+        );
+        assert!(
+            t.intersect(Vec3::new(0.5, -1.0, -0.1), Vec3::Y, f32::INFINITY)
+                .is_none()
+        );
+        assert!(t.intersect(Vec3::new(0.2, 1.0, 0.2), Vec3::Y, f32::INFINITY).is_none()); // behind the origin
+        assert!(t.intersect(Vec3::new(-1.0, 0.0, 0.2), Vec3::X, f32::INFINITY).is_none()); // in the plane
+        assert!(
+            t.intersect(Vec3::new(0.2, -1.0, 0.2), Vec3::NAN, f32::INFINITY)
+                .is_none()
+        );
+        // A light at distance 0.5 below the triangle (which is 1 away): the triangle is behind it.
+        assert!(t.intersect(Vec3::new(0.25, -1.0, 0.5), Vec3::Y, 0.5).is_none());
+        assert!(t.intersect(Vec3::new(0.25, -1.0, 0.5), Vec3::Y, 1.5).is_some());
     }
 
     #[test]
@@ -183,7 +198,7 @@ mod tests {
             let p = Vec3::new(o.x + s, 0.0, o.z + s);
             let a = 0.001 * (i % 7) as f32 - 0.003;
             let dir = Vec3::new(a, 1.0, a).normalize();
-            let hit = t1.intersect(p, dir).is_some() || t2.intersect(p, dir).is_some();
+            let hit = t1.intersect(p, dir, f32::INFINITY).is_some() || t2.intersect(p, dir, f32::INFINITY).is_some();
             let along = (p + dir * (3.0 / dir.y)).x - o.x;
             if along > 0.01 && along < 49.99 {
                 assert!(hit, "ray {i} slipped through the diagonal");
