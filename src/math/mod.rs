@@ -1,6 +1,6 @@
-//! Pure math of the directional shadow system: bounding boxes, reverse-Z projections, the
-//! light frame, camera frusta, cascade splitting, fitting and snapping, PCSS parameters,
-//! caster culling and Poisson-disk kernels. Only `glam` and `std`; no GPU types.
+//! Pure math of the shadow system: bounding boxes, reverse-Z projections, the light frame,
+//! camera frusta, cascade splitting, fitting and snapping, PCSS parameters, caster culling,
+//! Poisson-disk kernels, and spot-light views with their perspective penumbra estimate. Only `glam` and `std`; no GPU types.
 //!
 //! Conventions: right-handed world with +Y up; cameras look down local −Z; matrices are
 //! named `target_from_source`; depth is reverse-Z in `[0, 1]` (near → 1); NDC +y is up and
@@ -18,6 +18,7 @@ pub mod poisson;
 pub mod projection;
 pub mod snapping;
 pub mod splits;
+pub mod spot;
 
 pub use aabb::Aabb;
 pub use cascades::{Cascade, CascadeInput, CascadeSet, compute_cascades};
@@ -28,3 +29,4 @@ pub use pcss::{PcssParams, pcss_params};
 pub use poisson::{STANDARD_SETS, min_pairwise_distance, poisson_disk};
 pub use projection::{ndc_to_uv, ortho_reverse_z, perspective_reverse_z, uv_to_ndc};
 pub use splits::{pssm_splits, wide_view_splits};
+pub use spot::{SpotInput, SpotView, perspective_penumbra, spot_view};
