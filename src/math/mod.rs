@@ -1,6 +1,7 @@
 //! Pure math of the shadow system: bounding boxes, reverse-Z projections, the light frame,
 //! camera frusta, cascade splitting, fitting and snapping, PCSS parameters, caster culling,
-//! Poisson-disk kernels, and spot-light views with their perspective penumbra estimate. Only `glam` and `std`; no GPU types.
+//! Poisson-disk kernels, spot-light views with their perspective penumbra estimate, and the
+//! choice of shadowed lights under a budget. Only `glam` and `std`; no GPU types.
 //!
 //! Conventions: right-handed world with +Y up; cameras look down local −Z; matrices are
 //! named `target_from_source`; depth is reverse-Z in `[0, 1]` (near → 1); NDC +y is up and
@@ -12,6 +13,7 @@ pub mod cascades;
 pub mod chunks;
 pub mod culling;
 pub mod frustum;
+pub mod light_budget;
 pub mod light_space;
 pub mod pcss;
 pub mod poisson;
@@ -24,6 +26,7 @@ pub use aabb::Aabb;
 pub use cascades::{Cascade, CascadeInput, CascadeSet, compute_cascades};
 pub use culling::{cull_casters, cull_spheres_frustum};
 pub use frustum::{CameraView, Frustum, Plane, slice_corners};
+pub use light_budget::{BudgetChoice, LightCandidate, LightKind, ShadowBudget, choose_shadowed_lights};
 pub use light_space::{light_from_world, light_rotation};
 pub use pcss::{PcssParams, pcss_params};
 pub use poisson::{STANDARD_SETS, min_pairwise_distance, poisson_disk};
