@@ -3,6 +3,8 @@
 //! and [`GlobalTransform`] (world, written by transform propagation); every component that is
 //! placed in the world requires a [`Transform`], so an entity spawned without one gets the
 //! identity instead of being silently ignored.
+//!
+//! [`GlobalTransform`]: bevy_transform::components::GlobalTransform
 
 use bevy_ecs::component::Component;
 use bevy_ecs::resource::Resource;
@@ -89,19 +91,11 @@ pub struct NotShadowCaster;
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct NotShadowReceiver;
 
-/// Flat ambient light added to every surface.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+/// Flat ambient light added to every surface. Default black, as a scene file's `ambient`.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
 pub struct AmbientLight {
     /// Linear RGB colour and intensity.
     pub color: Vec3,
-}
-
-impl Default for AmbientLight {
-    fn default() -> Self {
-        Self {
-            color: Vec3::splat(0.15),
-        }
-    }
 }
 
 /// Size in pixels of the image the camera renders to; sets the aspect ratio used for the
