@@ -7,12 +7,13 @@
 use bevy_transform::components::GlobalTransform;
 use glam::{Quat, Vec3};
 
-/// True when the world transform is finite and invertible (no scale axis is zero).
+/// True when the world transform is finite and invertible (no scale axis is zero). A zero
+/// quaternion is not caught here: `bevy_transform` turns it into the identity rotation.
 pub fn is_valid_placement(transform: &GlobalTransform) -> bool {
     let affine = transform.affine();
     let m = affine.matrix3;
     let finite = m.x_axis.is_finite() && m.y_axis.is_finite() && m.z_axis.is_finite() && affine.translation.is_finite();
-    // NOTE: the determinant is zero when any axis is (zero scale, or a zero quaternion).
+    // NOTE: the determinant is zero when any axis is (a zero scale anywhere in the hierarchy).
     finite && m.determinant() != 0.0
 }
 
@@ -56,8 +57,12 @@ mod tests {
         assert!(!is_valid_placement(&global(nan)));
         let infinite = Transform::from_scale(Vec3::splat(f32::INFINITY));
         assert!(!is_valid_placement(&global(infinite)));
-        let zero_rotation = Transform::from_rotation(Quat::from_xyzw(0.0, 0.0, 0.0, 0.0));
-        assert!(!is_valid_placement(&global(zero_rotation)));
+        // NOTE: `bevy_transform` turns a zero quaternion into the identity rotation (glam's
+        // `Mat3::from_quat` assumes a unit quaternion), so the world transform is finite and
+        // the entity is placed, unrotated, rather than skipped.
+        let zero_rotation = global(Transform::from_rotation(Quat::from_xyzw(0.0, 0.0, 0.0, 0.0)));
+        assert_eq!(zero_rotation, GlobalTransform::IDENTITY);
+        assert!(is_valid_placement(&zero_rotation));
         assert_eq!(world_forward(&global(nan)), None);
         assert_eq!(world_pose(&global(zero_axis)), None);
     }
