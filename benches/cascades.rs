@@ -12,8 +12,7 @@ use glam::{Mat4, Quat, Vec3};
 use penumbra::ecs::culling::cull_shadow_casters;
 use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
-    Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
-    Transform,
+    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, Transform,
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
@@ -137,7 +136,7 @@ fn plugin_app(n: usize) -> App {
             rotation: Quat::IDENTITY,
             scale: Vec3::splat(*radius),
         };
-        world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material), CastShadows));
+        world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material)));
     }
     for _ in 0..3 {
         app.update();

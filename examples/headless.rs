@@ -6,8 +6,8 @@
 use glam::{Vec3, Vec4};
 use penumbra::app::headless_app;
 use penumbra::ecs::{
-    AlphaMode, AmbientLight, Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d,
-    Meshes, ShadowStats, Transform,
+    AlphaMode, AmbientLight, Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes,
+    NotShadowCaster, ShadowStats, Transform,
 };
 use penumbra::mesh::{cuboid, plane, sphere};
 use penumbra::render::Renderer;
@@ -60,20 +60,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         },
     ));
-    world.spawn((Transform::default(), Mesh3d(ground_mesh), MeshMaterial3d(grey)));
+    world.spawn((
+        Transform::default(),
+        Mesh3d(ground_mesh),
+        MeshMaterial3d(grey),
+        NotShadowCaster,
+    ));
     for i in 0..5 {
         let x = i as f32 * 2.0 - 4.0;
         world.spawn((
             Transform::from_translation(Vec3::new(x, 1.5, 0.0)),
             Mesh3d(box_mesh),
             MeshMaterial3d(orange),
-            CastShadows,
         ));
         world.spawn((
             Transform::from_translation(Vec3::new(x, 0.7 + i as f32 * 0.6, 3.0)),
             Mesh3d(ball_mesh),
             MeshMaterial3d(orange),
-            CastShadows,
         ));
     }
 

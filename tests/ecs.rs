@@ -2,9 +2,10 @@
 //! warning instead of a panic or a NaN matrix.
 
 use bevy_app::App;
+use bevy_ecs::query::{With, Without};
 use glam::{Quat, Vec3, Vec4};
 use penumbra::ecs::{
-    ActiveView, Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes,
+    ActiveView, Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, NotShadowCaster,
     RenderInstances, ShadowDiagnostics, ShadowDrawGroups, ShadowPlugin, ShadowStats, Transform, ViewDrawGroups,
 };
 use penumbra::mesh::{cuboid, plane};
@@ -30,14 +31,18 @@ fn app_with_boxes(n: usize, settings: ShadowSettings) -> App {
         Transform::default().looking_at(Vec3::new(0.3, -1.0, 0.2), Vec3::Y),
         settings,
     ));
-    world.spawn((Transform::default(), Mesh3d(ground_mesh), MeshMaterial3d(material)));
+    world.spawn((
+        Transform::default(),
+        Mesh3d(ground_mesh),
+        MeshMaterial3d(material),
+        NotShadowCaster,
+    ));
     for i in 0..n {
         let z = -2.0 - i as f32 * (200.0 / n as f32);
         world.spawn((
             Transform::from_translation(Vec3::new(0.0, 0.5, z)),
             Mesh3d(box_mesh),
             MeshMaterial3d(material),
-            CastShadows,
         ));
     }
     app
@@ -112,7 +117,6 @@ fn non_finite_and_zero_scale_transforms_are_skipped() {
         Transform::from_translation(Vec3::NAN),
         Mesh3d(mesh),
         MeshMaterial3d(material),
-        CastShadows,
     ));
     world.spawn((
         Transform {
@@ -121,7 +125,6 @@ fn non_finite_and_zero_scale_transforms_are_skipped() {
         },
         Mesh3d(mesh),
         MeshMaterial3d(material),
-        CastShadows,
     ));
     world.spawn((
         Transform {
@@ -130,7 +133,6 @@ fn non_finite_and_zero_scale_transforms_are_skipped() {
         },
         Mesh3d(mesh),
         MeshMaterial3d(material),
-        CastShadows,
     ));
     app.update();
     let world = app.world();
@@ -189,8 +191,8 @@ fn static_scenes_are_not_rebuilt_every_frame() {
     assert_eq!(app.world().resource::<RenderInstances>().generation, generation);
     // Moving one box triggers a rebuild.
     let world = app.world_mut();
-    let mut q = world.query::<(&mut Transform, &CastShadows)>();
-    if let Some((mut t, _)) = q.iter_mut(world).next() {
+    let mut q = world.query_filtered::<&mut Transform, (With<Mesh3d>, Without<NotShadowCaster>)>();
+    if let Some(mut t) = q.iter_mut(world).next() {
         t.translation.x += 1.0;
     }
     app.update();

@@ -7,8 +7,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use bevy_app::App;
 use glam::{Vec3, Vec4};
 use penumbra::ecs::{
-    Camera3d, CastShadows, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
-    ShadowStats, Transform,
+    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, ShadowStats,
+    Transform,
 };
 use penumbra::mesh::cuboid;
 use penumbra::settings::ShadowSettings;
@@ -56,12 +56,7 @@ fn steady_state_frames_do_not_allocate() {
     ));
     for i in 0..10_000 {
         let p = Vec3::new((i % 100) as f32 * 3.0 - 150.0, 0.5, (i / 100) as f32 * -3.0);
-        world.spawn((
-            Transform::from_translation(p),
-            Mesh3d(mesh),
-            MeshMaterial3d(material),
-            CastShadows,
-        ));
+        world.spawn((Transform::from_translation(p), Mesh3d(mesh), MeshMaterial3d(material)));
     }
     for _ in 0..3 {
         app.update();

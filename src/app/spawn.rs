@@ -11,13 +11,14 @@ use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::query::With;
 use bevy_ecs::world::World;
+use bevy_transform::components::Transform;
 use glam::{Mat4, Vec3};
 use thiserror::Error;
 
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{
-    AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
+    AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver,
 };
 use crate::gltf;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
@@ -234,7 +235,7 @@ impl PreparedScene {
                     object
                 } else {
                     let (scale, rotation, translation) =
-                        (object.world_from_local() * part.object_from_mesh).to_scale_rotation_translation();
+                        (object.to_matrix() * part.object_from_mesh).to_scale_rotation_translation();
                     Transform {
                         translation,
                         rotation,
@@ -385,13 +386,13 @@ impl PreparedScene {
                 .iter()
                 .filter(move |e| e.cast == cast && e.receive == receive)
         };
-        spawned += spawn_all(world, plans(true, true).map(|e| (parts(e), CastShadows)));
+        spawned += spawn_all(world, plans(true, true).map(parts));
+        spawned += spawn_all(world, plans(true, false).map(|e| (parts(e), NotShadowReceiver)));
+        spawned += spawn_all(world, plans(false, true).map(|e| (parts(e), NotShadowCaster)));
         spawned += spawn_all(
             world,
-            plans(true, false).map(|e| (parts(e), CastShadows, NotShadowReceiver)),
+            plans(false, false).map(|e| (parts(e), NotShadowCaster, NotShadowReceiver)),
         );
-        spawned += spawn_all(world, plans(false, true).map(parts));
-        spawned += spawn_all(world, plans(false, false).map(|e| (parts(e), NotShadowReceiver)));
         spawned
     }
 }

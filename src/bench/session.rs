@@ -2,11 +2,12 @@
 //! turns: the sun's settings and the camera's transform.
 
 use bevy_app::App;
+use bevy_transform::components::Transform;
 use glam::{Quat, Vec3};
 
 use crate::app::{SpawnError, spawn_scene};
 use crate::ecs::assets::{AlphaMode, Images, Materials, Meshes};
-use crate::ecs::components::{Camera3d, DirectionalLight, Transform, ViewportSize};
+use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;

@@ -8,12 +8,14 @@ use bevy_ecs::lifecycle::RemovedComponents;
 use bevy_ecs::query::{Changed, Has, Or, With};
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Query, Res, ResMut};
+use bevy_transform::components::GlobalTransform;
 use glam::{Mat4, Vec3};
 use log::warn;
 
 use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
-use crate::ecs::components::{CastShadows, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform};
+use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::origin::RenderOrigin;
+use crate::ecs::placement::is_valid_placement;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
@@ -69,13 +71,13 @@ pub struct RenderInstances {
 
 type InstanceQueryData = (
     Entity,
-    &'static Transform,
+    &'static GlobalTransform,
     &'static Mesh3d,
     &'static MeshMaterial3d,
-    Has<CastShadows>,
+    Has<NotShadowCaster>,
     Has<NotShadowReceiver>,
 );
-type InstanceQueryItem<'a> = (Entity, &'a Transform, &'a Mesh3d, &'a MeshMaterial3d, bool, bool);
+type InstanceQueryItem<'a> = (Entity, &'a GlobalTransform, &'a Mesh3d, &'a MeshMaterial3d, bool, bool);
 
 /// Rebuilds [`RenderInstances`] when any mesh entity, mesh or material changed.
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
@@ -88,22 +90,22 @@ pub fn sync_instances(
         (
             With<Mesh3d>,
             Or<(
-                Changed<Transform>,
+                Changed<GlobalTransform>,
                 Changed<Mesh3d>,
                 Changed<MeshMaterial3d>,
-                Changed<CastShadows>,
+                Changed<NotShadowCaster>,
                 Changed<NotShadowReceiver>,
             )>,
         ),
     >,
     mut removed_meshes: RemovedComponents<Mesh3d>,
-    mut removed_casters: RemovedComponents<CastShadows>,
+    mut removed_non_casters: RemovedComponents<NotShadowCaster>,
     mut removed_receivers: RemovedComponents<NotShadowReceiver>,
     meshes: Res<Meshes>,
     materials: Res<Materials>,
     origin: Res<RenderOrigin>,
 ) {
-    let removed = removed_meshes.read().count() + removed_casters.read().count() + removed_receivers.read().count();
+    let removed = removed_meshes.read().count() + removed_non_casters.read().count() + removed_receivers.read().count();
     let dirty = instances.generation == 0
         || !changed.is_empty()
         || removed > 0
@@ -126,19 +128,19 @@ fn rebuild<'a>(
 ) {
     let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb)> = Vec::new();
     let mut skipped = 0;
-    for (entity, transform, mesh, material, cast, no_receive) in items {
+    for (entity, transform, mesh, material, no_cast, no_receive) in items {
         let (Some(mesh_data), Some(mat)) = (meshes.get(mesh.0), materials.get(material.0)) else {
             warn!("entity {entity:?} refers to a missing mesh or material; it is not drawn");
             skipped += 1;
             continue;
         };
-        if !transform.is_valid() {
+        if !is_valid_placement(transform) {
             warn!("entity {entity:?} has a non-finite or zero-scale transform {transform:?}; it is not drawn");
             skipped += 1;
             continue;
         }
         // Relative to the render origin (exact: the origin is on a power-of-two grid).
-        let mut world_from_local = transform.world_from_local();
+        let mut world_from_local = transform.to_matrix();
         world_from_local.w_axis -= origin.extend(0.0);
         let bounds = mesh_data.bounds().transformed(&world_from_local);
         let key = DrawKey {
@@ -147,7 +149,7 @@ fn rebuild<'a>(
             mesh: mesh.0,
             material: material.0,
         };
-        rows.push((key, entity, world_from_local, cast, !no_receive, bounds));
+        rows.push((key, entity, world_from_local, !no_cast, !no_receive, bounds));
     }
     // NOTE: within a draw key, instances follow a Morton curve through the scene bounds so
     // culling chunks are compact; the entity tie-break keeps the order (and so the image)

@@ -7,14 +7,15 @@ pub mod culling;
 pub mod draw_groups;
 pub mod instances;
 pub mod origin;
+pub mod placement;
 pub mod plugin;
 pub mod stats;
 pub mod view;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
+pub use bevy_transform::components::{GlobalTransform, Transform};
 pub use components::{
-    AmbientLight, Camera3d, CastShadows, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowReceiver, Transform,
-    ViewportSize,
+    AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ShadowDrawGroups, ViewDrawGroups};
 pub use instances::RenderInstances;

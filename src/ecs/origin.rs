@@ -7,9 +7,10 @@
 
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Query, ResMut};
+use bevy_transform::components::GlobalTransform;
 use glam::Vec3;
 
-use crate::ecs::components::{Camera3d, Transform};
+use crate::ecs::components::Camera3d;
 
 /// Size of the origin grid in metres (a power of two, so grid points are exact in f32).
 pub const ORIGIN_CELL: f32 = 1024.0;
@@ -27,11 +28,11 @@ pub fn snap_origin(p: Vec3) -> Vec3 {
 }
 
 /// Moves the origin to the grid point nearest the first camera.
-pub fn update_render_origin(cameras: Query<(&Camera3d, &Transform)>, mut origin: ResMut<RenderOrigin>) {
-    let Some((_, t)) = cameras.iter().find(|(_, t)| t.translation.is_finite()) else {
+pub fn update_render_origin(cameras: Query<(&Camera3d, &GlobalTransform)>, mut origin: ResMut<RenderOrigin>) {
+    let Some((_, t)) = cameras.iter().find(|(_, t)| t.translation().is_finite()) else {
         return;
     };
-    let snapped = snap_origin(t.translation);
+    let snapped = snap_origin(t.translation());
     if origin.0 != snapped {
         origin.0 = snapped;
     }

@@ -1,9 +1,11 @@
 //! [`ShadowPlugin`]: registers the shadow resources and the per-frame systems, in a fixed
-//! order: sync instances → compute cascades → cull casters per cascade and cull the view.
-//! Rendering is added by [`RenderPlugin`](crate::render::RenderPlugin).
+//! order: transform propagation → sync instances → compute cascades → cull casters per
+//! cascade and cull the view. Rendering is added by
+//! [`RenderPlugin`](crate::render::RenderPlugin).
 
 use bevy_app::{App, Plugin, PostUpdate};
 use bevy_ecs::schedule::{IntoScheduleConfigs, SystemSet};
+use bevy_transform::{TransformPlugin, TransformSystems};
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, ViewportSize};
@@ -14,7 +16,8 @@ use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
 
-/// The stages of the shadow systems, run in this order in `PostUpdate`.
+/// The stages of the shadow systems, run in this order in `PostUpdate`, after
+/// [`TransformSystems::Propagate`] (so every system reads this frame's `GlobalTransform`).
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShadowSystems {
     /// Mirror mesh entities into [`RenderInstances`].
@@ -26,12 +29,16 @@ pub enum ShadowSystems {
 }
 
 /// Adds directional cascaded shadows to an app: components are in [`crate::ecs`], settings in
-/// [`ShadowSettings`](crate::settings::ShadowSettings).
+/// [`ShadowSettings`](crate::settings::ShadowSettings). Adds `bevy_transform`'s
+/// [`TransformPlugin`] unless the app already has it.
 #[derive(Default)]
 pub struct ShadowPlugin;
 
 impl Plugin for ShadowPlugin {
     fn build(&self, app: &mut App) {
+        if !app.is_plugin_added::<TransformPlugin>() {
+            app.add_plugins(TransformPlugin);
+        }
         app.init_resource::<Meshes>()
             .init_resource::<Materials>()
             .init_resource::<Images>()
@@ -51,7 +58,8 @@ impl Plugin for ShadowPlugin {
                     ShadowSystems::ComputeCascades,
                     ShadowSystems::Cull,
                 )
-                    .chain(),
+                    .chain()
+                    .after(TransformSystems::Propagate),
             )
             .add_systems(
                 PostUpdate,

@@ -5,11 +5,13 @@ use std::time::Instant;
 
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Query, Res, ResMut};
-use glam::Vec3;
+use bevy_transform::components::GlobalTransform;
+use glam::{Quat, Vec3};
 
-use crate::ecs::components::{Camera3d, DirectionalLight, Transform, ViewportSize};
+use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::origin::RenderOrigin;
+use crate::ecs::placement::{world_forward, world_pose};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::frustum::CameraView;
@@ -32,17 +34,17 @@ pub struct SunView {
 /// to the [`RenderOrigin`].
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct ActiveView {
-    /// The first entity with [`Camera3d`] and a valid [`Transform`], if any.
+    /// The first entity with [`Camera3d`] and a valid [`GlobalTransform`], if any.
     pub camera: Option<(CameraView, Camera3d)>,
-    /// The first entity with [`DirectionalLight`] and a valid [`Transform`], if any.
+    /// The first entity with [`DirectionalLight`] and a valid [`GlobalTransform`], if any.
     pub sun: Option<SunView>,
 }
 
-/// Builds the camera's view description from its transform and the viewport's aspect, in
+/// Builds the camera's view description from its world pose and the viewport's aspect, in
 /// coordinates relative to the render origin.
-fn camera_view(camera: &Camera3d, transform: &Transform, viewport: &ViewportSize, origin: Vec3) -> CameraView {
-    let translation = transform.translation - origin;
-    let world_from_view = glam::Mat4::from_rotation_translation(transform.rotation.normalize(), translation);
+fn camera_view(camera: &Camera3d, pose: (Quat, Vec3), viewport: &ViewportSize, origin: Vec3) -> CameraView {
+    let (rotation, translation) = pose;
+    let world_from_view = glam::Mat4::from_rotation_translation(rotation, translation - origin);
     CameraView {
         world_from_view,
         fov_y: camera.fov_y,
@@ -80,8 +82,8 @@ fn sanitize_camera(mut camera: Camera3d, diagnostics: &mut ShadowDiagnostics) ->
 /// Finds the camera and sun and computes the sun's cascades for this frame.
 #[allow(clippy::too_many_arguments)]
 pub fn update_active_view(
-    cameras: Query<(&Camera3d, &Transform)>,
-    lights: Query<(&DirectionalLight, &Transform, Option<&ShadowSettings>)>,
+    cameras: Query<(&Camera3d, &GlobalTransform)>,
+    lights: Query<(&DirectionalLight, &GlobalTransform, Option<&ShadowSettings>)>,
     viewport: Res<ViewportSize>,
     origin: Res<RenderOrigin>,
     instances: Res<RenderInstances>,
@@ -93,21 +95,20 @@ pub fn update_active_view(
     diagnostics.begin_frame();
     view.camera = cameras
         .iter()
-        .find(|(_, t)| t.translation.is_finite() && t.rotation.is_finite() && t.rotation.length_squared() > 1e-12)
-        .map(|(c, t)| {
+        .find_map(|(c, t)| Some((c, world_pose(t)?)))
+        .map(|(c, pose)| {
             let c = sanitize_camera(*c, &mut diagnostics);
-            (camera_view(&c, t, &viewport, origin.0), c)
+            (camera_view(&c, pose, &viewport, origin.0), c)
         });
     view.sun = None;
     for (light, transform, settings) in &lights {
-        let direction = transform.forward().normalize_or_zero();
-        if !direction.is_finite() || direction == Vec3::ZERO {
+        let Some(direction) = world_forward(transform) else {
             diagnostics.warn(format!(
-                "directional light has an invalid rotation {:?}; it is ignored",
-                transform.rotation
+                "directional light has a non-finite or degenerate transform {:?}; it is ignored",
+                transform.affine()
             ));
             continue;
-        }
+        };
         let (settings, problems) = settings.copied().unwrap_or_default().sanitized();
         for p in problems {
             diagnostics.warn(format!("shadow settings: {p}; clamped"));
@@ -161,7 +162,7 @@ pub fn update_active_view(
     }
     stats.cascades_cpu = start.elapsed();
     if view.camera.is_none() && !cameras.is_empty() {
-        diagnostics.warn("every camera has a non-finite transform; nothing is drawn".to_string());
+        diagnostics.warn("every camera has a non-finite or zero-scale transform; nothing is drawn".to_string());
     }
     stats.frames += 1;
 }

@@ -1,9 +1,8 @@
 //! A fly camera: yaw and pitch from mouse drags, movement from held keys. Pure state and
 //! math, so it is tested without a window.
 
+use bevy_transform::components::Transform;
 use glam::{EulerRot, Quat, Vec3};
-
-use crate::ecs::components::Transform;
 
 /// Movement keys currently held.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use bevy_app::App;
+use bevy_transform::components::Transform;
 use thiserror::Error;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -16,7 +17,7 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::app::{PreparedScene, SpawnError};
-use crate::ecs::components::{Camera3d, Transform, ViewportSize};
+use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;
 use crate::export::{OutputKind, prepare_output, write_color_image};

@@ -2,10 +2,11 @@
 //! shadow switch.
 
 use bevy_ecs::world::World;
+use bevy_transform::components::Transform;
 use egui::{Slider, Ui};
 use glam::Vec3;
 
-use crate::ecs::components::{DirectionalLight, Transform};
+use crate::ecs::components::DirectionalLight;
 
 /// Sun direction as azimuth and elevation, in degrees, for the sliders.
 pub(crate) fn sun_angles(direction: Vec3) -> (f32, f32) {
@@ -27,7 +28,7 @@ pub(crate) fn sun_ui(ui: &mut Ui, world: &mut World) -> bool {
     let Some((mut light, mut transform)) = query.iter_mut(world).next() else {
         return false;
     };
-    let (mut azimuth, mut elevation) = sun_angles(transform.forward());
+    let (mut azimuth, mut elevation) = sun_angles(transform.rotation * Vec3::NEG_Z);
     let mut turned = ui
         .add(Slider::new(&mut azimuth, -180.0..=180.0).text("azimuth °"))
         .changed();
