@@ -397,7 +397,7 @@ fn shipped_scenes_have_what_they_promise() {
     let field = load("field.ron");
     assert!(field.instance_count() >= 100_000, "{}", field.instance_count());
     let elevation = |s: &SceneDesc| {
-        let d = s.sun.direction.normalize();
+        let d = s.sun.expect("the shipped scenes have a sun").direction.normalize();
         (-d.y).asin().to_degrees()
     };
     assert!((elevation(&default) - 35.0).abs() < 1.0);

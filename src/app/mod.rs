@@ -1,6 +1,7 @@
 //! Glue for applications and tools: spawning a scene file into an ECS world, and a headless
 //! app that renders scenes to images.
 
+mod lights;
 mod spawn;
 
 pub use spawn::{PreparedScene, SceneEntity, SpawnError, despawn_scene, spawn_scene};

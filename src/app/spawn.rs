@@ -12,18 +12,16 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::query::With;
 use bevy_ecs::world::World;
 use bevy_transform::components::Transform;
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use thiserror::Error;
 
+use crate::app::lights::{LightPlan, light_plans, spawn_lights};
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
-use crate::ecs::components::{
-    AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver,
-};
+use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::gltf;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
-use crate::settings::ShadowSettings;
 
 /// A scene that loaded but could not be spawned.
 #[derive(Debug, Error)]
@@ -96,7 +94,8 @@ fn model_error(object: usize, e: AssetError) -> SpawnError {
 #[derive(Clone, Debug)]
 pub struct PreparedScene {
     camera: (Camera3d, Transform),
-    sun: (DirectionalLight, Transform, ShadowSettings),
+    /// The sun first, then the scene's other lights.
+    lights: Vec<LightPlan>,
     ambient: AmbientLight,
     images: Vec<ImageData>,
     /// Materials; `base_color_texture` holds an index into `images`.
@@ -136,19 +135,9 @@ impl PreparedScene {
             },
             Transform::from_translation(c.position).looking_at(c.target, c.up),
         );
-        let sun = (
-            DirectionalLight {
-                color: desc.sun.color,
-                illuminance: desc.sun.illuminance,
-                angular_diameter: desc.sun.angular_diameter.to_radians(),
-                shadows_enabled: true,
-            },
-            Transform::default().looking_at(desc.sun.direction, Vec3::Y),
-            desc.shadows,
-        );
         let mut scene = PreparedScene {
             camera,
-            sun,
+            lights: light_plans(desc),
             ambient: AmbientLight { color: desc.ambient },
             images: Vec::new(),
             materials: Vec::new(),
@@ -348,7 +337,7 @@ impl PreparedScene {
     /// entity per mesh instance, each marked [`SceneEntity`]. Sets the ambient light.
     pub fn spawn(self, world: &mut World) -> usize {
         world.spawn((self.camera.0, self.camera.1, SceneEntity));
-        world.spawn((self.sun.0, self.sun.1, self.sun.2, SceneEntity));
+        spawn_lights(world, self.lights);
         world.insert_resource(self.ambient);
         let images: Vec<ImageHandle> = {
             let mut store = world.resource_mut::<Images>();

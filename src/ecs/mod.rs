@@ -6,6 +6,7 @@ pub mod components;
 pub mod culling;
 pub mod draw_groups;
 pub mod instances;
+pub mod lights;
 pub mod origin;
 pub mod placement;
 pub mod plugin;
@@ -19,6 +20,7 @@ pub use components::{
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ShadowDrawGroups, ViewDrawGroups};
 pub use instances::RenderInstances;
+pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use stats::{ShadowDiagnostics, ShadowStats};

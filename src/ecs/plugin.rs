@@ -12,6 +12,7 @@ use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::{cull_shadow_casters, cull_view};
 use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
 use crate::ecs::instances::{RenderInstances, sync_instances};
+use crate::ecs::lights::report_unrendered_lights;
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
@@ -22,7 +23,7 @@ use crate::ecs::view::{ActiveView, update_active_view};
 pub enum ShadowSystems {
     /// Mirror mesh entities into [`RenderInstances`].
     SyncInstances,
-    /// Compute the camera view and the sun's cascades.
+    /// Compute the camera view and the sun's cascades; report lights not drawn.
     ComputeCascades,
     /// Cull casters per cascade and instances for the camera.
     Cull,
@@ -67,7 +68,12 @@ impl Plugin for ShadowPlugin {
                     .chain()
                     .in_set(ShadowSystems::SyncInstances),
             )
-            .add_systems(PostUpdate, update_active_view.in_set(ShadowSystems::ComputeCascades))
+            .add_systems(
+                PostUpdate,
+                (update_active_view, report_unrendered_lights)
+                    .chain()
+                    .in_set(ShadowSystems::ComputeCascades),
+            )
             .add_systems(PostUpdate, (cull_shadow_casters, cull_view).in_set(ShadowSystems::Cull));
     }
 }

@@ -22,8 +22,13 @@ use crate::settings::ShadowSettings;
 pub struct SceneDesc {
     /// The viewpoint.
     pub camera: CameraDesc,
-    /// The directional light that casts the shadows.
-    pub sun: SunDesc,
+    /// The sun: the first directional light, with the scene's `shadows`. Optional; more
+    /// lights go in `lights`.
+    #[serde(default)]
+    pub sun: Option<SunDesc>,
+    /// More lights: directional, spot and point, in file order. Default none.
+    #[serde(default)]
+    pub lights: Vec<LightDesc>,
     /// Constant ambient light, linear RGB. Default black.
     #[serde(default)]
     pub ambient: Vec3,
@@ -83,6 +88,81 @@ pub struct SunDesc {
     /// Angular diameter of the sun disc in degrees, 0–30. Default 0.53 (the real sun).
     #[serde(default = "sun_diameter")]
     pub angular_diameter: f32,
+}
+
+/// One entry of a scene's `lights` list. Angles are in degrees; positions and ranges in
+/// metres.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum LightDesc {
+    /// A directional light (another sun).
+    Directional {
+        /// Direction the light travels; finite and non-zero.
+        direction: Vec3,
+        /// Linear RGB colour. Default white.
+        #[serde(default = "one3")]
+        color: Vec3,
+        /// Intensity multiplier. Default 1.
+        #[serde(default = "one")]
+        illuminance: f32,
+        /// Angular diameter of the disc in degrees, 0–30. Default 0.53.
+        #[serde(default = "sun_diameter")]
+        angular_diameter: f32,
+        /// Its own shadow settings; default the scene's `shadows`.
+        #[serde(default)]
+        shadows: Option<ShadowSettings>,
+        /// Whether it casts shadows. Default true.
+        #[serde(default = "yes")]
+        shadows_enabled: bool,
+    },
+    /// A spot light: a cone from `position` along `direction`.
+    Spot {
+        /// Position, world space.
+        position: Vec3,
+        /// Direction the cone points; finite and non-zero.
+        direction: Vec3,
+        /// Linear RGB colour. Default white.
+        #[serde(default = "one3")]
+        color: Vec3,
+        /// Intensity multiplier. Default 1.
+        #[serde(default = "one")]
+        intensity: f32,
+        /// Distance past which it has no effect, > 0. Default 20.
+        #[serde(default = "light_range")]
+        range: f32,
+        /// Half-angle of the fully lit inner cone, 0 ≤ inner ≤ outer. Default 0.
+        #[serde(default)]
+        inner_angle: f32,
+        /// Half-angle of the outer cone, 0 < outer ≤ 89. Default 45.
+        #[serde(default = "spot_outer")]
+        outer_angle: f32,
+        /// Radius of the emitter, ≥ 0 (soft-shadow size). Default 0.
+        #[serde(default)]
+        radius: f32,
+        /// Whether it casts shadows. Default true.
+        #[serde(default = "yes")]
+        shadows_enabled: bool,
+    },
+    /// A point light at `position`.
+    Point {
+        /// Position, world space.
+        position: Vec3,
+        /// Linear RGB colour. Default white.
+        #[serde(default = "one3")]
+        color: Vec3,
+        /// Intensity multiplier. Default 1.
+        #[serde(default = "one")]
+        intensity: f32,
+        /// Distance past which it has no effect, > 0. Default 20.
+        #[serde(default = "light_range")]
+        range: f32,
+        /// Radius of the emitter, ≥ 0 (soft-shadow size). Default 0.
+        #[serde(default)]
+        radius: f32,
+        /// Whether it casts shadows. Default true.
+        #[serde(default = "yes")]
+        shadows_enabled: bool,
+    },
 }
 
 /// A named surface description.
@@ -297,6 +377,14 @@ fn one3() -> Vec3 {
 
 fn one4() -> Vec4 {
     Vec4::ONE
+}
+
+fn light_range() -> f32 {
+    20.0
+}
+
+fn spot_outer() -> f32 {
+    45.0
 }
 
 fn sun_diameter() -> f32 {

@@ -24,7 +24,8 @@ mod suggest;
 mod validate;
 
 pub use desc::{
-    AlphaMode, CameraDesc, GridDesc, Jitter, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
+    AlphaMode, CameraDesc, GridDesc, Jitter, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape,
+    SunDesc,
 };
 pub use error::{Problem, SceneError};
 pub use grid::ObjectInstance;

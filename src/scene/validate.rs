@@ -7,12 +7,17 @@ use glam::{UVec3, Vec2, Vec3, Vec4};
 
 use crate::asset_io::AssetIo;
 use crate::scene::desc::{
-    AlphaMode, CameraDesc, GridDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
+    AlphaMode, CameraDesc, GridDesc, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
 };
 use crate::scene::error::Problem;
 use crate::scene::limits::SceneLimits;
 use crate::scene::locate::{Node, Seg};
 use crate::scene::suggest::{Suggester, quoted};
+use crate::settings::ShadowSettings;
+
+/// The widest spot-light cone accepted (half-angle, degrees): a perspective shadow view
+/// cannot cover a hemisphere.
+const MAX_SPOT_OUTER: f32 = 89.0;
 
 /// The largest sun angular diameter accepted, degrees.
 const MAX_SUN_DIAMETER: f32 = 30.0;
@@ -36,7 +41,12 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, l
     };
     let root = FieldPath::default();
     check_camera(&mut c, &scene.camera, &root.field("camera"));
-    check_sun(&mut c, &scene.sun, &root.field("sun"));
+    if let Some(sun) = &scene.sun {
+        check_sun(&mut c, sun, &root.field("sun"));
+    }
+    for (i, light) in scene.lights.iter().enumerate() {
+        check_light(&mut c, light, &root.field("lights").item(i));
+    }
     if !is_colour(scene.ambient) {
         let expected = "linear RGB with finite components ≥ 0";
         c.add(root.field("ambient"), expected, scene.ambient.shown());
@@ -169,6 +179,93 @@ fn check_sun(c: &mut Checks, sun: &SunDesc, at: &FieldPath) {
     if !(0.0..=MAX_SUN_DIAMETER).contains(&sun.angular_diameter) {
         let expected = "degrees from 0 to 30";
         c.add(at.field("angular_diameter"), expected, sun.angular_diameter.shown());
+    }
+}
+
+/// The checks of one entry of `lights`.
+fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
+    let (color, intensity, name) = match light {
+        LightDesc::Directional {
+            direction,
+            color,
+            illuminance,
+            angular_diameter,
+            shadows,
+            ..
+        } => {
+            check_sun(
+                c,
+                &SunDesc {
+                    direction: *direction,
+                    color: *color,
+                    illuminance: *illuminance,
+                    angular_diameter: *angular_diameter,
+                },
+                at,
+            );
+            for p in shadows.iter().flat_map(ShadowSettings::problems) {
+                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+            }
+            return;
+        }
+        LightDesc::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+            inner_angle,
+            outer_angle,
+            radius,
+            ..
+        } => {
+            check_positional(c, *position, *range, *radius, at);
+            if !is_direction(*direction) {
+                c.add(at.field("direction"), "a finite, non-zero direction", direction.shown());
+            }
+            if !(*outer_angle > 0.0 && *outer_angle <= MAX_SPOT_OUTER) {
+                let expected = "a half-angle in degrees greater than 0 and at most 89";
+                c.add(at.field("outer_angle"), expected, outer_angle.shown());
+            } else if !(*inner_angle >= 0.0 && inner_angle <= outer_angle) {
+                let expected = format!("a half-angle in degrees from 0 to `outer_angle` ({outer_angle})");
+                c.add(at.field("inner_angle"), expected, inner_angle.shown());
+            }
+            (color, intensity, "intensity")
+        }
+        LightDesc::Point {
+            position,
+            color,
+            intensity,
+            range,
+            radius,
+            ..
+        } => {
+            check_positional(c, *position, *range, *radius, at);
+            (color, intensity, "intensity")
+        }
+    };
+    if !is_colour(*color) {
+        c.add(
+            at.field("color"),
+            "linear RGB with finite components ≥ 0",
+            color.shown(),
+        );
+    }
+    if !(intensity.is_finite() && *intensity >= 0.0) {
+        c.add(at.field(name), "a finite multiplier ≥ 0", intensity.shown());
+    }
+}
+
+/// The checks shared by spot and point lights: where they are and how far they reach.
+fn check_positional(c: &mut Checks, position: Vec3, range: f32, radius: f32, at: &FieldPath) {
+    if !position.is_finite() {
+        c.add(at.field("position"), "a finite position", position.shown());
+    }
+    if !(range.is_finite() && range > 0.0) {
+        c.add(at.field("range"), "a distance greater than 0 (metres)", range.shown());
+    }
+    if !(radius.is_finite() && radius >= 0.0) {
+        c.add(at.field("radius"), "an emitter radius ≥ 0 (metres)", radius.shown());
     }
 }
 

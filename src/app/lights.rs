@@ -1,0 +1,116 @@
+//! The lights of a scene file as entities to spawn: the `sun` first (with the scene's
+//! `shadows`), then every entry of `lights` in file order.
+
+use bevy_ecs::world::World;
+use bevy_transform::components::Transform;
+use glam::Vec3;
+
+use crate::app::spawn::SceneEntity;
+use crate::ecs::components::DirectionalLight;
+use crate::ecs::lights::{PointLight, SpotLight};
+use crate::scene::{LightDesc, SceneDesc};
+use crate::settings::ShadowSettings;
+
+/// One light entity to spawn.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum LightPlan {
+    /// A directional light with its shadow settings.
+    Directional(DirectionalLight, Transform, ShadowSettings),
+    /// A spot light.
+    Spot(SpotLight, Transform),
+    /// A point light.
+    Point(PointLight, Transform),
+}
+
+/// A transform at `position` whose forward (−Z) axis is `direction`.
+fn aimed(position: Vec3, direction: Vec3) -> Transform {
+    Transform::from_translation(position).looking_at(position + direction, Vec3::Y)
+}
+
+/// Every light of `desc`, the sun first.
+pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
+    let sun = desc.sun.iter().map(|s| {
+        let light = DirectionalLight {
+            color: s.color,
+            illuminance: s.illuminance,
+            angular_diameter: s.angular_diameter.to_radians(),
+            shadows_enabled: true,
+        };
+        LightPlan::Directional(light, aimed(Vec3::ZERO, s.direction), desc.shadows)
+    });
+    let lights = desc.lights.iter().map(|l| match *l {
+        LightDesc::Directional {
+            direction,
+            color,
+            illuminance,
+            angular_diameter,
+            shadows,
+            shadows_enabled,
+        } => {
+            let light = DirectionalLight {
+                color,
+                illuminance,
+                angular_diameter: angular_diameter.to_radians(),
+                shadows_enabled,
+            };
+            LightPlan::Directional(light, aimed(Vec3::ZERO, direction), shadows.unwrap_or(desc.shadows))
+        }
+        LightDesc::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+            inner_angle,
+            outer_angle,
+            radius,
+            shadows_enabled,
+        } => {
+            let light = SpotLight {
+                color,
+                intensity,
+                range,
+                inner_angle: inner_angle.to_radians(),
+                outer_angle: outer_angle.to_radians(),
+                radius,
+                shadows_enabled,
+            };
+            LightPlan::Spot(light, aimed(position, direction))
+        }
+        LightDesc::Point {
+            position,
+            color,
+            intensity,
+            range,
+            radius,
+            shadows_enabled,
+        } => {
+            let light = PointLight {
+                color,
+                intensity,
+                range,
+                radius,
+                shadows_enabled,
+            };
+            LightPlan::Point(light, Transform::from_translation(position))
+        }
+    });
+    sun.chain(lights).collect()
+}
+
+/// Spawns the planned lights, each marked [`SceneEntity`].
+pub(crate) fn spawn_lights(world: &mut World, plans: Vec<LightPlan>) {
+    for plan in plans {
+        match plan {
+            LightPlan::Directional(light, transform, settings) => {
+                world.spawn((light, transform, settings, SceneEntity));
+            }
+            LightPlan::Spot(light, transform) => {
+                world.spawn((light, transform, SceneEntity));
+            }
+            LightPlan::Point(light, transform) => {
+                world.spawn((light, transform, SceneEntity));
+            }
+        }
+    }
+}
