@@ -1,7 +1,8 @@
 //! Per-frame CPU cost of the directional shadow: computing 1–4 cascades and culling 1k, 10k,
 //! 100k and 1M casters against them into a reused mask buffer (`cascades_and_culling`), the
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
-//! camera culling — on a static scene (`shadow_plugin_frame`).
+//! camera culling — on a static scene (`shadow_plugin_frame`), and spot-light views with a
+//! brute-force cull of 10k casters per light (`spot_views_and_culling`).
 
 use std::hint::black_box;
 
@@ -16,8 +17,9 @@ use penumbra::ecs::{
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
-use penumbra::math::culling::cull_casters;
+use penumbra::math::culling::{cull_casters, cull_spheres_frustum};
 use penumbra::math::frustum::CameraView;
+use penumbra::math::spot::{SpotInput, spot_view};
 use penumbra::settings::{CascadeFit, ShadowSettings};
 
 /// SplitMix64 step mapped to `[0, 1)`; deterministic scene generation.
@@ -173,10 +175,52 @@ fn shadow_plugin_frame(c: &mut Criterion) {
     group.finish();
 }
 
+/// Spot lights: the shadow view of each light (`spot_view`) and a brute-force cull of 10k
+/// casters against its frustum, for 1, 16 and 64 lights of 30 m range scattered over the
+/// casters' square. Throughput is in lights, so the per-light time reads off directly.
+fn spot_views_and_culling(c: &mut Criterion) {
+    let (centers, radii) = casters(10_000, 11);
+    let mut group = c.benchmark_group("spot_views_and_culling_10k");
+    group.sample_size(20);
+    for lights in [1usize, 16, 64] {
+        let mut s = 99u64;
+        let inputs: Vec<SpotInput> = (0..lights)
+            .map(|_| SpotInput {
+                position: Vec3::new(
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                    12.0,
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                ),
+                direction: Vec3::new(next_unit(&mut s) - 0.5, -1.0, next_unit(&mut s) - 0.5),
+                outer_angle: 40f32.to_radians(),
+                range: 30.0,
+                near: 0.05,
+                resolution: 1024,
+            })
+            .collect();
+        let mut visible = Vec::with_capacity(centers.len());
+        group.throughput(Throughput::Elements(lights as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
+            b.iter(|| {
+                let mut drawn = 0;
+                for input in &inputs {
+                    if let Some(view) = spot_view(black_box(input)) {
+                        cull_spheres_frustum(&view.frustum, &centers, &radii, &mut visible);
+                        drawn += visible.len();
+                    }
+                }
+                black_box(drawn)
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     cascades_and_culling,
     cascade_and_culling_systems,
-    shadow_plugin_frame
+    shadow_plugin_frame,
+    spot_views_and_culling
 );
 criterion_main!(benches);
