@@ -167,3 +167,72 @@ fn positional_lights_spawned_in_code_get_a_transform() {
     let world = app.world_mut();
     assert_eq!(world.query_filtered::<(), With<SpotLight>>().iter(world).count(), 1);
 }
+
+const SPOT_SCENE: &str = r#"Scene(
+    camera: (position: (0, 6, 12), target: (0, 0, 0), fov: 60, near: 0.1, far: 200),
+    lights: [
+        Spot(position: (0, 4, 0), direction: (0, -1, 0), outer_angle: 30, range: 10),
+        Spot(position: (3, 3, 3), direction: (0, -1, 0), outer_angle: 20, range: 6),
+        Spot(position: (60, 2, -80), direction: (0, -1, 0), outer_angle: 20, range: 3),
+    ],
+    materials: { "m": () },
+    objects: [
+        (shape: Plane(size: (200, 200)), material: "m", cast_shadows: false),
+        (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (0, 0.5, 0)),
+        (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (50, 0.5, 0)),
+    ],
+)"#;
+
+#[test]
+fn each_shadowed_spot_light_gets_a_view_with_the_casters_in_its_cone() {
+    let app = app_with(SPOT_SCENE);
+    let views = app.world().resource::<penumbra::ecs::LightShadowViews>();
+    assert_eq!(views.views.len(), 3);
+    assert_eq!(views.groups.len(), 3);
+    // Ranked by screen coverage: the big light over the box first, the far small one last.
+    assert!((views.views[0].view.far - 10.0).abs() < 1e-6);
+    assert!((views.views[2].view.far - 3.0).abs() < 1e-6);
+    assert_eq!(
+        views.groups[0].instance_count(),
+        1,
+        "the box under the light, not the far one"
+    );
+    assert_eq!(views.groups[2].instance_count(), 0, "nothing under the far light");
+    let box_centre = Vec3::new(0.0, 0.5, 0.0);
+    assert!(views.views[0].view.frustum.contains_point(box_centre));
+    assert!(!views.views[0].view.frustum.contains_point(Vec3::new(50.0, 0.5, 0.0)));
+}
+
+#[test]
+fn spot_lights_over_the_budget_are_named_and_the_smallest_lose_their_shadows() {
+    let desc = SceneDesc::from_str(SPOT_SCENE, "spots.ron").unwrap();
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    app.world_mut()
+        .resource_mut::<penumbra::ecs::ShadowLightBudget>()
+        .lights
+        .spot = 2;
+    spawn_scene(app.world_mut(), &desc).unwrap();
+    app.update();
+    let world = app.world();
+    let views = world.resource::<penumbra::ecs::LightShadowViews>();
+    assert_eq!(views.views.len(), 2);
+    assert!(
+        views.views.iter().all(|v| v.view.far > 3.0),
+        "the far, small light is dropped"
+    );
+    let warnings = &world.resource::<ShadowDiagnostics>().current;
+    let dropped: Vec<&String> = warnings.iter().filter(|w| w.contains("gets no shadow")).collect();
+    assert_eq!(dropped.len(), 1, "{warnings:?}");
+    assert!(
+        dropped[0].ends_with("only 2 shadowed spot lights fit the budget, and it is smaller on screen"),
+        "{dropped:?}"
+    );
+}
+
+#[test]
+fn spot_lights_without_shadows_make_no_view() {
+    let text = SPOT_SCENE.replace("range: 10)", "range: 10, shadows_enabled: false)");
+    let app = app_with(&text);
+    assert_eq!(app.world().resource::<penumbra::ecs::LightShadowViews>().views.len(), 2);
+}

@@ -10,6 +10,7 @@ pub mod lights;
 pub mod origin;
 pub mod placement;
 pub mod plugin;
+pub mod shadow_views;
 pub mod stats;
 pub mod view;
 
@@ -23,5 +24,6 @@ pub use instances::RenderInstances;
 pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
+pub use shadow_views::{LightShadowViews, ShadowLightBudget, SpotShadowView};
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::{ActiveView, SunView};

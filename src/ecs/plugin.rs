@@ -14,6 +14,7 @@ use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
 use crate::ecs::instances::{RenderInstances, sync_instances};
 use crate::ecs::lights::report_unrendered_lights;
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
+use crate::ecs::shadow_views::{LightShadowViews, ShadowLightBudget, update_spot_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
 
@@ -25,7 +26,7 @@ pub enum ShadowSystems {
     SyncInstances,
     /// Compute the camera view and the sun's cascades; report lights not drawn.
     ComputeCascades,
-    /// Cull casters per cascade and instances for the camera.
+    /// Cull casters per cascade and per spot-light view, and instances for the camera.
     Cull,
 }
 
@@ -52,6 +53,8 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ViewDrawGroups>()
             .init_resource::<ShadowStats>()
             .init_resource::<ShadowDiagnostics>()
+            .init_resource::<ShadowLightBudget>()
+            .init_resource::<LightShadowViews>()
             .configure_sets(
                 PostUpdate,
                 (
@@ -74,6 +77,9 @@ impl Plugin for ShadowPlugin {
                     .chain()
                     .in_set(ShadowSystems::ComputeCascades),
             )
-            .add_systems(PostUpdate, (cull_shadow_casters, cull_view).in_set(ShadowSystems::Cull));
+            .add_systems(
+                PostUpdate,
+                (cull_shadow_casters, cull_view, update_spot_shadow_views).in_set(ShadowSystems::Cull),
+            );
     }
 }
