@@ -2,7 +2,8 @@
 //! 100k and 1M casters against them into a reused mask buffer (`cascades_and_culling`), the
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
 //! camera culling — on a static scene (`shadow_plugin_frame`), and spot-light views with a
-//! brute-force cull of 10k casters per light (`spot_views_and_culling`).
+//! brute-force cull of 10k casters per light (`spot_views_and_culling`) and as the engine's
+//! system does it (`spot_shadow_view_system`).
 
 use std::hint::black_box;
 
@@ -11,9 +12,10 @@ use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
 use penumbra::ecs::culling::cull_shadow_casters;
+use penumbra::ecs::shadow_views::{ShadowLightBudget, update_spot_shadow_views};
 use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
-    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, Transform,
+    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, SpotLight, Transform,
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
@@ -216,8 +218,47 @@ fn spot_views_and_culling(c: &mut Criterion) {
     group.finish();
 }
 
+/// The spot-light systems as the engine runs them: rank the lights under the budget, build
+/// each view and cull the 10k casters into its draw group, for 1, 16 and 64 shadowed spot
+/// lights of 30 m range placed over the casters (the budget raised to fit them).
+fn spot_shadow_view_system(c: &mut Criterion) {
+    let mut group = c.benchmark_group("spot_shadow_view_system_10k");
+    group.sample_size(20);
+    for lights in [1usize, 16, 64] {
+        let mut app = plugin_app(10_000);
+        let world = app.world_mut();
+        world.resource_mut::<ShadowLightBudget>().lights.spot = lights;
+        let mut s = 7u64;
+        for _ in 0..lights {
+            let position = Vec3::new(
+                next_unit(&mut s) * 2000.0 - 1000.0,
+                12.0,
+                next_unit(&mut s) * 2000.0 - 1000.0,
+            );
+            let spot = SpotLight {
+                range: 30.0,
+                outer_angle: 40f32.to_radians(),
+                ..SpotLight::default()
+            };
+            world.spawn((
+                spot,
+                Transform::from_translation(position).looking_at(position - Vec3::Y, Vec3::Z),
+            ));
+        }
+        app.update();
+        let mut schedule = Schedule::default();
+        schedule.add_systems(update_spot_shadow_views);
+        group.throughput(Throughput::Elements(lights as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
+            b.iter(|| schedule.run(app.world_mut()))
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
+    spot_shadow_view_system,
     cascades_and_culling,
     cascade_and_culling_systems,
     shadow_plugin_frame,

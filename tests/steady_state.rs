@@ -1,5 +1,6 @@
 //! A static scene costs no heap allocation per frame: once the instances are built and the
-//! draw-group vectors have grown, cascades and culling reuse their buffers.
+//! draw-group vectors have grown, cascades and culling reuse their buffers, and so do the
+//! spot-light shadow views.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -35,8 +36,12 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// The counter is process-wide: tests that read it take this lock so none runs beside them.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn steady_state_frames_do_not_allocate() {
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
     let mut app = App::new();
     app.add_plugins(ShadowPlugin);
     let world = app.world_mut();
@@ -76,4 +81,54 @@ fn steady_state_frames_do_not_allocate() {
         per_frame, 0.0,
         "steady-state frames allocate {per_frame} times per frame"
     );
+}
+
+#[test]
+fn spot_shadow_views_reuse_their_buffers() {
+    use bevy_ecs::schedule::Schedule;
+    use penumbra::ecs::shadow_views::update_spot_shadow_views;
+    use penumbra::ecs::{LightShadowViews, SpotLight};
+
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    let world = app.world_mut();
+    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::ONE));
+    let material = world.resource_mut::<Materials>().add(Material::default());
+    world.spawn((
+        Camera3d::default(),
+        Transform::from_translation(Vec3::new(0.0, 2.0, 0.0)).looking_at(Vec3::new(5.0, 0.0, -10.0), Vec3::Y),
+    ));
+    for i in 0..10_000 {
+        let p = Vec3::new((i % 100) as f32 * 3.0 - 150.0, 0.5, (i / 100) as f32 * -3.0);
+        world.spawn((Transform::from_translation(p), Mesh3d(mesh), MeshMaterial3d(material)));
+    }
+    // Twelve spot lights over the grid, all within the budget (a light over it is reported
+    // with a message every frame, which allocates).
+    world.resource_mut::<penumbra::ecs::ShadowLightBudget>().lights.spot = 12;
+    for k in 0..12 {
+        let p = Vec3::new(k as f32 * 20.0 - 120.0, 8.0, -20.0 * (k % 4) as f32);
+        world.spawn((
+            SpotLight::default(),
+            Transform::from_translation(p).looking_at(p - Vec3::Y, Vec3::Z),
+        ));
+    }
+    for _ in 0..3 {
+        app.update();
+    }
+    let mut schedule = Schedule::default();
+    schedule.add_systems(update_spot_shadow_views);
+    schedule.run(app.world_mut());
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    for _ in 0..10 {
+        schedule.run(app.world_mut());
+    }
+    let per_frame = (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / 10.0;
+    let views = app.world().resource::<LightShadowViews>();
+    assert_eq!(views.views.len(), 12);
+    assert!(
+        views.groups.iter().all(|g| g.instance_count() > 0),
+        "every light sees casters"
+    );
+    assert_eq!(per_frame, 0.0, "spot shadow views allocate {per_frame} times per frame");
 }

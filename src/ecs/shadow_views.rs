@@ -18,7 +18,9 @@ use crate::ecs::placement::world_pose;
 use crate::ecs::stats::ShadowDiagnostics;
 use crate::ecs::view::ActiveView;
 use crate::math::chunks::cull_spheres_frustum_chunked;
-use crate::math::light_budget::{LightCandidate, LightKind, RankingView, ShadowBudget, choose_shadowed_lights};
+use crate::math::light_budget::{
+    BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, ShadowBudget, choose_shadowed_lights_into,
+};
 use crate::math::spot::{SpotInput, SpotView, spot_view};
 
 /// How many lights of each kind may cast shadows, and the shadow-map size of a spot light.
@@ -77,6 +79,8 @@ pub struct SpotScratch {
     lights: Vec<(Entity, SpotLight, SpotInput)>,
     visible: Vec<u32>,
     chunk_scratch: Vec<u32>,
+    rank: RankScratch,
+    choice: BudgetChoice,
 }
 
 /// Ranks the spot lights under the budget, builds the views of those kept and culls their
@@ -130,7 +134,14 @@ pub fn update_spot_shadow_views(
             tan_half_fov_y: 1.0,
         },
     };
-    let choice = choose_shadowed_lights(&scratch.candidates, &budget.lights, &ranking);
+    choose_shadowed_lights_into(
+        &scratch.candidates,
+        &budget.lights,
+        &ranking,
+        &mut scratch.rank,
+        &mut scratch.choice,
+    );
+    let choice = &scratch.choice;
     for (_, id) in &choice.dropped {
         let (entity, ..) = scratch.lights[*id];
         diagnostics.warn(format!(

@@ -86,6 +86,13 @@ pub fn screen_coverage(view: &RankingView, center: Vec3, radius: f32) -> f32 {
     (s / (1.0 - s * s).sqrt() / tan).min(f32::MAX)
 }
 
+/// Reused buffers of [`choose_shadowed_lights_into`].
+#[derive(Clone, Debug, Default)]
+pub struct RankScratch {
+    /// Per candidate: kind, coverage, distance, input order, id.
+    ranked: Vec<(LightKind, f32, f32, usize, usize)>,
+}
+
 /// Splits `candidates` into the lights that fit `budget` and those that do not, ranking each
 /// kind by screen coverage (largest first), then distance (nearest first), then input order.
 pub fn choose_shadowed_lights(
@@ -93,34 +100,48 @@ pub fn choose_shadowed_lights(
     budget: &ShadowBudget,
     view: &RankingView,
 ) -> BudgetChoice {
-    let mut ranked: Vec<(LightKind, f32, f32, usize, usize)> = candidates
-        .iter()
-        .enumerate()
-        .map(|(order, c)| {
-            let (coverage, distance) = match c.bounds {
-                None => (f32::INFINITY, 0.0),
-                Some((center, radius)) => {
-                    let d = center.distance(view.position);
-                    (
-                        screen_coverage(view, center, radius),
-                        if d.is_finite() { d } else { f32::INFINITY },
-                    )
-                }
-            };
-            (c.kind, coverage, distance, order, c.id)
-        })
-        .collect();
-    // NOTE: total_cmp puts NaN last when reversed coverage is compared; coverage is never NaN
-    // here (screen_coverage maps bad input to 0), distances may be infinite.
-    ranked.sort_by(|a, b| {
+    let mut choice = BudgetChoice::default();
+    choose_shadowed_lights_into(candidates, budget, view, &mut RankScratch::default(), &mut choice);
+    choice
+}
+
+/// [`choose_shadowed_lights`] into reused buffers: allocates nothing once they have grown to
+/// the number of candidates.
+pub fn choose_shadowed_lights_into(
+    candidates: &[LightCandidate],
+    budget: &ShadowBudget,
+    view: &RankingView,
+    scratch: &mut RankScratch,
+    choice: &mut BudgetChoice,
+) {
+    let ranked = &mut scratch.ranked;
+    ranked.clear();
+    ranked.extend(candidates.iter().enumerate().map(|(order, c)| {
+        let (coverage, distance) = match c.bounds {
+            None => (f32::INFINITY, 0.0),
+            Some((center, radius)) => {
+                let d = center.distance(view.position);
+                (
+                    screen_coverage(view, center, radius),
+                    if d.is_finite() { d } else { f32::INFINITY },
+                )
+            }
+        };
+        (c.kind, coverage, distance, order, c.id)
+    }));
+    // NOTE: an unstable sort allocates nothing, and the input order breaks every tie, so the
+    // result is deterministic. Coverage is never NaN (bad input maps to 0); distances may be
+    // infinite.
+    ranked.sort_unstable_by(|a, b| {
         a.0.cmp(&b.0)
             .then(b.1.total_cmp(&a.1))
             .then(a.2.total_cmp(&b.2))
             .then(a.3.cmp(&b.3))
     });
-    let mut choice = BudgetChoice::default();
+    choice.shadowed.clear();
+    choice.dropped.clear();
     let mut taken = [0usize; 3];
-    for (kind, _, _, _, id) in ranked {
+    for &(kind, _, _, _, id) in ranked.iter() {
         let slot = &mut taken[kind as usize];
         if *slot < budget.of(kind) {
             *slot += 1;
@@ -129,7 +150,6 @@ pub fn choose_shadowed_lights(
             choice.dropped.push((kind, id));
         }
     }
-    choice
 }
 
 #[cfg(test)]
