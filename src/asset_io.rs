@@ -198,14 +198,6 @@ impl AssetIo {
         }
     }
 
-    /// Resolves `reference`, reads it and decodes it as an image.
-    pub fn load_image(&self, dir: &Path, reference: &str) -> Result<(AssetPath, ImageData), AssetError> {
-        let file = self.resolve(dir, reference)?;
-        let bytes = self.read(&file, reference, None)?;
-        let image = self.decode_image(&bytes, reference)?;
-        Ok((file, image))
-    }
-
     /// Reads a resolved file whole, refusing files over the cap (or over `expected` bytes,
     /// when the caller knows how much it needs: only that much is read).
     pub fn read(&self, file: &AssetPath, reference: &str, expected: Option<u64>) -> Result<Vec<u8>, AssetError> {

@@ -32,6 +32,11 @@ impl Tree {
         self.0.join("root")
     }
 
+    /// A special (non-regular) file at `path`: a Unix socket, the one kind std can create.
+    fn socket(&self, path: &Path) -> std::os::unix::net::UnixListener {
+        std::os::unix::net::UnixListener::bind(path).expect("a socket can be bound in the scratch tree")
+    }
+
     /// Writes the sample model with its JSON edited, as `root/model.gltf`.
     fn model(&self, edit: impl FnOnce(&mut json::Root)) -> PathBuf {
         let text = fs::read_to_string("assets/models/fern.gltf").unwrap();
@@ -62,6 +67,14 @@ fn model_error(path: &Path) -> String {
 fn buffer_uris_outside_the_root_are_refused_without_revealing_the_target() {
     let tree = Tree::new("buffers");
     let secret = tree.0.join("secret.bin").display().to_string();
+    // Absolute paths are refused even when they name a file inside the root; a special file
+    // outside it is refused without being opened.
+    let inside = fs::canonicalize(tree.root().join("fern.bin"))
+        .unwrap()
+        .display()
+        .to_string();
+    let _socket = tree.socket(&tree.0.join("outside.sock"));
+    let special = tree.0.join("outside.sock").display().to_string();
     let outside = format!(
         "outside the asset folder `{}` (only relative paths inside it are read)",
         fs::canonicalize(tree.root()).unwrap().display()
@@ -73,8 +86,8 @@ fn buffer_uris_outside_the_root_are_refused_without_revealing_the_target() {
         "sub/%2E%2E/%2e%2e/secret.bin",
         "./../secret.bin",
         secret.as_str(),
-        "/dev/zero",
-        "/proc/self/pagemap",
+        inside.as_str(),
+        special.as_str(),
     ] {
         let path = tree.model(|root| root.buffers[0].uri = Some(uri.to_owned()));
         let err = model_error(&path);
@@ -87,15 +100,19 @@ fn buffer_uris_outside_the_root_are_refused_without_revealing_the_target() {
 fn symbolic_links_out_of_the_root_and_special_files_are_refused() {
     let tree = Tree::new("links");
     std::os::unix::fs::symlink(tree.0.join("secret.bin"), tree.root().join("link.bin")).unwrap();
-    std::os::unix::fs::symlink("/dev/zero", tree.root().join("zero.bin")).unwrap();
-    for uri in ["link.bin", "zero.bin"] {
+    let _outside = tree.socket(&tree.0.join("outside.sock"));
+    std::os::unix::fs::symlink(tree.0.join("outside.sock"), tree.root().join("special.bin")).unwrap();
+    for uri in ["link.bin", "special.bin"] {
         let path = tree.model(|root| root.buffers[0].uri = Some(uri.to_owned()));
         let err = model_error(&path);
         assert!(err.contains(": outside the asset folder `"), "{uri}: {err}");
     }
-    // A folder inside the root.
+    // A folder and a special file inside the root.
     let path = tree.model(|root| root.images[0].uri = Some("sub".to_owned()));
     assert_eq!(model_error(&path), "image 0 (`sub`): not a regular file");
+    let _inside = tree.socket(&tree.root().join("inside.sock"));
+    let path = tree.model(|root| root.buffers[0].uri = Some("inside.sock".to_owned()));
+    assert_eq!(model_error(&path), "buffer 0 (`inside.sock`): not a regular file");
     // A link that stays inside the root is followed.
     std::os::unix::fs::symlink(tree.root().join("fern.bin"), tree.root().join("sub/again.bin")).unwrap();
     let path = tree.model(|root| root.buffers[0].uri = Some("sub/again.bin".to_owned()));
@@ -185,7 +202,9 @@ fn scene_textures_and_models_stay_inside_the_root() {
     };
     assert!(prepare(&scene("fern_leaf.png", "fern.gltf")).is_ok());
     assert!(prepare(&scene("./sub/../fern_leaf.png", "sub/../fern.gltf")).is_ok());
-    let err = prepare(&scene("fern_leaf.png", "/dev/zero")).map(|_| ()).unwrap_err();
+    let _socket = tree.socket(&tree.0.join("outside.sock"));
+    let special = tree.0.join("outside.sock").display().to_string();
+    let err = prepare(&scene("fern_leaf.png", &special)).map(|_| ()).unwrap_err();
     assert!(matches!(err, SpawnError::Model { object: 0, .. }), "{err}");
     assert!(err.to_string().contains("outside the asset folder"), "{err}");
     // The scene check itself does not look outside: a missing and an existing outside file
@@ -207,7 +226,11 @@ fn resolve_refuses_what_it_must() {
     let io = AssetIo::with_root(tree.root());
     let dir = tree.root().join("sub");
     assert!(io.resolve(&dir, "../fern.bin").is_ok());
-    for bad in ["../../secret.bin", "", "/etc/hostname", "a\0b"] {
+    let absolute = fs::canonicalize(tree.root().join("fern.bin"))
+        .unwrap()
+        .display()
+        .to_string();
+    for bad in ["../../secret.bin", "", absolute.as_str(), "a\0b"] {
         assert!(
             matches!(io.resolve(&dir, bad), Err(AssetError::Outside { .. })),
             "{bad:?}"
