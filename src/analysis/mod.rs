@@ -8,6 +8,7 @@
 //!
 //! Shadow factors are in `[0, 1]`: 1 is fully lit, 0 fully shadowed.
 
+mod axis;
 mod font;
 pub mod metrics;
 pub mod pareto;
