@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::render::limits::MAX_TEXTURE_SIDE;
-use crate::viewer::window::ViewerOptions;
+use crate::viewer::options::ViewerOptions;
 
 /// Arguments of the viewer.
 #[derive(Args, Clone, Debug)]

@@ -11,6 +11,8 @@ pub mod fly_camera;
 pub mod history;
 #[cfg(feature = "viewer")]
 pub mod inspector;
+#[cfg(feature = "viewer")]
+mod options;
 pub mod reload;
 #[cfg(feature = "viewer")]
 mod surface;
@@ -22,6 +24,8 @@ pub use args::ViewerArgs;
 pub use fly_camera::{FlyCamera, MoveKeys};
 #[cfg(feature = "viewer")]
 pub use inspector::{FrameInfo, Inspector};
+#[cfg(feature = "viewer")]
+pub use options::{ViewerError, ViewerOptions, ViewerSummary};
 pub use reload::{LiveReload, ReloadOutcome};
 #[cfg(feature = "viewer")]
-pub use window::{ViewerError, ViewerOptions, ViewerSummary, default_settings_path, run};
+pub use window::{default_settings_path, run};

@@ -3,9 +3,13 @@
 //! error handled (outdated or lost: reconfigure and skip the frame; timeout or occluded:
 //! skip it), and screenshots.
 
+use std::path::Path;
+
 use image::RgbaImage;
 
+use crate::export::write_color_image;
 use crate::render::target::{TargetViews, read_texture, texture_2d};
+use crate::viewer::options::ViewerError;
 
 /// A configured surface and the depth buffer that goes with it.
 pub(crate) struct WindowSurface {
@@ -127,6 +131,20 @@ impl WindowSurface {
         self.recoveries += 1;
         self.stale = false;
         self.surface.configure(device, &self.config);
+    }
+
+    /// Copies a swapchain image to the CPU and writes it to `path` as PNG.
+    pub fn save_screenshot(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        texture: &wgpu::Texture,
+        path: &Path,
+    ) -> Result<(), ViewerError> {
+        let image = self
+            .screenshot(device, queue, texture)
+            .ok_or_else(|| ViewerError::screenshot(path, "this surface cannot be copied"))?;
+        write_color_image(path, &image).map_err(|e| ViewerError::screenshot(path, e.to_string()))
     }
 
     /// Copies a swapchain image to the CPU as RGBA (None when the surface cannot be copied).

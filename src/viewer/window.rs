@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use bevy_app::App;
 use bevy_transform::components::Transform;
-use thiserror::Error;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -16,99 +15,22 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::app::{PreparedScene, SpawnError};
+use crate::app::PreparedScene;
 use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;
-use crate::export::{OutputKind, prepare_output, write_color_image};
+use crate::export::{OutputKind, prepare_output};
 use crate::render::frame::FrameInputs;
 use crate::render::target::TargetViews;
-use crate::render::{GpuContext, GpuError, Renderer};
-use crate::scene::{SceneDesc, SceneError, load_settings};
+use crate::render::{GpuContext, Renderer};
+use crate::scene::{SceneDesc, load_settings};
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
 use crate::viewer::fly_camera::{FlyCamera, MoveKeys};
 use crate::viewer::inspector::{FrameInfo, Inspector};
+use crate::viewer::options::{ViewerError, ViewerOptions, ViewerSummary};
 use crate::viewer::reload::{FileWatch, LiveReload, ReloadOutcome, set_sun_settings};
 use crate::viewer::surface::WindowSurface;
-
-/// Why the viewer stopped with an error.
-#[derive(Debug, Error)]
-#[non_exhaustive]
-pub enum ViewerError {
-    /// The window system is not available.
-    #[error("cannot open a window: {0}")]
-    Window(String),
-    /// No GPU.
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    /// The scene or settings file is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The scene could not be spawned.
-    #[error(transparent)]
-    Spawn(#[from] SpawnError),
-    /// The screenshot could not be written.
-    #[error("cannot write the screenshot `{path}`: {message}")]
-    Screenshot {
-        /// Output path.
-        path: String,
-        /// Why.
-        message: String,
-    },
-}
-
-/// Viewer options.
-#[derive(Clone, Debug)]
-pub struct ViewerOptions {
-    /// Initial window width.
-    pub width: u32,
-    /// Initial window height.
-    pub height: u32,
-    /// Close after this many rendered frames (for scripted runs).
-    pub exit_after: Option<u32>,
-    /// Write the last frame (scene and inspector) to this PNG before closing.
-    pub screenshot: Option<PathBuf>,
-    /// Shadow settings file applied over the scene's and watched for edits; "save settings"
-    /// writes here too. Default: `<scene>.settings.ron` (used for saving only, unless it
-    /// exists).
-    pub settings: Option<PathBuf>,
-    /// A forward (material) shader to use instead of the shipped one, watched for edits.
-    pub shader: Option<PathBuf>,
-    /// Run the scripted robustness steps (resize, minimise, lost surface, settings changes).
-    pub exercise: bool,
-}
-
-impl Default for ViewerOptions {
-    fn default() -> Self {
-        Self {
-            width: 1280,
-            height: 720,
-            exit_after: None,
-            screenshot: None,
-            settings: None,
-            shader: None,
-            exercise: false,
-        }
-    }
-}
-
-/// What a viewer run did, for scripted runs and tests.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct ViewerSummary {
-    /// Frames drawn and presented.
-    pub frames: u32,
-    /// Event-loop ticks (frames drawn plus frames skipped).
-    pub ticks: u32,
-    /// Times the surface was reconfigured after an error.
-    pub surface_recoveries: u32,
-    /// The screenshot written, if any.
-    pub screenshot: Option<PathBuf>,
-    /// The adapter used.
-    pub adapter: String,
-    /// Errors shown in the inspector on the last tick (rejected reloads, shader errors).
-    pub errors: Vec<String>,
-}
 
 /// Window, surface and the renderers that draw into it.
 struct WindowState {
@@ -153,10 +75,7 @@ pub fn default_settings_path(scene: &Path) -> PathBuf {
 pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, ViewerError> {
     if let Some(path) = &options.screenshot {
         // NOTE: checked before the window opens, not after the last frame.
-        prepare_output(path, OutputKind::ColorImage).map_err(|e| ViewerError::Screenshot {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        prepare_output(path, OutputKind::ColorImage).map_err(|e| ViewerError::screenshot(path, e.to_string()))?;
     }
     let desc = SceneDesc::load(scene_path)?;
     let settings_path = options
@@ -467,22 +386,12 @@ impl Viewer {
         let Some(state) = &mut self.window else { return };
         if finished && let Some(path) = self.options.screenshot.clone() {
             let gpu = &state.renderer.gpu;
-            match state.surface.screenshot(&gpu.device, &gpu.queue, &frame.texture) {
-                Some(image) => match write_color_image(&path, &image) {
-                    Ok(()) => self.summary.screenshot = Some(path),
-                    Err(e) => {
-                        self.error = Some(ViewerError::Screenshot {
-                            path: path.display().to_string(),
-                            message: e.to_string(),
-                        })
-                    }
-                },
-                None => {
-                    self.error = Some(ViewerError::Screenshot {
-                        path: path.display().to_string(),
-                        message: "this surface cannot be copied".to_owned(),
-                    })
-                }
+            match state
+                .surface
+                .save_screenshot(&gpu.device, &gpu.queue, &frame.texture, &path)
+            {
+                Ok(()) => self.summary.screenshot = Some(path),
+                Err(e) => self.error = Some(e),
             }
         }
         state.window.pre_present_notify();
