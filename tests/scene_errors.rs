@@ -328,7 +328,13 @@ fn missing_texture_is_reported_relative_to_the_scene_file() {
     std::fs::write(dir.join("good.ron"), &good).unwrap();
     let scene = SceneDesc::load(dir.join("good.ron")).unwrap();
     let texture = scene.materials[1].texture.as_deref().unwrap();
-    assert_eq!(scene.resolve_path(texture), dir.join("textures/leaf.png"));
+    let resolved = scene.resolve_path(texture).unwrap();
+    assert_eq!(
+        resolved.path(),
+        std::fs::canonicalize(dir.join("textures/leaf.png")).unwrap()
+    );
+    let outside = scene.resolve_path(std::path::Path::new("../leaf.png")).unwrap_err();
+    assert!(outside.to_string().starts_with("outside the asset folder"), "{outside}");
 
     let bad = good.replace("leaf.png", "leaves.png");
     std::fs::write(dir.join("bad.ron"), &bad).unwrap();

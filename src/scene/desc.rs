@@ -12,7 +12,7 @@ use glam::{UVec3, Vec2, Vec3, Vec4};
 use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
-use crate::asset_io::AssetIo;
+use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::scene::limits::SceneLimits;
 use crate::settings::ShadowSettings;
 
@@ -309,9 +309,10 @@ impl SceneDesc {
     }
 
     /// Resolves a path written in the scene (a texture or model) against
-    /// [`base_dir`](Self::base_dir): absolute paths are returned unchanged.
-    pub fn resolve_path(&self, path: &Path) -> PathBuf {
-        self.base_dir.join(path)
+    /// [`base_dir`](Self::base_dir), inside the scene's asset root (see
+    /// [`asset_io`](Self::asset_io)): what spawning the scene would read.
+    pub fn resolve_path(&self, path: &Path) -> Result<AssetPath, AssetError> {
+        self.asset_io().resolve(&self.base_dir, &path.to_string_lossy())
     }
 
     /// Index of the (first) material called `name` in [`materials`](Self::materials). A
