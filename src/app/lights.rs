@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::app::spawn::SceneEntity;
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::lights::{PointLight, SpotLight};
-use crate::scene::{LightDesc, SceneDesc};
+use crate::scene::{LightDesc, SceneDesc, SunDesc};
 use crate::settings::ShadowSettings;
 
 /// One light entity to spawn.
@@ -27,17 +27,20 @@ fn aimed(position: Vec3, direction: Vec3) -> Transform {
     Transform::from_translation(position).looking_at(position + direction, Vec3::Y)
 }
 
+/// A directional light travelling along `sun.direction` (angles in the file are degrees).
+fn directional(sun: &SunDesc, shadows_enabled: bool, settings: ShadowSettings) -> LightPlan {
+    let light = DirectionalLight {
+        color: sun.color,
+        illuminance: sun.illuminance,
+        angular_diameter: sun.angular_diameter.to_radians(),
+        shadows_enabled,
+    };
+    LightPlan::Directional(light, aimed(Vec3::ZERO, sun.direction), settings)
+}
+
 /// Every light of `desc`, the sun first.
 pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
-    let sun = desc.sun.iter().map(|s| {
-        let light = DirectionalLight {
-            color: s.color,
-            illuminance: s.illuminance,
-            angular_diameter: s.angular_diameter.to_radians(),
-            shadows_enabled: true,
-        };
-        LightPlan::Directional(light, aimed(Vec3::ZERO, s.direction), desc.shadows)
-    });
+    let sun = desc.sun.iter().map(|s| directional(s, true, desc.shadows));
     let lights = desc.lights.iter().map(|l| match *l {
         LightDesc::Directional {
             direction,
@@ -47,13 +50,13 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
             shadows,
             shadows_enabled,
         } => {
-            let light = DirectionalLight {
+            let sun = SunDesc {
+                direction,
                 color,
                 illuminance,
-                angular_diameter: angular_diameter.to_radians(),
-                shadows_enabled,
+                angular_diameter,
             };
-            LightPlan::Directional(light, aimed(Vec3::ZERO, direction), shadows.unwrap_or(desc.shadows))
+            directional(&sun, shadows_enabled, shadows.unwrap_or(desc.shadows))
         }
         LightDesc::Spot {
             position,
