@@ -4,7 +4,9 @@
 //! must each finish quickly, and every scene or settings error must point at a line and
 //! column inside the mutant. Deterministic (a fixed-seed xorshift generator); each target
 //! runs at least a floor of mutants and then goes on until its time budget is spent. See
-//! `docs/fuzzing.md` for the coverage-guided fuzz targets that go further.
+//! `docs/fuzzing.md` for the coverage-guided fuzz targets that go further. Also: every
+//! truncation of a shipped scene is an error, and pathological nesting and garbage never
+//! load (`damaged_input_never_panics`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -347,4 +349,111 @@ fn gltf_mutants_never_panic_and_errors_name_the_file() {
     assert!(tally.mutants >= 300, "{tally:?}");
     assert!(tally.rejected >= tally.mutants / 4, "{tally:?}");
     assert!(tally.loaded >= tally.mutants / 100, "{tally:?}");
+}
+
+/// Tiny generator for the mutations below (the test must not depend on an outside crate).
+struct Lcg(u64);
+
+impl Lcg {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 33) as usize) % n.max(1)
+    }
+}
+
+/// Loads `text` and, when it loads, walks its instances: neither may panic.
+fn exercise(text: &str) -> bool {
+    match SceneDesc::from_str(text, "fuzz.ron") {
+        Ok(scene) => {
+            for instance in scene.instances().take(1000) {
+                std::hint::black_box(instance.matrix());
+            }
+            true
+        }
+        Err(e) => {
+            assert!(e.to_string().starts_with("fuzz.ron:"), "{e}");
+            false
+        }
+    }
+}
+
+#[test]
+fn damaged_input_never_panics() {
+    let dir = assets().join("scenes");
+    let texts: Vec<String> = ["default.ron", "thin.ron", "pillars.ron"]
+        .iter()
+        .map(|f| std::fs::read_to_string(dir.join(f)).unwrap())
+        .collect();
+    let pieces = [
+        "(",
+        ")",
+        "[",
+        "]",
+        "{",
+        "}",
+        ",",
+        ":",
+        "\"",
+        "'",
+        "/*",
+        "*/",
+        "//",
+        "-",
+        "NaN",
+        "inf",
+        "1e999",
+        "-1",
+        "0",
+        "4294967296",
+        "r#\"",
+        "#![enable(",
+        "Some(",
+        "None",
+        "\n",
+        "é",
+        "\u{0}",
+        "\\",
+        "Scene",
+        "0x",
+        "1_",
+        "b'",
+        "true",
+    ];
+    let mut rng = Lcg(0x5eed);
+    for text in &texts {
+        let last_paren = text.rfind(')').unwrap();
+        // Every truncation before the final `)` is an error.
+        for (cut, _) in text.char_indices().filter(|(i, _)| *i <= last_paren) {
+            assert!(!exercise(&text[..cut]), "truncated at byte {cut} and still loaded");
+        }
+        // Random insertions, deletions and replacements.
+        let bounds: Vec<usize> = text.char_indices().map(|(i, _)| i).chain([text.len()]).collect();
+        for _ in 0..1500 {
+            let a = bounds[rng.below(bounds.len())];
+            let b = bounds[(bounds.iter().position(|&x| x == a).unwrap() + rng.below(4)).min(bounds.len() - 1)];
+            let piece = if rng.below(3) == 0 {
+                ""
+            } else {
+                pieces[rng.below(pieces.len())]
+            };
+            exercise(&format!("{}{piece}{}", &text[..a], &text[b..]));
+        }
+    }
+    // Pathological nesting and garbage.
+    for garbage in [
+        "(".repeat(100_000),
+        "[".repeat(100_000),
+        "Scene(".repeat(10_000),
+        "/*".repeat(1000),
+        "\"".to_owned(),
+        String::new(),
+        "\u{feff}".to_owned(),
+        "r####\"".to_owned(),
+        "Scene(camera: (position: (0, 0, 0), target: (0, 0, -1), fov: 60, near: 0.1, far: 1e39))".to_owned(),
+    ] {
+        assert!(!exercise(&garbage));
+    }
 }

@@ -1,5 +1,5 @@
 //! Property tests of the shadow math: splits, cascade fitting and snapping, robustness to
-//! degenerate input, caster culling and Poisson-disk sets.
+//! degenerate input and caster culling (Poisson-disk sets: `tests/poisson_props.rs`).
 
 use glam::{DVec3, Mat4, Quat, Vec3, Vec4};
 use penumbra::math::aabb::Aabb;
@@ -7,7 +7,6 @@ use penumbra::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use penumbra::math::chunks::{SphereChunks, cull_casters_chunked, cull_spheres_frustum_chunked};
 use penumbra::math::culling::{cull_casters, cull_spheres_frustum};
 use penumbra::math::frustum::{CameraView, Frustum, slice_corners};
-use penumbra::math::poisson::{min_pairwise_distance, poisson_disk, poisson_disk_with_distance};
 use penumbra::math::splits::pssm_splits;
 use penumbra::settings::{CascadeFit, MAX_CASCADES};
 use proptest::prelude::{BoxedStrategy, Just, ProptestConfig, Strategy, any, prop};
@@ -500,27 +499,5 @@ proptest! {
         let mut out = Vec::new();
         cull_spheres_frustum(&frustum, &[outside, inside], &[cam.near, radius], &mut out);
         prop_assert_eq!(out, vec![1]);
-    }
-
-    #[test]
-    fn poisson_sets_are_spread_in_the_disc_and_deterministic(n in 1usize..80, seed in any::<u64>()) {
-        let (points, d) = poisson_disk_with_distance(n, seed);
-        prop_assert_eq!(points.len(), n);
-        prop_assert!(points.iter().all(|p| p.length() <= 1.0));
-        prop_assert!(min_pairwise_distance(&points) >= d);
-        if n >= 2 {
-            prop_assert_eq!(d, 0.7 / (n as f32).sqrt());
-        }
-        prop_assert_eq!(poisson_disk(n, seed), points);
-    }
-}
-
-#[test]
-fn standard_sets_keep_their_nominal_distance() {
-    for (name, n, seed) in penumbra::math::poisson::STANDARD_SETS {
-        let points = poisson_disk(n, seed);
-        let d = min_pairwise_distance(&points);
-        assert!(d >= 0.7 / (n as f32).sqrt(), "{name}: {d}");
-        assert!(points.iter().all(|p| p.length() <= 1.0), "{name}");
     }
 }
