@@ -11,8 +11,8 @@ use bevy_app::App;
 use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
-use penumbra::ecs::culling::cull_shadow_casters;
-use penumbra::ecs::shadow_views::{ShadowLightBudget, update_spot_shadow_views};
+use penumbra::ecs::frame_lights::update_frame_lights;
+use penumbra::ecs::shadow_views::{ShadowLightBudget, update_shadow_views};
 use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
     Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, SpotLight, Transform,
@@ -101,8 +101,9 @@ fn cascades_and_culling(c: &mut Criterion) {
     });
 }
 
-/// An app with `ShadowPlugin` and `n` static casters, already run for a few frames.
-fn plugin_app(n: usize) -> App {
+/// An app with `ShadowPlugin`, `n` static casters and (when `sun`) a shadowed sun, already
+/// run for a few frames.
+fn plugin_app(n: usize, sun: bool) -> App {
     let input = frame_input();
     let (centers, radii) = casters(n, 0x5EED + n as u64);
     let mut app = App::new();
@@ -125,14 +126,16 @@ fn plugin_app(n: usize) -> App {
             scale: Vec3::ONE,
         },
     ));
-    world.spawn((
-        DirectionalLight::default(),
-        Transform::default().looking_at(input.light_direction, Vec3::Y),
-        ShadowSettings {
-            max_distance: input.max_distance,
-            ..Default::default()
-        },
-    ));
+    if sun {
+        world.spawn((
+            DirectionalLight::default(),
+            Transform::default().looking_at(input.light_direction, Vec3::Y),
+            ShadowSettings {
+                max_distance: input.max_distance,
+                ..Default::default()
+            },
+        ));
+    }
     for (center, radius) in centers.iter().zip(&radii) {
         // A unit cube scaled by r has a bounding sphere of radius r·√3/2.
         let transform = Transform {
@@ -148,15 +151,16 @@ fn plugin_app(n: usize) -> App {
     app
 }
 
-/// The per-frame work the speed target is about, as ECS systems: compute the cascades, then
-/// cull every caster per cascade into draw groups (no camera culling, no rendering).
+/// The per-frame work the speed target is about, as ECS systems: find the camera, collect the
+/// lights and compute the cascades, then cull every caster per cascade into draw groups (no
+/// camera culling, no rendering).
 fn cascade_and_culling_systems(c: &mut Criterion) {
     let mut group = c.benchmark_group("cascade_and_culling_systems");
     group.sample_size(40);
     for n in [1_000usize, 10_000, 100_000] {
-        let mut app = plugin_app(n);
+        let mut app = plugin_app(n, true);
         let mut schedule = Schedule::default();
-        schedule.add_systems((update_active_view, cull_shadow_casters).chain());
+        schedule.add_systems((update_active_view, update_frame_lights, update_shadow_views).chain());
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
             b.iter(|| schedule.run(app.world_mut()))
@@ -170,7 +174,7 @@ fn shadow_plugin_frame(c: &mut Criterion) {
     let mut group = c.benchmark_group("shadow_plugin_frame");
     group.sample_size(30);
     for n in [1_000usize, 10_000, 100_000] {
-        let mut app = plugin_app(n);
+        let mut app = plugin_app(n, true);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| app.update()));
     }
@@ -218,14 +222,15 @@ fn spot_views_and_culling(c: &mut Criterion) {
     group.finish();
 }
 
-/// The spot-light systems as the engine runs them: rank the lights under the budget, build
-/// each view and cull the 10k casters into its draw group, for 1, 16 and 64 shadowed spot
-/// lights of 30 m range placed over the casters (the budget raised to fit them).
+/// The light systems as the engine runs them, in a scene with spot lights only: collect and
+/// rank the lights under the budget, build each view and cull the 10k casters into its draw
+/// group, for 1, 16 and 64 shadowed spot lights of 30 m range placed over the casters (the
+/// budget raised to fit them).
 fn spot_shadow_view_system(c: &mut Criterion) {
     let mut group = c.benchmark_group("spot_shadow_view_system_10k");
     group.sample_size(20);
     for lights in [1usize, 16, 64] {
-        let mut app = plugin_app(10_000);
+        let mut app = plugin_app(10_000, false);
         let world = app.world_mut();
         world.resource_mut::<ShadowLightBudget>().lights.spot = lights;
         let mut s = 7u64;
@@ -247,7 +252,7 @@ fn spot_shadow_view_system(c: &mut Criterion) {
         }
         app.update();
         let mut schedule = Schedule::default();
-        schedule.add_systems(update_spot_shadow_views);
+        schedule.add_systems((update_frame_lights, update_shadow_views).chain());
         group.throughput(Throughput::Elements(lights as u64));
         group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
             b.iter(|| schedule.run(app.world_mut()))

@@ -34,8 +34,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let stats = app.world().resource::<ShadowStats>();
     println!(
-        "{path}: {instances} instances, casters per cascade {:?}",
-        stats.casters_per_cascade
+        "{path}: {instances} instances, casters per shadow view {:?}",
+        stats.casters_per_view
     );
     println!(
         "median over {frames} frames: cascades {:.3} ms, caster culling {:.3} ms, camera culling {:.3} ms",

@@ -4,11 +4,11 @@
 //! cargo run --release --example custom_material -- [scene.ron] [out.png]
 //! ```
 //!
-//! The shader, `examples/custom_material.wgsl`, `#import`s `penumbra::shadow` and calls its
-//! entry point `blend_cascade_shadow` for the sun's visibility: cel shading in three bands,
-//! with ink hatching where the sun is blocked. `Renderer::set_forward_shader` composes and
-//! validates it (errors name the file and line) and puts it in place of the shipped forward
-//! shader; every filter mode of `ShadowSettings` keeps working, because the filtering lives
+//! The shader, `examples/custom_material.wgsl`, `#import`s `penumbra::lights` and loops over
+//! the frame's lights, asking each for `shadow_visibility(light, surface)`: cel shading in
+//! three bands, with ink hatching where a light is blocked. `Renderer::set_forward_shader`
+//! composes and validates it (errors name the file and line) and puts it in place of the
+//! shipped forward shader; every light kind and filter mode keeps working, because they live
 //! behind the entry point. The image is written headless, with the frame's GPU timings.
 
 use std::path::PathBuf;

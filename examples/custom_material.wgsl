@@ -1,13 +1,14 @@
 // A material of your own that receives penumbra's shadows: cel shading with ink hatching in
-// the shadow. It keeps the forward shader's interface (vs_main / fs_main, bind groups 0–2,
-// the ALPHA_MASK def), takes its vertex stage from penumbra::forward_io, and calls the one
-// public entry point, `blend_cascade_shadow`, which picks the cascade, blends and fades, and
-// filters with whatever the light's ShadowSettings ask for (PCF or PCSS): the material does
-// not need to know.
+// the shadow. It keeps the forward shader's interface (vs_main / fs_main, bind groups 0–3,
+// the ALPHA_MASK def), takes its vertex stage from penumbra::forward_io, and loops over the
+// frame's lights with penumbra::lights: `shadow_visibility(light, surface)` picks the
+// cascade or spot view, blends and fades, and filters with whatever the light's
+// ShadowSettings ask for (PCF or PCSS). The material does not know which lights, layouts or
+// filters exist, so it keeps compiling and shadowing as new ones are added.
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
-#import penumbra::shadow::blend_cascade_shadow
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -37,19 +38,29 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     if !front_facing {
         normal = -normal;
     }
-    let n_dot_l = max(dot(normal, -frame.sun_direction), 0.0);
-    var visibility = 1.0;
-    if (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u && n_dot_l > 0.0 {
-        let view_depth = -(frame.view_from_world * vec4<f32>(in.world_position, 1.0)).z;
-        visibility = blend_cascade_shadow(in.world_position, normal, view_depth, in.clip_position.xy);
+    let view_depth = -(frame.view_from_world * vec4<f32>(in.world_position, 1.0)).z;
+    let surface = make_surface(in.world_position, normal, view_depth, in.clip_position.xy);
+    let receives = (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u;
+    var lit = frame.ambient;
+    // Ink where a light that faces the surface is mostly blocked.
+    var inked = false;
+    for (var i = 0u; i < light_count(); i++) {
+        let light = get_light(i);
+        let incidence = light_incidence(light, in.world_position);
+        let n_dot_l = max(dot(normal, incidence.to_light), 0.0);
+        var visibility = 1.0;
+        if receives && n_dot_l > 0.0 {
+            visibility = shadow_visibility(light, surface);
+        }
+        // Three flat bands of light instead of a smooth ramp.
+        let amount = n_dot_l * visibility;
+        let band = select(select(0.0, 0.55, amount > 0.05), 1.0, amount > 0.6);
+        lit += incidence.radiance * band;
+        inked = inked || (n_dot_l > 0.0 && visibility < 0.5 && any(incidence.radiance > vec3<f32>(0.05)));
     }
-    // Three flat bands of sunlight instead of a smooth ramp.
-    let light = n_dot_l * visibility;
-    let band = select(select(0.0, 0.55, light > 0.05), 1.0, light > 0.6);
-    var color = base.rgb * (frame.ambient + frame.sun_color * frame.sun_illuminance * band);
-    // Diagonal ink lines where the sun is mostly blocked (not on faces turned away from it).
+    var color = base.rgb * lit;
     let pixel = vec2<i32>(in.clip_position.xy);
-    if n_dot_l > 0.0 && visibility < 0.5 && (pixel.x + pixel.y) % 6 < 2 {
+    if inked && (pixel.x + pixel.y) % 6 < 2 {
         color = INK;
     }
     return vec4<f32>(saturate(color), 1.0);

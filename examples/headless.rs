@@ -87,8 +87,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     renderer.read_image().save("out/example_headless.png")?;
     let stats = world.resource::<ShadowStats>();
     println!(
-        "wrote out/example_headless.png; casters per cascade {:?}",
-        stats.casters_per_cascade
+        "wrote out/example_headless.png; casters per shadow view {:?}",
+        stats.casters_per_view
     );
     for pass in &renderer.last_report.passes {
         println!("{:<17} {:.3} ms", pass.name, pass.ms);

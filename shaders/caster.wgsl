@@ -1,14 +1,15 @@
-// Shadow casters: transforms instances into one cascade's light clip space. The opaque
-// pipeline uses only `vs_main` (no fragment stage, so depth testing runs early); the masked
-// pipeline adds `fs_masked`, which discards texels below the material's alpha cutoff.
+// Shadow casters: transforms instances into one shadow view's light clip space (a cascade or
+// a spot light). The opaque pipeline uses only `vs_main` (no fragment stage, so depth testing
+// runs early); the masked pipeline adds `fs_masked`, which discards texels below the
+// material's alpha cutoff.
 #import penumbra::mesh::{fetch_instance, Instance}
 
-struct CascadeView {
+struct CasterView {
     clip_from_world: mat4x4<f32>,
 }
 
-// Bound with a dynamic offset: one entry per cascade.
-@group(0) @binding(0) var<uniform> cascade_view: CascadeView;
+// Bound with a dynamic offset: one entry per shadow view.
+@group(0) @binding(0) var<uniform> caster_view: CasterView;
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
 
@@ -28,7 +29,7 @@ fn vs_main(
     let instance = fetch_instance(instance_index);
     let world = instance.world_from_local * vec4<f32>(position, 1.0);
     var out: VertexOutput;
-    out.clip_position = cascade_view.clip_from_world * world;
+    out.clip_position = caster_view.clip_from_world * world;
     out.uv = uv;
     out.alpha = instance.base_color.a;
     out.cutoff = instance.alpha_cutoff;

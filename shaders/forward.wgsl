@@ -1,12 +1,15 @@
-// Forward shading of receivers: Lambert diffuse from the sun times the cascaded shadow
-// factor, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
-// SHADOW_DEBUG_CASCADES (tint by cascade), ANALYSIS_OUTPUTS (also write the shadow factor,
-// world position and normal of every pixel, for scoring against a reference), and the filter
-// defs of penumbra::shadow.
+// Forward shading of receivers: Lambert diffuse from every light of the frame times its
+// shadow, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
+// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade), ANALYSIS_OUTPUTS (also write the
+// focus light's shadow factor, world position and normal of every pixel, for scoring against
+// a reference), and the filter defs of penumbra::shadows.
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
-#import penumbra::shadow::{blend_cascade_shadow, cascade_debug_color, shadow_cascade_index}
+#import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
+#import penumbra::shadows::spot::spot_covers
+#import penumbra::shadows::types::{LIGHT_DIRECTIONAL, LIGHT_SPOT}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -30,8 +33,9 @@ fn tonemap(color: vec3<f32>) -> vec3<f32> {
 struct FragmentOutput {
     @location(0) color: vec4<f32>,
 #ifdef ANALYSIS_OUTPUTS
-    // r: shadow factor multiplied into the sun term, g: cascade index (-1 past max_distance),
-    // b: 1 where the shadow was evaluated (receiver facing the sun), a: n·l.
+    // Of the focus light: r = shadow factor multiplied into its term, g = cascade index (-1
+    // past max_distance or outside a spot light's view; 0 inside it), b = 1 where the shadow
+    // was evaluated (receiver facing the light), a = n·l.
     @location(1) shadow: vec4<f32>,
     // xyz: world position, w: 1 (0 where nothing was drawn).
     @location(2) position: vec4<f32>,
@@ -53,25 +57,42 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     if !front_facing {
         normal = -normal;
     }
-    let to_sun = -frame.sun_direction;
-    let n_dot_l = max(dot(normal, to_sun), 0.0);
     let view_depth = -(frame.view_from_world * vec4<f32>(in.world_position, 1.0)).z;
+    let surface = make_surface(in.world_position, normal, view_depth, in.clip_position.xy);
+    let receives = (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u;
 
-    var visibility = 1.0;
-    let evaluated = (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u && n_dot_l > 0.0;
-    if evaluated {
-        visibility = blend_cascade_shadow(in.world_position, normal, view_depth, in.clip_position.xy);
+    var direct = vec3<f32>(0.0);
+    var focus = vec4<f32>(1.0, -1.0, 0.0, 0.0);
+    for (var i = 0u; i < light_count(); i++) {
+        let light = get_light(i);
+        let incidence = light_incidence(light, in.world_position);
+        let n_dot_l = max(dot(normal, incidence.to_light), 0.0);
+        var visibility = 1.0;
+        if receives && n_dot_l > 0.0 {
+            visibility = shadow_visibility(light, surface);
+        }
+        direct += incidence.radiance * n_dot_l * visibility;
+        if i == frame.focus_light {
+            focus = vec4<f32>(visibility, -1.0, select(0.0, 1.0, receives && n_dot_l > 0.0), n_dot_l);
+        }
     }
-    let sun = frame.sun_color * frame.sun_illuminance * n_dot_l * visibility;
-    var color = base.rgb * (frame.ambient + sun) * frame.exposure;
+    var color = base.rgb * (frame.ambient + direct) * frame.exposure;
+    var focus_cascade = -1;
+    if frame.focus_light < light_count() {
+        let light = get_light(frame.focus_light);
+        if light.kind == LIGHT_DIRECTIONAL {
+            focus_cascade = cascade_index(light, view_depth);
 #ifdef SHADOW_DEBUG_CASCADES
-    color = mix(color, color * cascade_debug_color(view_depth) * 1.6, 0.6);
+            color = mix(color, color * cascade_debug_color(light, view_depth) * 1.6, 0.6);
 #endif
+        } else if light.kind == LIGHT_SPOT && spot_covers(light, surface) {
+            focus_cascade = 0;
+        }
+    }
     var out: FragmentOutput;
     out.color = vec4<f32>(tonemap(color), 1.0);
 #ifdef ANALYSIS_OUTPUTS
-    let cascade = f32(shadow_cascade_index(view_depth));
-    out.shadow = vec4<f32>(visibility, cascade, select(0.0, 1.0, evaluated), n_dot_l);
+    out.shadow = vec4<f32>(focus.x, f32(focus_cascade), focus.z, focus.w);
     out.position = vec4<f32>(in.world_position, 1.0);
     out.normal = vec4<f32>(normal, view_depth);
 #endif

@@ -1,4 +1,5 @@
-// Per-frame view data shared by every forward material: camera, sun and ambient light.
+// Per-frame view data shared by every forward material: camera, ambient light, and the
+// number of lights (the lights themselves are in penumbra::lights).
 #define_import_path penumbra::frame
 
 struct FrameUniforms {
@@ -6,12 +7,15 @@ struct FrameUniforms {
     view_from_world: mat4x4<f32>,
     camera_position: vec3<f32>,
     exposure: f32,
-    // Direction the sun's light travels, unit length.
-    sun_direction: vec3<f32>,
-    sun_illuminance: f32,
-    sun_color: vec3<f32>,
-    frame_index: u32,
     ambient: vec3<f32>,
+    frame_index: u32,
+    // Lights in penumbra::lights.
+    light_count: u32,
+    // The light analysis outputs and debug views report (an index below light_count, or
+    // light_count when there is none).
+    focus_light: u32,
+    padding_a: u32,
+    padding_b: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

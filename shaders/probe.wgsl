@@ -1,7 +1,8 @@
-// Evaluates the directional shadow at fixed world points, exactly as a material would, so the
-// same points can be compared across frames while the camera moves (temporal stability).
+// Evaluates one light's shadow at fixed world points, exactly as a material would, so the
+// same points can be compared across frames while the camera moves (temporal stability). The
+// light is the frame's focus light.
 #import penumbra::frame::frame
-#import penumbra::shadow::blend_cascade_shadow
+#import penumbra::lights::{get_light, light_count, make_surface, shadow_visibility}
 
 struct Probe {
     // xyz: world position, w: pixel x the point was seen at (seeds the per-pixel noise).
@@ -19,8 +20,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= arrayLength(&results) {
         return;
     }
+    if frame.focus_light >= light_count() {
+        results[i] = 1.0;
+        return;
+    }
     let p = probes[i];
     let view_depth = -(frame.view_from_world * vec4<f32>(p.position.xyz, 1.0)).z;
     let pixel = vec2<f32>(p.position.w, p.normal.w) + 0.5;
-    results[i] = blend_cascade_shadow(p.position.xyz, p.normal.xyz, view_depth, pixel);
+    let surface = make_surface(p.position.xyz, p.normal.xyz, view_depth, pixel);
+    results[i] = shadow_visibility(get_light(frame.focus_light), surface);
 }

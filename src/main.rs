@@ -157,7 +157,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Median time of each pass over the frames after the first (which builds pipelines).
-fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(&'static str, f64)> {
+fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(String, f64)> {
     let steady = if frames.len() > 1 { &frames[1..] } else { frames };
     let Some(last) = steady.last() else { return Vec::new() };
     last.iter()
@@ -167,7 +167,7 @@ fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(&'static str, f64)> {
                 .filter_map(|f| f.iter().find(|q| q.name == p.name))
                 .map(|q| q.ms)
                 .collect();
-            (p.name, median(samples))
+            (p.name.clone(), median(samples))
         })
         .collect()
 }
@@ -245,22 +245,16 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         result.instances, result.stats.visible_instances
     );
     println!(
-        "shadows    {:?}, {} cascades, {}² texels, {:.1} MiB",
+        "shadows    {:?}, {} shadow views, {}² texels per cascade, {:.1} MiB",
         s.mode,
-        result
-            .stats
-            .casters_per_cascade
-            .iter()
-            .filter(|&&c| c > 0)
-            .count()
-            .max(s.cascade_count as usize),
+        result.stats.casters_per_view.len(),
         s.resolution,
         result.report.shadow_memory as f64 / (1024.0 * 1024.0)
     );
-    let casters: Vec<String> = result.stats.casters_per_cascade.iter().map(|c| c.to_string()).collect();
-    let draws: Vec<String> = result.stats.draws_per_cascade.iter().map(|c| c.to_string()).collect();
+    let casters: Vec<String> = result.stats.casters_per_view.iter().map(|c| c.to_string()).collect();
+    let draws: Vec<String> = result.stats.draws_per_view.iter().map(|c| c.to_string()).collect();
     println!(
-        "casters    per cascade [{}], draws per cascade [{}]",
+        "casters    per view [{}], draws per view [{}]",
         casters.join(", "),
         draws.join(", ")
     );

@@ -5,8 +5,9 @@ use bevy_app::App;
 use bevy_ecs::query::{With, Without};
 use glam::{Quat, Vec3, Vec4};
 use penumbra::ecs::{
-    ActiveView, Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, NotShadowCaster,
-    RenderInstances, ShadowDiagnostics, ShadowDrawGroups, ShadowPlugin, ShadowStats, Transform, ViewDrawGroups,
+    Camera3d, DirectionalLight, FrameLights, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, NotShadowCaster,
+    RenderInstances, ShadowDiagnostics, ShadowPlugin, ShadowStats, ShadowViewKind, ShadowViews, Transform,
+    ViewDrawGroups,
 };
 use penumbra::mesh::{cuboid, plane};
 use penumbra::settings::ShadowSettings;
@@ -59,23 +60,26 @@ fn casters_are_culled_into_every_cascade_they_touch() {
     );
     app.update();
     let world = app.world();
-    let groups = world.resource::<ShadowDrawGroups>();
+    let groups = world.resource::<ShadowViews>();
     let stats = world.resource::<ShadowStats>();
-    assert_eq!(groups.count, 4);
+    assert_eq!(groups.views.len(), 4);
+    assert_eq!(groups.groups.len(), 4);
+    assert_eq!(stats.casters_per_view.len(), 4);
     // The ground does not cast; each box is in at least one cascade up to max_distance.
     let instances = world.resource::<RenderInstances>();
     assert_eq!(instances.casters.len(), 100);
     for c in 0..4 {
         assert!(
-            stats.casters_per_cascade[c] > 0,
+            stats.casters_per_view[c] > 0,
             "cascade {c} is empty: {:?}",
-            stats.casters_per_cascade
+            stats.casters_per_view
         );
+        assert_eq!(groups.views[c].kind, ShadowViewKind::Cascade(c as u32));
         // All boxes share a mesh and material: one instanced draw per cascade.
-        assert_eq!(groups.cascades[c].opaque.len(), 1);
-        assert!(groups.cascades[c].masked.is_empty());
+        assert_eq!(groups.groups[c].opaque.len(), 1);
+        assert!(groups.groups[c].masked.is_empty());
     }
-    let total: u32 = stats.casters_per_cascade.iter().sum();
+    let total: u32 = stats.casters_per_view.iter().sum();
     assert!(total >= 75, "boxes within max_distance cast into some cascade: {total}");
     // The view sees the ground and the boxes in front of the camera.
     let view = world.resource::<ViewDrawGroups>();
@@ -93,8 +97,7 @@ fn invalid_settings_are_clamped_with_a_warning() {
     let mut app = app_with_boxes(10, bad);
     app.update();
     let world = app.world();
-    let view = world.resource::<ActiveView>();
-    let sun = view.sun.expect("the light is still used");
+    let sun = world.resource::<FrameLights>().sun().expect("the light is still used");
     assert_eq!(sun.settings.cascade_count, 4);
     assert_eq!(sun.settings.resolution, 512);
     assert!(sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
@@ -140,7 +143,7 @@ fn non_finite_and_zero_scale_transforms_are_skipped() {
     assert_eq!(instances.skipped, 3);
     assert_eq!(instances.casters.len(), 3);
     assert!(instances.caster_bounds.is_finite());
-    let sun = world.resource::<ActiveView>().sun.unwrap();
+    let sun = *world.resource::<FrameLights>().sun().unwrap();
     assert!(sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
 }
 
@@ -154,7 +157,7 @@ fn a_light_pointing_straight_down_or_up_gives_finite_cascades() {
             *t = Transform::default().looking_at(dir, Vec3::Y);
         }
         app.update();
-        let sun = app.world().resource::<ActiveView>().sun.unwrap();
+        let sun = *app.world().resource::<FrameLights>().sun().unwrap();
         assert!((sun.direction - dir).length() < 1e-5);
         assert!(
             sun.cascades
@@ -169,7 +172,7 @@ fn a_light_pointing_straight_down_or_up_gives_finite_cascades() {
 fn changing_cascade_count_between_frames_updates_the_groups() {
     let mut app = app_with_boxes(50, ShadowSettings::default());
     app.update();
-    assert_eq!(app.world().resource::<ShadowDrawGroups>().count, 4);
+    assert_eq!(app.world().resource::<ShadowViews>().views.len(), 4);
     let world = app.world_mut();
     let mut q = world.query::<&mut ShadowSettings>();
     for mut s in q.iter_mut(world) {
@@ -177,8 +180,9 @@ fn changing_cascade_count_between_frames_updates_the_groups() {
     }
     app.update();
     let world = app.world();
-    assert_eq!(world.resource::<ShadowDrawGroups>().count, 2);
-    assert_eq!(world.resource::<ShadowStats>().casters_per_cascade[2..], [0, 0]);
+    assert_eq!(world.resource::<ShadowViews>().views.len(), 2);
+    assert_eq!(world.resource::<ShadowViews>().groups.len(), 2);
+    assert_eq!(world.resource::<ShadowStats>().casters_per_view.len(), 2);
 }
 
 #[test]

@@ -7,9 +7,9 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use penumbra::app::{headless_app, spawn_scene};
+use penumbra::ecs::ShadowViews;
 use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
-use penumbra::ecs::draw_groups::ShadowDrawGroups;
 use penumbra::render::Renderer;
 use penumbra::scene::{SceneDesc, load_settings};
 use penumbra::settings::{ShadowMode, ShadowSettings};
@@ -108,7 +108,7 @@ fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
     h.run();
     assert_eq!(settings(&mut h).cascade_count, 2);
     h.state_mut().app.update();
-    assert_eq!(h.state().app.world().resource::<ShadowDrawGroups>().count, 2);
+    assert_eq!(h.state().app.world().resource::<ShadowViews>().views.len(), 2);
     assert_eq!(
         renderer(&h).counters(),
         before,
@@ -155,9 +155,11 @@ fn statistics_errors_and_save_are_shown() {
     s.errors.push("scene.ron:3:7: expected a number".to_owned());
     let mut h = harness(s);
     h.run();
-    // One row per cascade with its depth range and texel density.
+    // One row per shadow view with its range and texel density.
     assert!(h.query_by_label("texels/m").is_some());
-    assert!(h.query_by_label("depth range m").is_some());
+    assert!(h.query_by_label("range m").is_some());
+    assert!(h.query_by_label("cascade 0").is_some());
+    assert!(h.query_by_label("cascade 3").is_some());
     assert!(h.query_by_label("scene.ron:3:7: expected a number").is_some());
 
     h.get_by_label("debug: cascade colours").click();

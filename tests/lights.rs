@@ -59,18 +59,20 @@ fn scene_lights_spawn_with_their_fields_and_placement() {
     let (point, at) = world.query::<(&PointLight, &GlobalTransform)>().single(world).unwrap();
     assert_eq!(point.range, 5.0);
     assert!(at.translation().abs_diff_eq(Vec3::new(2.0, 1.0, 0.0), 1e-6));
-    // Nothing is dropped silently: the lights not drawn yet are reported.
+    // Every light is drawn: both suns with their own cascades, the spot light with its view.
+    let lights = world.resource::<penumbra::ecs::FrameLights>();
+    assert_eq!(lights.len(), 4);
+    let counts: Vec<usize> = lights.suns.iter().map(|s| s.cascades.count).collect();
+    assert_eq!(counts, [4, 2]);
+    assert!(lights.spots[0].shadow.is_some());
+    let views = world.resource::<penumbra::ecs::ShadowViews>();
+    assert_eq!(views.views.len(), 7);
+    // The point light's shadow is not rendered yet, and that is said, not hidden.
     let warnings = &world.resource::<ShadowDiagnostics>().current;
     assert!(
         warnings
             .iter()
-            .any(|w| w.starts_with("1 directional light(s) after the first are not drawn yet")),
-        "{warnings:?}"
-    );
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.starts_with("1 spot light(s) and 1 point light(s) are not drawn yet")),
+            .any(|w| w.starts_with("1 point light(s) ask for shadows: point-light shadows are not rendered yet")),
         "{warnings:?}"
     );
 }
@@ -186,21 +188,34 @@ const SPOT_SCENE: &str = r#"Scene(
 #[test]
 fn each_shadowed_spot_light_gets_a_view_with_the_casters_in_its_cone() {
     let app = app_with(SPOT_SCENE);
-    let views = app.world().resource::<penumbra::ecs::LightShadowViews>();
+    let world = app.world();
+    let views = world.resource::<penumbra::ecs::ShadowViews>();
+    let lights = world.resource::<penumbra::ecs::FrameLights>();
     assert_eq!(views.views.len(), 3);
     assert_eq!(views.groups.len(), 3);
-    // Ranked by screen coverage: the big light over the box first, the far small one last.
-    assert!((views.views[0].view.far - 10.0).abs() < 1e-6);
-    assert!((views.views[2].view.far - 3.0).abs() < 1e-6);
+    assert!(
+        views
+            .views
+            .iter()
+            .all(|v| v.kind == penumbra::ecs::ShadowViewKind::Spot)
+    );
+    // Each view belongs to one spot light (the scene has no sun, so light i is spot i).
+    let spot_of = |i: usize| lights.spots[views.views[i].light as usize].shadow.unwrap().view;
+    let by_range = |far: f32| {
+        (0..3)
+            .find(|&i| (spot_of(i).far - far).abs() < 1e-6)
+            .unwrap_or_else(|| panic!("no view with range {far}"))
+    };
+    let (big, far) = (by_range(10.0), by_range(3.0));
     assert_eq!(
-        views.groups[0].instance_count(),
+        views.groups[big].instance_count(),
         1,
         "the box under the light, not the far one"
     );
-    assert_eq!(views.groups[2].instance_count(), 0, "nothing under the far light");
+    assert_eq!(views.groups[far].instance_count(), 0, "nothing under the far light");
     let box_centre = Vec3::new(0.0, 0.5, 0.0);
-    assert!(views.views[0].view.frustum.contains_point(box_centre));
-    assert!(!views.views[0].view.frustum.contains_point(Vec3::new(50.0, 0.5, 0.0)));
+    assert!(spot_of(big).frustum.contains_point(box_centre));
+    assert!(!spot_of(big).frustum.contains_point(Vec3::new(50.0, 0.5, 0.0)));
 }
 
 #[test]
@@ -215,10 +230,14 @@ fn spot_lights_over_the_budget_are_named_and_the_smallest_lose_their_shadows() {
     spawn_scene(app.world_mut(), &desc).unwrap();
     app.update();
     let world = app.world();
-    let views = world.resource::<penumbra::ecs::LightShadowViews>();
+    let views = world.resource::<penumbra::ecs::ShadowViews>();
+    let lights = world.resource::<penumbra::ecs::FrameLights>();
     assert_eq!(views.views.len(), 2);
     assert!(
-        views.views.iter().all(|v| v.view.far > 3.0),
+        views
+            .views
+            .iter()
+            .all(|v| lights.spots[v.light as usize].shadow.unwrap().view.far > 3.0),
         "the far, small light is dropped"
     );
     let warnings = &world.resource::<ShadowDiagnostics>().current;
@@ -234,5 +253,5 @@ fn spot_lights_over_the_budget_are_named_and_the_smallest_lose_their_shadows() {
 fn spot_lights_without_shadows_make_no_view() {
     let text = SPOT_SCENE.replace("range: 10)", "range: 10, shadows_enabled: false)");
     let app = app_with(&text);
-    assert_eq!(app.world().resource::<penumbra::ecs::LightShadowViews>().views.len(), 2);
+    assert_eq!(app.world().resource::<penumbra::ecs::ShadowViews>().views.len(), 2);
 }

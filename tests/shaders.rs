@@ -29,21 +29,26 @@ fn caster_shader_validates_with_both_entry_points() {
 }
 
 #[test]
-fn a_user_material_can_import_the_shadow_module() {
+fn a_user_material_can_import_the_light_contract() {
     let mut library = ShaderLibrary::new().unwrap();
     let material = r#"
-#import penumbra::shadow::blend_cascade_shadow
+#import penumbra::lights::{get_light, light_count, make_surface, shadow_visibility}
 
 @fragment
 fn fs_main(@builtin(position) p: vec4<f32>, @location(0) world: vec3<f32>, @location(1) n: vec3<f32>) -> @location(0) vec4<f32> {
-    let visibility = blend_cascade_shadow(world, normalize(n), p.w, p.xy);
+    let surface = make_surface(world, normalize(n), p.w, p.xy);
+    var visibility = 1.0;
+    for (var i = 0u; i < light_count(); i++) {
+        visibility = min(visibility, shadow_visibility(get_light(i), surface));
+    }
     return vec4<f32>(vec3<f32>(visibility), 1.0);
 }
 "#;
-    let defs = ForwardVariant::all()[0].shader_defs();
-    library
-        .compose("my_material.wgsl", material, defs)
-        .unwrap_or_else(|e| panic!("{e}"));
+    for variant in ForwardVariant::all() {
+        library
+            .compose("my_material.wgsl", material, variant.shader_defs())
+            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
+    }
 }
 
 #[test]

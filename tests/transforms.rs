@@ -8,8 +8,8 @@ use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::world::World;
 use glam::{Quat, Vec3};
 use penumbra::ecs::{
-    ActiveView, Camera3d, DirectionalLight, GlobalTransform, Material, MaterialHandle, Materials, Mesh3d, MeshHandle,
-    MeshMaterial3d, Meshes, NotShadowCaster, RenderInstances, ShadowPlugin, Transform,
+    ActiveView, Camera3d, DirectionalLight, FrameLights, GlobalTransform, Material, MaterialHandle, Materials, Mesh3d,
+    MeshHandle, MeshMaterial3d, Meshes, NotShadowCaster, RenderInstances, ShadowPlugin, Transform,
 };
 use penumbra::mesh::cuboid;
 
@@ -48,7 +48,7 @@ fn a_light_spawned_without_a_transform_still_casts_cascades() {
     app.update();
     let world = app.world();
     assert_eq!(world.get::<Transform>(light), Some(&Transform::IDENTITY));
-    let sun = world.resource::<ActiveView>().sun.expect("the light is used");
+    let sun = *world.resource::<FrameLights>().sun().expect("the light is used");
     // The identity shines along -Z.
     assert!(sun.direction.abs_diff_eq(Vec3::NEG_Z, 1e-6), "{}", sun.direction);
     assert_eq!(sun.cascades.count, 4);
@@ -137,7 +137,7 @@ fn a_light_takes_its_direction_from_its_parent() {
         .id();
     world.spawn((DirectionalLight::default(), Transform::default(), ChildOf(rig)));
     app.update();
-    let sun = app.world().resource::<ActiveView>().sun.expect("the light is used");
+    let sun = *app.world().resource::<FrameLights>().sun().expect("the light is used");
     // The rig turns -Z down to -Y.
     assert!(sun.direction.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{}", sun.direction);
 }

@@ -16,8 +16,8 @@ use crate::settings::ShadowSettings;
 pub(crate) enum LightPlan {
     /// A directional light with its shadow settings.
     Directional(DirectionalLight, Transform, ShadowSettings),
-    /// A spot light.
-    Spot(SpotLight, Transform),
+    /// A spot light, with its own shadow settings if the file gives them.
+    Spot(SpotLight, Transform, Option<ShadowSettings>),
     /// A point light.
     Point(PointLight, Transform),
 }
@@ -67,6 +67,7 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
             inner_angle,
             outer_angle,
             radius,
+            shadows,
             shadows_enabled,
         } => {
             let light = SpotLight {
@@ -78,7 +79,7 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
                 radius,
                 shadows_enabled,
             };
-            LightPlan::Spot(light, aimed(position, direction))
+            LightPlan::Spot(light, aimed(position, direction), shadows)
         }
         LightDesc::Point {
             position,
@@ -108,8 +109,11 @@ pub(crate) fn spawn_lights(world: &mut World, plans: Vec<LightPlan>) {
             LightPlan::Directional(light, transform, settings) => {
                 world.spawn((light, transform, settings, SceneEntity));
             }
-            LightPlan::Spot(light, transform) => {
-                world.spawn((light, transform, SceneEntity));
+            LightPlan::Spot(light, transform, settings) => {
+                let mut entity = world.spawn((light, transform, SceneEntity));
+                if let Some(settings) = settings {
+                    entity.insert(settings);
+                }
             }
             LightPlan::Point(light, transform) => {
                 world.spawn((light, transform, SceneEntity));

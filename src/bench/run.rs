@@ -182,8 +182,8 @@ fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Sc
     // Stability paths: sub-texel moves of the start camera (within one texel of cascade 0)
     // and small in-place turns.
     let texel = session
-        .view()
-        .sun
+        .lights()
+        .sun()
         .map_or(0.01, |s| s.cascades.cascades[0].texel_world_size);
     let start = session.start_camera();
     let (right, up) = (start.rotation * Vec3::X, start.rotation * Vec3::Y);

@@ -8,6 +8,7 @@ use glam::{Quat, Vec3};
 use crate::app::{SpawnError, spawn_scene};
 use crate::ecs::assets::{AlphaMode, Images, Materials, Meshes};
 use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
+use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;
@@ -90,14 +91,19 @@ impl SceneSession {
         self.app.world().resource::<ShadowStats>()
     }
 
-    /// This frame's camera and sun.
+    /// This frame's camera.
     pub fn view(&self) -> &ActiveView {
         self.app.world().resource::<ActiveView>()
     }
 
-    /// The sun disc of the scene's light, if it has one.
+    /// This frame's lights.
+    pub fn lights(&self) -> &FrameLights {
+        self.app.world().resource::<FrameLights>()
+    }
+
+    /// The sun disc of the scene's first directional light, if it has one.
     pub fn sun_disc(&self) -> Option<SunDisc> {
-        let sun = self.view().sun?;
+        let sun = self.lights().sun()?;
         Some(SunDisc {
             direction: sun.direction,
             angular_diameter: sun.light.angular_diameter,

@@ -1,4 +1,4 @@
-//! Draw groups: the culled instances of each cascade (and of the camera view), as runs of
+//! Draw groups: the culled instances of each shadow view (and of the camera view), as runs of
 //! instanced draws. The vectors keep their capacity, so culling allocates nothing once the
 //! scene has been seen.
 
@@ -6,7 +6,6 @@ use bevy_ecs::resource::Resource;
 
 use crate::ecs::assets::{MaterialHandle, MeshHandle};
 use crate::ecs::instances::DrawKey;
-use crate::settings::MAX_CASCADES;
 
 /// One instanced draw: `count` instances listed at `first..first + count` of the group's
 /// index list.
@@ -73,17 +72,6 @@ pub fn push_instance(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey
             count: 1,
         }),
     }
-}
-
-/// The shadow casters of each active cascade.
-#[derive(Resource, Debug, Default)]
-pub struct ShadowDrawGroups {
-    /// Active cascades this frame.
-    pub count: usize,
-    /// Draws per cascade.
-    pub cascades: [DrawGroup; MAX_CASCADES],
-    /// Instance indices referenced by every cascade's batches.
-    pub indices: Vec<u32>,
 }
 
 /// The instances the camera sees.

@@ -1,19 +1,12 @@
-//! Positional lights — [`SpotLight`] and [`PointLight`] — and the report of the lights the
-//! renderer does not draw yet. (The sun is [`DirectionalLight`].)
-//!
-//! These components carry everything their shadows will need (position and direction from
-//! the transform, cone angles, range, emitter radius); rendering them comes with the light /
-//! shadow-view model. Until then [`report_unrendered_lights`] says every frame, in
-//! [`ShadowDiagnostics`], which lights are not drawn: no light is dropped silently.
+//! Positional lights: [`SpotLight`] and [`PointLight`] (the sun is
+//! [`DirectionalLight`](crate::ecs::DirectionalLight)). Position and direction come from the
+//! entity's transform. Spot lights light and cast shadows; point lights light the scene, and
+//! their cube shadows come later (a point light that asks for one is reported in
+//! [`ShadowDiagnostics`](crate::ecs::ShadowDiagnostics), never dropped silently).
 
 use bevy_ecs::component::Component;
-use bevy_ecs::query::With;
-use bevy_ecs::system::{Query, ResMut};
 use bevy_transform::components::Transform;
 use glam::Vec3;
-
-use crate::ecs::components::DirectionalLight;
-use crate::ecs::stats::ShadowDiagnostics;
 
 /// A cone of light from its [`GlobalTransform`]'s position along its forward (−Z) axis.
 ///
@@ -78,27 +71,5 @@ impl Default for PointLight {
             radius: 0.0,
             shadows_enabled: true,
         }
-    }
-}
-
-/// Warns, every frame, about lights the renderer does not draw yet: directional lights after
-/// the first, and every spot and point light.
-pub fn report_unrendered_lights(
-    suns: Query<(), With<DirectionalLight>>,
-    spots: Query<(), With<SpotLight>>,
-    points: Query<(), With<PointLight>>,
-    mut diagnostics: ResMut<ShadowDiagnostics>,
-) {
-    let extra_suns = suns.iter().count().saturating_sub(1);
-    if extra_suns > 0 {
-        diagnostics.warn(format!(
-            "{extra_suns} directional light(s) after the first are not drawn yet: only the first lights the scene and casts shadows"
-        ));
-    }
-    let (spots, points) = (spots.iter().count(), points.iter().count());
-    if spots + points > 0 {
-        diagnostics.warn(format!(
-            "{spots} spot light(s) and {points} point light(s) are not drawn yet: positional lights have no renderer"
-        ));
     }
 }

@@ -5,7 +5,9 @@ pub mod assets;
 pub mod components;
 pub mod culling;
 pub mod draw_groups;
+pub mod frame_lights;
 pub mod instances;
+pub mod light_checks;
 pub mod lights;
 pub mod origin;
 pub mod placement;
@@ -19,11 +21,12 @@ pub use bevy_transform::components::{GlobalTransform, Transform};
 pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
-pub use draw_groups::{DrawBatch, DrawGroup, ShadowDrawGroups, ViewDrawGroups};
+pub use draw_groups::{DrawBatch, DrawGroup, ViewDrawGroups};
+pub use frame_lights::{FrameLights, PointLightView, SpotLightView, SpotShadow, SunView};
 pub use instances::RenderInstances;
 pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
-pub use shadow_views::{LightShadowViews, ShadowLightBudget, SpotShadowView};
+pub use shadow_views::{CullVolume, ShadowLightBudget, ShadowView, ShadowViewKind, ShadowViews};
 pub use stats::{ShadowDiagnostics, ShadowStats};
-pub use view::{ActiveView, SunView};
+pub use view::ActiveView;

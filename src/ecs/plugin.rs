@@ -1,6 +1,6 @@
 //! [`ShadowPlugin`]: registers the shadow resources and the per-frame systems, in a fixed
-//! order: transform propagation → sync instances → compute cascades → cull casters per
-//! cascade and cull the view. Rendering is added by
+//! order: transform propagation → sync instances → find the camera, collect the lights and
+//! their shadow views → cull casters per shadow view and cull the camera view. Rendering is added by
 //! [`RenderPlugin`](crate::render::RenderPlugin).
 
 use bevy_app::{App, Plugin, PostUpdate};
@@ -9,12 +9,12 @@ use bevy_transform::{TransformPlugin, TransformSystems};
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, ViewportSize};
-use crate::ecs::culling::{cull_shadow_casters, cull_view};
-use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::culling::cull_view;
+use crate::ecs::draw_groups::ViewDrawGroups;
+use crate::ecs::frame_lights::{FrameLights, update_frame_lights};
 use crate::ecs::instances::{RenderInstances, sync_instances};
-use crate::ecs::lights::report_unrendered_lights;
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
-use crate::ecs::shadow_views::{LightShadowViews, ShadowLightBudget, update_spot_shadow_views};
+use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
 
@@ -24,13 +24,14 @@ use crate::ecs::view::{ActiveView, update_active_view};
 pub enum ShadowSystems {
     /// Mirror mesh entities into [`RenderInstances`].
     SyncInstances,
-    /// Compute the camera view and the sun's cascades; report lights not drawn.
+    /// Find the camera; collect the lights, choose the shadowed ones under the budget and
+    /// compute their views (cascades, spot views).
     ComputeCascades,
-    /// Cull casters per cascade and per spot-light view, and instances for the camera.
+    /// Cull casters per shadow view, and instances for the camera.
     Cull,
 }
 
-/// Adds directional cascaded shadows to an app: components are in [`crate::ecs`], settings in
+/// Adds lights and their shadows to an app: components are in [`crate::ecs`], settings in
 /// [`ShadowSettings`](crate::settings::ShadowSettings). Adds `bevy_transform`'s
 /// [`TransformPlugin`] unless the app already has it.
 #[derive(Default)]
@@ -49,12 +50,12 @@ impl Plugin for ShadowPlugin {
             .init_resource::<RenderInstances>()
             .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()
-            .init_resource::<ShadowDrawGroups>()
+            .init_resource::<FrameLights>()
+            .init_resource::<ShadowViews>()
             .init_resource::<ViewDrawGroups>()
             .init_resource::<ShadowStats>()
             .init_resource::<ShadowDiagnostics>()
             .init_resource::<ShadowLightBudget>()
-            .init_resource::<LightShadowViews>()
             .configure_sets(
                 PostUpdate,
                 (
@@ -73,13 +74,10 @@ impl Plugin for ShadowPlugin {
             )
             .add_systems(
                 PostUpdate,
-                (update_active_view, report_unrendered_lights)
+                (update_active_view, update_frame_lights)
                     .chain()
                     .in_set(ShadowSystems::ComputeCascades),
             )
-            .add_systems(
-                PostUpdate,
-                (cull_shadow_casters, cull_view, update_spot_shadow_views).in_set(ShadowSystems::Cull),
-            );
+            .add_systems(PostUpdate, (update_shadow_views, cull_view).in_set(ShadowSystems::Cull));
     }
 }

@@ -1,32 +1,34 @@
-//! Shadow views of spot lights: each frame, the spot lights that ask for shadows are ranked
-//! under the [`ShadowLightBudget`] (largest on screen first), each one kept gets a perspective
-//! reverse-Z view (`math::spot`) relative to the [`RenderOrigin`], and its casters are culled
-//! into a draw group of [`LightShadowViews`]. Lights over budget are named in
-//! [`ShadowDiagnostics`]. The sun's cascades stay in [`ActiveView`] and
-//! [`ShadowDrawGroups`](crate::ecs::ShadowDrawGroups) for now.
+//! Shadow views: every view a shadow map is rendered from this frame — each cascade of each
+//! shadowed sun, each shadowed spot light — in one list ([`ShadowViews`]), with the casters of
+//! each culled into its own draw group. Nothing here has a fixed count: the lists grow with
+//! the lights, keep their capacity between frames, and allocate nothing once the scene has
+//! been seen.
+//!
+//! Each view has a `slot` in the storage of its kind (a layer of the cascades' depth array,
+//! a layer of the spot lights' array); the renderer allocates storage from these slots.
+
+use std::time::Instant;
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::{Local, Query, Res, ResMut};
-use bevy_transform::components::GlobalTransform;
+use bevy_ecs::system::{Local, Res, ResMut};
+use glam::{Mat3, Mat4, Vec3};
 
 use crate::ecs::draw_groups::{DrawGroup, push_instance};
+use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
-use crate::ecs::lights::SpotLight;
-use crate::ecs::origin::RenderOrigin;
-use crate::ecs::placement::world_pose;
-use crate::ecs::stats::ShadowDiagnostics;
-use crate::ecs::view::ActiveView;
-use crate::math::chunks::cull_spheres_frustum_chunked;
-use crate::math::light_budget::{
-    BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, ShadowBudget, choose_shadowed_lights_into,
-};
-use crate::math::spot::{SpotInput, SpotView, spot_view};
+use crate::ecs::stats::ShadowStats;
+use crate::math::chunks::{cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::math::frustum::Frustum;
+use crate::math::light_budget::{LightKind, ShadowBudget};
+use crate::settings::MAX_CASCADES;
 
-/// How many lights of each kind may cast shadows, and the shadow-map size of a spot light.
+/// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
+/// without its own [`ShadowSettings`](crate::settings::ShadowSettings).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowLightBudget {
-    /// Most shadowed lights per kind (the seed's layout: 8 spot lights, 4 point lights).
+    /// Most shadowed lights per kind (4 suns; the seed's layout: 8 spot lights, 4 point
+    /// lights).
     pub lights: ShadowBudget,
     /// Side of a spot light's shadow map, texels.
     pub spot_resolution: u32,
@@ -36,7 +38,7 @@ impl Default for ShadowLightBudget {
     fn default() -> Self {
         Self {
             lights: ShadowBudget {
-                directional: 1,
+                directional: 4,
                 spot: 8,
                 point: 4,
             },
@@ -49,122 +51,202 @@ impl Default for ShadowLightBudget {
 /// to it (depth clamping) or clipped.
 pub const SPOT_NEAR: f32 = 0.05;
 
-/// One spot light's shadow view.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpotShadowView {
-    /// The light.
-    pub light: Entity,
-    /// Its view, relative to the render origin.
-    pub view: SpotView,
-    /// The light's emitter radius, metres (soft-shadow size).
-    pub radius: f32,
+/// What a shadow view renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowViewKind {
+    /// Cascade `i` of a directional light (into the cascades' depth array).
+    Cascade(u32),
+    /// A spot light's perspective view (into the spot lights' depth array).
+    Spot,
 }
 
-/// The shadow views of this frame's spot lights and their culled casters: `groups[i]` holds
-/// the draws of `views[i]`, indexing `indices`.
+/// The volume a view's casters must touch to be drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CullVolume {
+    /// A cascade's light-space box (casters are extended towards the light).
+    LightBox {
+        /// Light space from world, rotation only.
+        light_rotation: Mat3,
+        /// Box corner with the smallest coordinates, light space.
+        min: Vec3,
+        /// Box corner with the largest coordinates, light space.
+        max: Vec3,
+    },
+    /// A perspective view's frustum.
+    Frustum(Frustum),
+}
+
+/// One view a shadow map is rendered from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// The light's kind.
+    pub light_kind: LightKind,
+    /// The light's index in the renderer's light list ([`FrameLights::light_index`]).
+    pub light: u32,
+    /// What the view renders.
+    pub kind: ShadowViewKind,
+    /// Light clip space from world (reverse-Z), relative to the render origin.
+    pub clip_from_world: Mat4,
+    /// What its casters were culled against.
+    pub cull: CullVolume,
+    /// Its layer in the storage of its kind.
+    pub slot: u32,
+    /// Side of its shadow map, texels.
+    pub resolution: u32,
+}
+
+/// This frame's shadow views and their culled casters: `groups[i]` holds the draws of
+/// `views[i]`, indexing `indices`. Views are listed suns first (cascade by cascade), then
+/// spot lights, in the order of [`FrameLights`].
 #[derive(Resource, Debug, Default)]
-pub struct LightShadowViews {
-    /// One view per shadowed spot light, largest on screen first.
-    pub views: Vec<SpotShadowView>,
+pub struct ShadowViews {
+    /// Every view rendered this frame.
+    pub views: Vec<ShadowView>,
     /// The casters of each view, as instanced draws.
     pub groups: Vec<DrawGroup>,
     /// Instance indices of every group, concatenated.
     pub indices: Vec<u32>,
 }
 
-/// Reused buffers of [`update_spot_shadow_views`].
-#[derive(Default)]
-pub struct SpotScratch {
-    candidates: Vec<LightCandidate>,
-    lights: Vec<(Entity, SpotLight, SpotInput)>,
-    visible: Vec<u32>,
-    chunk_scratch: Vec<u32>,
-    rank: RankScratch,
-    choice: BudgetChoice,
+impl ShadowViews {
+    /// Number of views of `kind`'s storage (cascade layers or spot layers) this frame.
+    pub fn slots(&self, cascades: bool) -> u32 {
+        self.views
+            .iter()
+            .filter(|v| matches!(v.kind, ShadowViewKind::Cascade(_)) == cascades)
+            .map(|v| v.slot + 1)
+            .max()
+            .unwrap_or(0)
+    }
 }
 
-/// Ranks the spot lights under the budget, builds the views of those kept and culls their
-/// casters.
-#[allow(clippy::too_many_arguments)]
-pub fn update_spot_shadow_views(
-    spots: Query<(Entity, &SpotLight, &GlobalTransform)>,
-    view: Res<ActiveView>,
-    origin: Res<RenderOrigin>,
-    budget: Res<ShadowLightBudget>,
+/// Reused buffers of [`update_shadow_views`].
+#[derive(Default)]
+pub struct ViewScratch {
+    /// Cascade bit mask per caster.
+    masks: Vec<u8>,
+    /// Instance indices per view, in draw order.
+    lists: Vec<Vec<u32>>,
+    visible: Vec<u32>,
+    chunk_scratch: Vec<u32>,
+}
+
+/// Lists the shadow views of the shadowed lights and culls every caster into the draw group
+/// of each view it touches: a sun's cascades in one pass over the casters (they are sorted by
+/// draw key, so each list comes out in draw order), a spot light against its frustum.
+pub fn update_shadow_views(
+    lights: Res<FrameLights>,
     instances: Res<RenderInstances>,
-    mut out: ResMut<LightShadowViews>,
-    mut diagnostics: ResMut<ShadowDiagnostics>,
-    mut scratch: Local<SpotScratch>,
+    mut out: ResMut<ShadowViews>,
+    mut stats: ResMut<ShadowStats>,
+    mut scratch: Local<ViewScratch>,
 ) {
+    let start = Instant::now();
     let out = &mut *out;
+    let scratch = &mut *scratch;
     out.views.clear();
     out.indices.clear();
-    let scratch = &mut *scratch;
-    scratch.candidates.clear();
-    scratch.lights.clear();
-    for (entity, light, transform) in &spots {
-        if !light.shadows_enabled {
+    let mut cascade_slot = 0;
+    for (i, sun) in lights.suns.iter().enumerate() {
+        let set = &sun.cascades;
+        for (c, cascade) in set.active().iter().enumerate() {
+            out.views.push(ShadowView {
+                entity: sun.entity,
+                light_kind: LightKind::Directional,
+                light: lights.light_index(LightKind::Directional, i) as u32,
+                kind: ShadowViewKind::Cascade(c as u32),
+                clip_from_world: cascade.clip_from_world,
+                cull: CullVolume::LightBox {
+                    light_rotation: set.light_rotation,
+                    min: cascade.light_min,
+                    max: cascade.light_max,
+                },
+                slot: cascade_slot,
+                resolution: sun.settings.resolution,
+            });
+            cascade_slot += 1;
+        }
+    }
+    let mut spot_slot = 0;
+    for (i, spot) in lights.spots.iter().enumerate() {
+        let Some(shadow) = &spot.shadow else { continue };
+        out.views.push(ShadowView {
+            entity: spot.entity,
+            light_kind: LightKind::Spot,
+            light: lights.light_index(LightKind::Spot, i) as u32,
+            kind: ShadowViewKind::Spot,
+            clip_from_world: shadow.view.clip_from_world,
+            cull: CullVolume::Frustum(shadow.view.frustum),
+            slot: spot_slot,
+            resolution: shadow.resolution,
+        });
+        spot_slot += 1;
+    }
+    let n = out.views.len();
+    if out.groups.len() < n {
+        out.groups.resize_with(n, DrawGroup::default);
+    }
+    out.groups.truncate(n);
+    out.groups.iter_mut().for_each(DrawGroup::clear);
+    if scratch.lists.len() < n {
+        scratch.lists.resize_with(n, Vec::new);
+    }
+    scratch.lists.iter_mut().for_each(Vec::clear);
+    cull_views(&lights, &instances, out, scratch);
+    // Concatenate the per-view lists; batch starts move by the list's offset.
+    stats.casters_per_view.clear();
+    stats.draws_per_view.clear();
+    for (list, group) in scratch.lists.iter().zip(out.groups.iter_mut()) {
+        let offset = out.indices.len() as u32;
+        out.indices.extend_from_slice(list);
+        group
+            .opaque
+            .iter_mut()
+            .chain(group.masked.iter_mut())
+            .for_each(|b| b.first += offset);
+        stats.casters_per_view.push(list.len() as u32);
+        stats.draws_per_view.push(group.draw_count() as u32);
+    }
+    stats.culling_cpu = start.elapsed();
+}
+
+/// Culls the casters of every view into `scratch.lists` and `out.groups`.
+fn cull_views(lights: &FrameLights, instances: &RenderInstances, out: &mut ShadowViews, scratch: &mut ViewScratch) {
+    let mut first = 0;
+    for sun in &lights.suns {
+        let set = &sun.cascades;
+        if set.count == 0 {
             continue;
         }
-        let Some((rotation, position)) = world_pose(transform) else {
+        debug_assert!(set.count <= MAX_CASCADES);
+        scratch.masks.clear();
+        scratch.masks.resize(instances.casters.len(), 0);
+        cull_casters_chunked(
+            set,
+            &instances.caster_centers,
+            &instances.caster_radii,
+            &instances.caster_chunks,
+            &mut scratch.masks,
+        );
+        for (&instance, &mask) in instances.casters.iter().zip(scratch.masks.iter()) {
+            let key = instances.keys[instance as usize];
+            let mut bits = mask;
+            while bits != 0 {
+                let v = first + bits.trailing_zeros() as usize;
+                push_instance(&mut out.groups[v], &mut scratch.lists[v], key, instance);
+                bits &= bits - 1;
+            }
+        }
+        first += set.count;
+    }
+    for v in first..out.views.len() {
+        let CullVolume::Frustum(frustum) = &out.views[v].cull else {
             continue;
         };
-        let input = SpotInput {
-            position: position - origin.0,
-            direction: rotation * glam::Vec3::NEG_Z,
-            outer_angle: light.outer_angle,
-            range: light.range,
-            near: SPOT_NEAR,
-            resolution: budget.spot_resolution,
-        };
-        scratch.candidates.push(LightCandidate {
-            id: scratch.lights.len(),
-            kind: LightKind::Spot,
-            bounds: Some((input.position, light.range)),
-        });
-        scratch.lights.push((entity, *light, input));
-    }
-    let ranking = match &view.camera {
-        Some((camera, _)) => RankingView {
-            position: camera.position(),
-            tan_half_fov_y: (camera.fov_y * 0.5).tan(),
-        },
-        None => RankingView {
-            position: glam::Vec3::ZERO,
-            tan_half_fov_y: 1.0,
-        },
-    };
-    choose_shadowed_lights_into(
-        &scratch.candidates,
-        &budget.lights,
-        &ranking,
-        &mut scratch.rank,
-        &mut scratch.choice,
-    );
-    let choice = &scratch.choice;
-    for (_, id) in &choice.dropped {
-        let (entity, ..) = scratch.lights[*id];
-        diagnostics.warn(format!(
-            "spot light {entity} gets no shadow: only {} shadowed spot lights fit the budget, and it is smaller on screen",
-            budget.lights.spot
-        ));
-    }
-    if out.groups.len() < choice.shadowed.len() {
-        out.groups.resize_with(choice.shadowed.len(), DrawGroup::default);
-    }
-    out.groups.iter_mut().for_each(DrawGroup::clear);
-    for &id in &choice.shadowed {
-        let (entity, light, input) = scratch.lights[id];
-        let Some(view) = spot_view(&input) else {
-            diagnostics.warn(format!(
-                "spot light {entity} has range {}, outer angle {} rad: no shadow view can be made",
-                light.range, light.outer_angle
-            ));
-            continue;
-        };
-        let group = &mut out.groups[out.views.len()];
         cull_spheres_frustum_chunked(
-            &view.frustum,
+            frustum,
             &instances.caster_centers,
             &instances.caster_radii,
             &instances.caster_chunks,
@@ -173,13 +255,12 @@ pub fn update_spot_shadow_views(
         );
         for &k in &scratch.visible {
             let instance = instances.casters[k as usize];
-            push_instance(group, &mut out.indices, instances.keys[instance as usize], instance);
+            push_instance(
+                &mut out.groups[v],
+                &mut scratch.lists[v],
+                instances.keys[instance as usize],
+                instance,
+            );
         }
-        out.views.push(SpotShadowView {
-            light: entity,
-            view,
-            radius: light.radius,
-        });
     }
-    out.groups.truncate(out.views.len());
 }

@@ -6,21 +6,21 @@ use std::time::Duration;
 use bevy_ecs::resource::Resource;
 use log::warn;
 
-use crate::settings::MAX_CASCADES;
-
 /// What the shadow systems did in the last frame.
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct ShadowStats {
-    /// CPU time of cascade computation.
+    /// CPU time of collecting the lights and computing their shadow views (cascades, spot
+    /// views).
     pub cascades_cpu: Duration,
-    /// CPU time of per-cascade caster culling and draw-group building.
+    /// CPU time of per-view caster culling and draw-group building.
     pub culling_cpu: Duration,
     /// CPU time of camera culling.
     pub view_culling_cpu: Duration,
-    /// Casters drawn into each cascade.
-    pub casters_per_cascade: [u32; MAX_CASCADES],
-    /// Draw calls issued for each cascade.
-    pub draws_per_cascade: [u32; MAX_CASCADES],
+    /// Casters drawn into each shadow view, in the order of
+    /// [`ShadowViews`](crate::ecs::shadow_views::ShadowViews).
+    pub casters_per_view: Vec<u32>,
+    /// Draw calls issued for each shadow view.
+    pub draws_per_view: Vec<u32>,
     /// Instances the camera sees.
     pub visible_instances: u32,
     /// Frames run so far.

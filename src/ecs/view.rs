@@ -1,43 +1,24 @@
-//! Per-frame view state: the active camera, the sun, and the sun's cascades, computed from
-//! the ECS each frame by [`update_active_view`].
-
-use std::time::Instant;
+//! Per-frame view state: the active camera, found in the ECS each frame by
+//! [`update_active_view`].
 
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Query, Res, ResMut};
 use bevy_transform::components::GlobalTransform;
 use glam::{Quat, Vec3};
 
-use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
+use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::origin::RenderOrigin;
-use crate::ecs::placement::{world_forward, world_pose};
+use crate::ecs::placement::world_pose;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::frustum::CameraView;
-use crate::settings::ShadowSettings;
 
-/// The sun as the renderer sees it this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SunView {
-    /// Unit direction the light travels.
-    pub direction: Vec3,
-    /// The light's parameters.
-    pub light: DirectionalLight,
-    /// Sanitized shadow settings.
-    pub settings: ShadowSettings,
-    /// Cascades; `count == 0` when the light casts no shadows.
-    pub cascades: CascadeSet,
-}
-
-/// The camera and sun of this frame. Positions (the camera, the cascade matrices) are relative
-/// to the [`RenderOrigin`].
+/// The camera of this frame; its position is relative to the [`RenderOrigin`]. The lights
+/// are in [`FrameLights`](crate::ecs::frame_lights::FrameLights).
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct ActiveView {
     /// The first entity with [`Camera3d`] and a valid [`GlobalTransform`], if any.
     pub camera: Option<(CameraView, Camera3d)>,
-    /// The first entity with [`DirectionalLight`] and a valid [`GlobalTransform`], if any.
-    pub sun: Option<SunView>,
 }
 
 /// Builds the camera's view description from its world pose and the viewport's aspect, in
@@ -79,11 +60,9 @@ fn sanitize_camera(mut camera: Camera3d, diagnostics: &mut ShadowDiagnostics) ->
     camera
 }
 
-/// Finds the camera and sun and computes the sun's cascades for this frame.
-#[allow(clippy::too_many_arguments)]
+/// Finds the camera for this frame and starts the frame's diagnostics.
 pub fn update_active_view(
     cameras: Query<(&Camera3d, &GlobalTransform)>,
-    lights: Query<(&DirectionalLight, &GlobalTransform, Option<&ShadowSettings>)>,
     viewport: Res<ViewportSize>,
     origin: Res<RenderOrigin>,
     instances: Res<RenderInstances>,
@@ -91,7 +70,6 @@ pub fn update_active_view(
     mut stats: ResMut<ShadowStats>,
     mut diagnostics: ResMut<ShadowDiagnostics>,
 ) {
-    let start = Instant::now();
     diagnostics.begin_frame();
     view.camera = cameras
         .iter()
@@ -100,67 +78,12 @@ pub fn update_active_view(
             let c = sanitize_camera(*c, &mut diagnostics);
             (camera_view(&c, pose, &viewport, origin.0), c)
         });
-    view.sun = None;
-    for (light, transform, settings) in &lights {
-        let Some(direction) = world_forward(transform) else {
-            diagnostics.warn(format!(
-                "directional light has a non-finite or degenerate transform {:?}; it is ignored",
-                transform.affine()
-            ));
-            continue;
-        };
-        let (settings, problems) = settings.copied().unwrap_or_default().sanitized();
-        for p in problems {
-            diagnostics.warn(format!("shadow settings: {p}; clamped"));
-        }
-        let mut angular_diameter = light.angular_diameter;
-        if !(angular_diameter.is_finite() && (0.0..=0.6).contains(&angular_diameter)) {
-            diagnostics.warn(format!(
-                "light angular_diameter {angular_diameter} rad is outside 0..0.6; using 0.53°"
-            ));
-            angular_diameter = DirectionalLight::default().angular_diameter;
-        }
-        let count = if light.shadows_enabled {
-            settings.cascade_count as usize
-        } else {
-            0
-        };
-        let cascades = match (&view.camera, count) {
-            (Some((camera, _)), 1..) => compute_cascades(&CascadeInput {
-                camera: *camera,
-                light_direction: direction,
-                scene_bounds: instances.caster_bounds,
-                count,
-                split_lambda: settings.split_lambda,
-                max_distance: settings.max_distance,
-                resolution: settings.resolution,
-                fit: settings.fit,
-                angular_diameter,
-                blend_width: settings.blend_width,
-            }),
-            _ => CascadeSet {
-                count: 0,
-                ..CascadeSet::default()
-            },
-        };
-        view.sun = Some(SunView {
-            direction,
-            light: DirectionalLight {
-                angular_diameter,
-                ..*light
-            },
-            settings,
-            cascades,
-        });
-        break;
-    }
     if instances.skipped > 0 {
         diagnostics.warn(format!(
             "{} mesh entities are not drawn: non-finite or zero-scale transform, or a missing mesh or material",
             instances.skipped
         ));
     }
-    stats.cascades_cpu = start.elapsed();
     if view.camera.is_none() && !cameras.is_empty() {
         diagnostics.warn("every camera has a non-finite or zero-scale transform; nothing is drawn".to_string());
     }

@@ -1,14 +1,14 @@
-//! Forward pass: draws what the camera sees, shading receivers with the sun's diffuse light
-//! times the cascaded shadow factor from `penumbra::shadow`, plus ambient light.
+//! Forward pass: draws what the camera sees, shading receivers with every light's diffuse
+//! term times its shadow from `penumbra::lights`, plus ambient light.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
+use crate::render::draw::{draw_batches, vertex_layout};
 use crate::render::frame::FrameContext;
 use crate::render::graph::RenderNode;
 use crate::render::layouts::Layouts;
-use crate::render::shadow_pass::{draw_batches, vertex_layout};
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -54,7 +54,12 @@ fn create_pipeline(
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("forward"),
-        bind_group_layouts: &[Some(&layouts.view), Some(&layouts.instances), Some(&layouts.material)],
+        bind_group_layouts: &[
+            Some(&layouts.view),
+            Some(&layouts.instances),
+            Some(&layouts.material),
+            Some(&layouts.shadows),
+        ],
         immediate_size: 0,
     });
     let buffers = [Some(vertex_layout())];
@@ -166,13 +171,13 @@ impl RenderNode for ForwardPass {
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
-        let settings = ctx.sun.map(|s| s.settings).unwrap_or_default();
         let analysis = ctx.target.analysis.is_some();
+        let lights = ctx.lights;
         let format = ctx.target.format;
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {
                 analysis,
-                ..ForwardVariant::for_settings(&settings, alpha_mask)
+                ..ForwardVariant::for_lights(lights, alpha_mask)
             };
             self.pipeline(
                 ctx,
@@ -245,14 +250,14 @@ impl RenderNode for ForwardPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let (Some((vertices, indices)), Some(view_group)) = (ctx.scene.mesh_buffers(), ctx.scene.view_group.as_ref())
-        else {
+        let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
             return;
         };
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.set_bind_group(0, view_group, &[]);
+        pass.set_bind_group(0, &ctx.scene.view_group, &[]);
         pass.set_bind_group(1, &ctx.scene.view_instances_group, &[]);
+        pass.set_bind_group(3, &ctx.shadows.group, &[]);
         let group = &ctx.view_groups.group;
         let mut calls = draw_sided(&mut pass, ctx, &group.opaque, [&pipelines[0], &pipelines[1]]);
         calls += draw_sided(&mut pass, ctx, &group.masked, [&pipelines[2], &pipelines[3]]);

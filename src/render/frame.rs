@@ -5,15 +5,16 @@ use bevy_ecs::world::World;
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::components::AmbientLight;
-use crate::ecs::draw_groups::{ShadowDrawGroups, ViewDrawGroups};
+use crate::ecs::draw_groups::ViewDrawGroups;
+use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::view::ActiveView;
-use crate::ecs::view::SunView;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
 use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::shadow_map::ShadowMap;
+use crate::render::shadows::ShadowResources;
 use crate::render::target::TargetViews;
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -28,14 +29,15 @@ pub struct FrameContext<'a> {
     pub library: &'a mut ShaderLibrary,
     /// Scene buffers and bind groups, already prepared for this frame.
     pub scene: &'a SceneGpu,
-    /// The directional shadow map (imported resource `shadow_map`).
-    pub shadow_map: &'a ShadowMap,
-    /// Culled casters per cascade.
-    pub shadow_groups: &'a ShadowDrawGroups,
+    /// Shadow storage, light and view buffers, and the shadow bind group (imported resource
+    /// `shadow_map`).
+    pub shadows: &'a ShadowResources,
+    /// The shadow views and their culled casters.
+    pub shadow_views: &'a ShadowViews,
     /// Culled instances of the camera.
     pub view_groups: &'a ViewDrawGroups,
-    /// The sun, if there is one.
-    pub sun: Option<&'a SunView>,
+    /// The lights of the frame.
+    pub lights: &'a FrameLights,
     /// The colour and depth targets the camera renders to.
     pub target: &'a TargetViews,
     /// Timestamp queries.
@@ -58,12 +60,14 @@ pub struct FrameInputs<'a> {
     pub images: &'a Images,
     /// Sorted instances.
     pub instances: &'a RenderInstances,
-    /// Culled casters per cascade.
-    pub shadow_groups: &'a ShadowDrawGroups,
+    /// Shadow views and their culled casters.
+    pub shadow_views: &'a ShadowViews,
     /// Culled view instances.
     pub view_groups: &'a ViewDrawGroups,
-    /// Camera and sun.
+    /// The camera.
     pub view: &'a ActiveView,
+    /// The lights.
+    pub lights: &'a FrameLights,
     /// Ambient light.
     pub ambient: &'a AmbientLight,
     /// Frame counter.
@@ -78,9 +82,10 @@ impl<'a> FrameInputs<'a> {
             materials: world.resource::<Materials>(),
             images: world.resource::<Images>(),
             instances: world.resource::<RenderInstances>(),
-            shadow_groups: world.resource::<ShadowDrawGroups>(),
+            shadow_views: world.resource::<ShadowViews>(),
             view_groups: world.resource::<ViewDrawGroups>(),
             view: world.resource::<ActiveView>(),
+            lights: world.resource::<FrameLights>(),
             ambient: world.resource::<AmbientLight>(),
             frame_index,
         }

@@ -1,17 +1,22 @@
 //! Bind group layouts and samplers shared by the passes. Group numbers follow the WGSL:
-//! group 0 is the view (frame + shadow data, or one cascade's matrix in the shadow pass),
-//! group 1 the instances and the draw's index list, group 2 the material.
+//! group 0 is the view (the frame uniforms, or one shadow view's matrix in the depth pass),
+//! group 1 the instances and the draw's index list, group 2 the material, group 3 the shadow
+//! group (lights, shadow views, shadow storage, samplers, Poisson taps).
 
 use std::num::NonZeroU64;
 
-use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, PoissonTapsGpu, ShadowUniformsGpu};
+use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
+use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, ShadowViewGpu};
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
-    /// Forward group 0: frame uniforms, shadow uniforms, shadow map, two samplers.
+    /// Forward group 0: the frame uniforms.
     pub view: wgpu::BindGroupLayout,
-    /// Shadow-pass group 0: one cascade's `CascadeView`, bound with a dynamic offset.
-    pub cascade_view: wgpu::BindGroupLayout,
+    /// Group 3: lights and shadow views (storage), the cascade and spot depth arrays, the
+    /// comparison and point samplers, the Poisson taps.
+    pub shadows: wgpu::BindGroupLayout,
+    /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
+    pub caster_view: wgpu::BindGroupLayout,
     /// Group 1: instances and the draw's index list.
     pub instances: wgpu::BindGroupLayout,
     /// Group 2: base-colour texture and sampler.
@@ -52,35 +57,37 @@ fn storage<T>() -> wgpu::BindingType {
 impl Layouts {
     /// Creates every layout and sampler.
     pub fn new(device: &wgpu::Device) -> Self {
-        // NOTE: the view group is also bound by the shadow-probe compute pass.
+        // NOTE: the view and shadow groups are also bound by the shadow-probe compute pass.
         let fc = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let vfc = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("view"),
+            entries: &[entry(0, vfc, uniform::<FrameUniformsGpu>(false))],
+        });
+        let depth_array = wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        };
+        let shadows = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadows"),
             entries: &[
-                entry(0, vfc, uniform::<FrameUniformsGpu>(false)),
-                entry(1, vfc, uniform::<ShadowUniformsGpu>(false)),
+                entry(0, fc, storage::<LightGpu>()),
+                entry(1, fc, storage::<ShadowViewGpu>()),
+                entry(2, fc, depth_array),
+                entry(3, fc, depth_array),
+                entry(4, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
                 entry(
-                    2,
-                    fc,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-                entry(3, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
-                entry(5, fc, uniform::<PoissonTapsGpu>(false)),
-                entry(
-                    4,
+                    5,
                     fc,
                     wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
                 ),
+                entry(6, fc, uniform::<PoissonTapsGpu>(false)),
             ],
         });
-        let cascade_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("cascade view"),
-            entries: &[entry(0, wgpu::ShaderStages::VERTEX, uniform::<CascadeViewGpu>(true))],
+        let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caster view"),
+            entries: &[entry(0, wgpu::ShaderStages::VERTEX, uniform::<CasterViewGpu>(true))],
         });
         let instances = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("instances"),
@@ -129,7 +136,8 @@ impl Layouts {
         });
         Self {
             view,
-            cascade_view,
+            shadows,
+            caster_view,
             instances,
             material,
             shadow_compare,

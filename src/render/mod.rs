@@ -1,12 +1,14 @@
-//! The wgpu renderer: device, render graph, the shadow-map and forward passes, GPU timings
-//! and headless targets.
+//! The wgpu renderer: device, render graph, the shadow resources and depth pass, the forward
+//! pass, GPU timings and headless targets.
 
 pub mod context;
 pub mod counters;
+pub mod draw;
 pub mod forward_pass;
 pub mod frame;
 pub mod gpu_types;
 pub mod graph;
+pub mod grow_buffer;
 pub mod layouts;
 pub mod limits;
 pub mod plugin;
@@ -14,8 +16,7 @@ pub mod probe;
 pub mod readback;
 pub mod renderer;
 pub mod scene_gpu;
-pub mod shadow_map;
-pub mod shadow_pass;
+pub mod shadows;
 pub mod target;
 pub mod textures;
 pub mod timer;

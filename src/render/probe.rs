@@ -1,5 +1,5 @@
-//! Shadow probes: evaluates the directional shadow at fixed world points with a compute pass
-//! that calls the same `blend_cascade_shadow` as every material. Used to measure temporal
+//! Shadow probes: evaluates one light's shadow at fixed world points with a compute pass
+//! that calls the same `shadow_visibility` as every material. Used to measure temporal
 //! stability: the same points are evaluated while the camera moves.
 
 use std::borrow::Cow;
@@ -64,15 +64,15 @@ impl ProbePass {
         }
     }
 
-    /// Evaluates the shadow at every probe with the filter of `variant`, using the view group
-    /// of the frame just rendered, and waits for the results.
+    /// Evaluates the focus light's shadow at every probe with the filters of `variant`, using
+    /// the view and shadow groups of the frame just rendered, and waits for the results.
     pub fn evaluate(
         &mut self,
         gpu: &GpuContext,
         layouts: &Layouts,
         library: &mut ShaderLibrary,
         variant: ForwardVariant,
-        view_group: &wgpu::BindGroup,
+        groups: [&wgpu::BindGroup; 2],
         probes: &[ProbeGpu],
     ) -> Vec<f32> {
         if probes.is_empty() {
@@ -96,7 +96,7 @@ impl ProbePass {
             });
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("probe"),
-                bind_group_layouts: &[Some(&layouts.view), Some(probe_layout)],
+                bind_group_layouts: &[Some(&layouts.view), Some(probe_layout), None, Some(&layouts.shadows)],
                 immediate_size: 0,
             });
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -147,8 +147,10 @@ impl ProbePass {
                 timestamp_writes: None,
             });
             pass.set_pipeline(pipeline);
+            let [view_group, shadow_group] = groups;
             pass.set_bind_group(0, view_group, &[]);
             pass.set_bind_group(1, &group, &[]);
+            pass.set_bind_group(3, shadow_group, &[]);
             pass.dispatch_workgroups((probes.len() as u32).div_ceil(64), 1, 1);
         }
         encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, size);

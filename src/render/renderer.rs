@@ -1,5 +1,5 @@
-//! The renderer: owns the device, the shadow map, the scene's GPU copy and the render graph,
-//! and renders one frame from the ECS data.
+//! The renderer: owns the device, the shadow resources, the scene's GPU copy and the render
+//! graph, and renders one frame from the ECS data.
 
 use bevy_ecs::resource::Resource;
 use image::RgbaImage;
@@ -8,17 +8,16 @@ use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
 use crate::render::forward_pass::ForwardPass;
 use crate::render::frame::{FrameContext, FrameInputs};
-use crate::render::gpu_types::{FrameUniformsGpu, ShadowUniformsGpu};
+use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::RenderGraph;
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::probe::{ProbeGpu, ProbePass};
 use crate::render::scene_gpu::SceneGpu;
-use crate::render::shadow_map::ShadowMap;
-use crate::render::shadow_pass::ShadowPass;
+use crate::render::shadows::ShadowResources;
+use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
 use crate::render::timer::{GpuTimer, PassTiming};
-use crate::settings::MIN_RESOLUTION;
 use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
 
 /// What the last frame cost on the GPU.
@@ -33,7 +32,7 @@ pub struct FrameReport {
 }
 
 impl FrameReport {
-    /// Sum of the shadow-cascade passes, in milliseconds.
+    /// Sum of the shadow-map passes (every view of every light), in milliseconds.
     pub fn shadow_ms(&self) -> f64 {
         self.passes
             .iter()
@@ -51,7 +50,8 @@ pub struct Renderer {
     layouts: Layouts,
     library: ShaderLibrary,
     scene: SceneGpu,
-    shadow_map: Option<ShadowMap>,
+    shadows: ShadowResources,
+    focus_light: usize,
     timer: GpuTimer,
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
@@ -106,11 +106,12 @@ impl Renderer {
         let layouts = Layouts::new(&gpu.device);
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
         let scene = SceneGpu::new(&gpu.device, &layouts);
+        let shadows = ShadowResources::new(&gpu.device, &layouts);
         let timer = GpuTimer::new(&gpu.device, &gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
         graph.import("instances");
         graph.import("shadow_map");
-        graph.add_node(Box::new(ShadowPass::default()));
+        graph.add_node(Box::new(DepthPass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         graph.compile().expect("the built-in graph is acyclic and complete");
         let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
@@ -120,7 +121,8 @@ impl Renderer {
             layouts,
             library,
             scene,
-            shadow_map: None,
+            shadows,
+            focus_light: 0,
             timer,
             graph,
             target,
@@ -137,9 +139,21 @@ impl Renderer {
         self.counters
     }
 
-    /// Resolution of the current shadow map (None before the first frame).
+    /// Side of the cascades' shadow maps (None until a sun has cast a shadow).
     pub fn shadow_map_resolution(&self) -> Option<u32> {
-        self.shadow_map.as_ref().map(|m| m.resolution)
+        (!self.shadows.cascades.placeholder).then_some(self.shadows.cascades.side)
+    }
+
+    /// Side of the spot lights' shadow maps (None until a spot light has cast a shadow).
+    pub fn spot_map_resolution(&self) -> Option<u32> {
+        (!self.shadows.spots.placeholder).then_some(self.shadows.spots.side)
+    }
+
+    /// Chooses the light (an index into the light list: suns, then spots, then points) whose
+    /// shadow the analysis targets, the probes and the cascade debug view report. Default 0:
+    /// the first sun.
+    pub fn set_focus_light(&mut self, light: usize) {
+        self.focus_light = light;
     }
 
     /// Replaces the forward shader with a material's own WGSL; see
@@ -208,53 +222,37 @@ impl Renderer {
         target: &TargetViews,
         overlay: &mut dyn FnMut(&GpuContext, &mut wgpu::CommandEncoder),
     ) -> &FrameReport {
-        let sun = input.view.sun.as_ref();
-        // NOTE: the map is created on first use at the sun's resolution and recreated only when
-        // that changes; the cascade count is a pure rendering parameter. Without a sun, the
-        // smallest map is made once, because the forward pass binds one anyway.
-        let wanted = sun.map(|s| s.settings.resolution);
-        let current = self.shadow_map.as_ref().map(|m| m.resolution);
-        if current.is_none() || (wanted.is_some() && wanted != current) {
-            let resolution = wanted.unwrap_or(MIN_RESOLUTION);
-            self.shadow_map = Some(ShadowMap::new(&self.gpu.device, resolution));
-            self.counters.shadow_maps += 1;
-        }
-        let Some(shadow_map) = &self.shadow_map else {
-            return &self.last_report;
-        };
+        let light_count = input.lights.len();
         let frame = match input.view.camera {
             Some((camera, cam)) => FrameUniformsGpu {
                 clip_from_world: camera.clip_from_world(),
                 view_from_world: camera.view_from_world(),
                 camera_position: camera.position(),
                 exposure: cam.exposure,
-                sun_direction: sun.map_or(glam::Vec3::NEG_Y, |s| s.direction),
-                sun_illuminance: sun.map_or(0.0, |s| s.light.illuminance),
-                sun_color: sun.map_or(glam::Vec3::ZERO, |s| s.light.color),
-                frame_index: input.frame_index,
                 ambient: input.ambient.color,
-                _padding: 0,
+                frame_index: input.frame_index,
+                light_count: light_count as u32,
+                focus_light: self.focus_light.min(light_count) as u32,
+                _padding: [0; 2],
             },
             None => FrameUniformsGpu::default(),
         };
-        let shadow = match sun {
-            Some(s) => ShadowUniformsGpu::new(&s.cascades, &s.settings, s.direction, input.frame_index),
-            None => ShadowUniformsGpu::disabled(),
-        };
         let mut problems = UploadProblems::default();
-        let prepared = self.scene.prepare(
-            &self.gpu,
-            &self.layouts,
-            shadow_map,
-            input,
-            (&frame, &shadow),
-            &mut problems,
-        );
+        let prepared = self
+            .scene
+            .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
+            .and_then(|()| {
+                self.shadows.prepare(
+                    &self.gpu,
+                    &self.layouts,
+                    input.lights,
+                    input.shadow_views,
+                    &mut self.counters,
+                )
+            });
         let drawable = prepared.is_ok();
-        match prepared {
-            Ok(true) => self.counters.view_groups += 1,
-            Ok(false) => {}
-            Err(e) => problems.errors.push(format!("the frame is not drawn: {e}")),
+        if let Err(e) = prepared {
+            problems.errors.push(format!("the frame is not drawn: {e}"));
         }
         for warning in &problems.warnings {
             log::warn!("{warning}");
@@ -263,7 +261,9 @@ impl Renderer {
             log::error!("{error}");
         }
         self.problems.append(problems);
-        self.timer.begin_frame();
+        // NOTE: one timed pass per shadow view, plus the forward pass.
+        self.timer
+            .begin_frame(&self.gpu.device, input.shadow_views.views.len() + 1);
         let mut encoder = self
             .gpu
             .device
@@ -273,10 +273,10 @@ impl Renderer {
             layouts: &self.layouts,
             library: &mut self.library,
             scene: &self.scene,
-            shadow_map,
-            shadow_groups: input.shadow_groups,
+            shadows: &self.shadows,
+            shadow_views: input.shadow_views,
             view_groups: input.view_groups,
-            sun,
+            lights: input.lights,
             target,
             timer: &mut self.timer,
             draw_calls: 0,
@@ -293,22 +293,20 @@ impl Renderer {
         self.last_report = FrameReport {
             passes: self.timer.read(&self.gpu.device),
             draw_calls,
-            shadow_memory: shadow_map.memory_bytes(),
+            shadow_memory: self.shadows.memory_bytes(),
         };
         &self.last_report
     }
 
-    /// Evaluates the sun's shadow at fixed world points with the filter and cascades of the
-    /// last rendered frame (render a frame first). Values are what a material at that point
-    /// would multiply into the sun term.
+    /// Evaluates the focus light's shadow (see [`set_focus_light`](Self::set_focus_light)) at
+    /// fixed world points with the filters and views of the last rendered frame (render a
+    /// frame first). Values are what a material at that point would multiply into that
+    /// light's term.
     pub fn evaluate_probes(&mut self, input: &FrameInputs<'_>, probes: &[ProbeGpu]) -> Vec<f32> {
-        let Some(view_group) = self.scene.view_group.as_ref() else {
-            return vec![f32::NAN; probes.len()];
-        };
-        let settings = input.view.sun.map(|s| s.settings).unwrap_or_default();
-        let variant = ForwardVariant::for_settings(&settings, false);
+        let variant = ForwardVariant::for_lights(input.lights, false);
+        let groups = [&self.scene.view_group, &self.shadows.group];
         self.probes
-            .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, view_group, probes)
+            .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, groups, probes)
     }
 
     /// Reads the last frame's analysis targets back (None without analysis targets).

@@ -1,5 +1,6 @@
 //! GPU copies of the scene: the mesh mega-buffers, material textures, the instance buffer
-//! and the per-frame index lists and uniforms. `prepare` uploads only what changed.
+//! and the per-frame index lists and frame uniforms. `prepare` uploads only what changed.
+//! (Lights and shadow views are in [`ShadowResources`](crate::render::shadows::ShadowResources).)
 
 use wgpu::util::DeviceExt;
 
@@ -7,12 +8,11 @@ use crate::ecs::assets::Meshes;
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame::FrameInputs;
-use crate::render::gpu_types::{CascadeViewGpu, FrameUniformsGpu, InstanceGpu, PoissonTapsGpu, ShadowUniformsGpu};
+use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu};
+use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
-use crate::render::shadow_map::ShadowMap;
 use crate::render::textures::{fit_image, upload, white};
-use crate::settings::MAX_CASCADES;
 
 /// Where one mesh lives in the mega-buffers.
 #[derive(Clone, Copy, Debug)]
@@ -23,45 +23,6 @@ pub struct MeshRange {
     pub index_count: u32,
     /// Added to every index.
     pub base_vertex: i32,
-}
-
-/// A storage buffer that grows (by doubling, up to the device's storage-binding size) and
-/// reports when it was replaced.
-struct GrowBuffer {
-    buffer: wgpu::Buffer,
-    label: &'static str,
-}
-
-impl GrowBuffer {
-    fn new(device: &wgpu::Device, label: &'static str, size: u64) -> Self {
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: size.max(256),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Self { buffer, label }
-    }
-
-    /// Writes `data`, growing first if needed; returns true when the buffer was replaced.
-    /// Data larger than one storage binding is refused before any wgpu call.
-    fn write(&mut self, gpu: &GpuContext, data: &[u8]) -> Result<bool, LimitError> {
-        let limits = &gpu.limits;
-        let needed = data.len() as u64;
-        limits.check_buffer(self.label, needed, true)?;
-        let mut replaced = false;
-        if needed > self.buffer.size() {
-            let most = limits.max_storage_binding_bytes.min(limits.max_buffer_bytes);
-            // NOTE: storage bindings are sized in multiples of 4 bytes.
-            let size = needed.next_power_of_two().min(most & !3).max(needed);
-            *self = Self::new(&gpu.device, self.label, size);
-            replaced = true;
-        }
-        if !data.is_empty() {
-            gpu.queue.write_buffer(&self.buffer, 0, data);
-        }
-        Ok(replaced)
-    }
 }
 
 /// Everything of the scene that lives on the GPU.
@@ -76,21 +37,15 @@ pub struct SceneGpu {
     shadow_indices: GrowBuffer,
     view_indices: GrowBuffer,
     frame_uniforms: wgpu::Buffer,
-    shadow_uniforms: wgpu::Buffer,
-    cascade_views: wgpu::Buffer,
-    poisson_taps: wgpu::Buffer,
-    /// Group 1 for the shadow pass (instances + shadow index list).
+    /// Group 1 for the depth pass (instances + shadow index list).
     pub shadow_instances_group: wgpu::BindGroup,
     /// Group 1 for the forward pass (instances + view index list).
     pub view_instances_group: wgpu::BindGroup,
-    /// Group 0 of the shadow pass; bind with offset `cascade * 256`.
-    pub cascade_view_group: wgpu::BindGroup,
-    /// Group 0 of the forward pass (recreated with the shadow map).
-    pub view_group: Option<wgpu::BindGroup>,
+    /// Group 0 of the forward pass and the probe pass: the frame uniforms.
+    pub view_group: wgpu::BindGroup,
     mesh_generation: u64,
     material_generation: (u64, u64),
     instance_generation: u64,
-    shadow_map_resolution: u32,
 }
 
 fn instances_group(
@@ -131,17 +86,13 @@ impl SceneGpu {
         let instances = GrowBuffer::new(device, "instances", 1 << 16);
         let shadow_indices = GrowBuffer::new(device, "shadow draw indices", 1 << 14);
         let view_indices = GrowBuffer::new(device, "view draw indices", 1 << 14);
-        let cascade_views = uniform_buffer(device, "cascade views", size_of::<CascadeViewGpu>() * MAX_CASCADES);
-        let cascade_view_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cascade view"),
-            layout: &layouts.cascade_view,
+        let frame_uniforms = uniform_buffer(device, "frame uniforms", size_of::<FrameUniformsGpu>());
+        let view_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("view"),
+            layout: &layouts.view,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &cascade_views,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(size_of::<CascadeViewGpu>() as u64),
-                }),
+                resource: frame_uniforms.as_entire_binding(),
             }],
         });
         Self {
@@ -166,20 +117,11 @@ impl SceneGpu {
             instances,
             shadow_indices,
             view_indices,
-            frame_uniforms: uniform_buffer(device, "frame uniforms", size_of::<FrameUniformsGpu>()),
-            shadow_uniforms: uniform_buffer(device, "shadow uniforms", size_of::<ShadowUniformsGpu>()),
-            cascade_views,
-            poisson_taps: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("poisson taps"),
-                contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
-                usage: wgpu::BufferUsages::UNIFORM,
-            }),
-            cascade_view_group,
-            view_group: None,
+            frame_uniforms,
+            view_group,
             mesh_generation: u64::MAX,
             material_generation: (u64::MAX, u64::MAX),
             instance_generation: 0,
-            shadow_map_resolution: 0,
         }
     }
 
@@ -188,22 +130,19 @@ impl SceneGpu {
         Some((self.vertex_buffer.as_ref()?, self.index_buffer.as_ref()?))
     }
 
-    /// Uploads what changed since the last frame and this frame's lists and uniforms; returns
-    /// true when the view bind group was (re)created. Sizes are checked against the device's
-    /// limits first: an oversized image is downscaled (a warning in `problems`); mesh, instance
-    /// or draw lists too large for the device are refused with an error, and the frame must
-    /// not be drawn.
+    /// Uploads what changed since the last frame and this frame's lists and uniforms. Sizes
+    /// are checked against the device's limits first: an oversized image is downscaled (a
+    /// warning in `problems`); mesh, instance or draw lists too large for the device are
+    /// refused with an error, and the frame must not be drawn.
     pub fn prepare(
         &mut self,
         gpu: &GpuContext,
         layouts: &Layouts,
-        shadow_map: &ShadowMap,
         input: &FrameInputs<'_>,
-        uniforms: (&FrameUniformsGpu, &ShadowUniformsGpu),
+        frame: &FrameUniformsGpu,
         problems: &mut UploadProblems,
-    ) -> Result<bool, LimitError> {
+    ) -> Result<(), LimitError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
-        let (frame, shadow) = uniforms;
         if input.meshes.generation() != self.mesh_generation {
             self.upload_meshes(gpu, input.meshes)?;
         }
@@ -218,7 +157,7 @@ impl SceneGpu {
         }
         let shadow_replaced = self
             .shadow_indices
-            .write(gpu, bytemuck::cast_slice(&input.shadow_groups.indices))?;
+            .write(gpu, bytemuck::cast_slice(&input.shadow_views.indices))?;
         let view_replaced = self
             .view_indices
             .write(gpu, bytemuck::cast_slice(&input.view_groups.indices))?;
@@ -241,51 +180,7 @@ impl SceneGpu {
             );
         }
         queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(frame));
-        queue.write_buffer(&self.shadow_uniforms, 0, bytemuck::bytes_of(shadow));
-        let views: [CascadeViewGpu; MAX_CASCADES] = std::array::from_fn(|c| CascadeViewGpu {
-            clip_from_world: shadow.cascades[c].clip_from_world,
-            _pad: [glam::Vec4::ZERO; 12],
-        });
-        queue.write_buffer(&self.cascade_views, 0, bytemuck::cast_slice(&views));
-        if self.view_group.is_none() || self.shadow_map_resolution != shadow_map.resolution {
-            self.view_group = Some(self.create_view_group(device, layouts, shadow_map));
-            self.shadow_map_resolution = shadow_map.resolution;
-            return Ok(true);
-        }
-        Ok(false)
-    }
-
-    fn create_view_group(&self, device: &wgpu::Device, layouts: &Layouts, shadow_map: &ShadowMap) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("view"),
-            layout: &layouts.view,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.frame_uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.shadow_uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&shadow_map.array_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&layouts.shadow_compare),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: self.poisson_taps.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&layouts.shadow_point),
-                },
-            ],
-        })
+        Ok(())
     }
 
     /// Packs every mesh into one vertex and one index buffer, after checking that both fit.

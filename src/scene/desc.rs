@@ -139,6 +139,11 @@ pub enum LightDesc {
         /// Radius of the emitter, ≥ 0 (soft-shadow size). Default 0.
         #[serde(default)]
         radius: f32,
+        /// Its own shadow settings (filter, PCF radius, PCSS quality, biases, and
+        /// `resolution`: the side of its map). Default: the default settings at the light
+        /// budget's spot resolution (1024), not the scene's `shadows`.
+        #[serde(default)]
+        shadows: Option<ShadowSettings>,
         /// Whether it casts shadows. Default true.
         #[serde(default = "yes")]
         shadows_enabled: bool,

@@ -217,9 +217,13 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
             inner_angle,
             outer_angle,
             radius,
+            shadows,
             ..
         } => {
             check_positional(c, *position, *range, *radius, at);
+            for p in shadows.iter().flat_map(ShadowSettings::problems) {
+                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+            }
             if !is_direction(*direction) {
                 c.add(at.field("direction"), "a finite, non-zero direction", direction.shown());
             }

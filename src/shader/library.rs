@@ -38,14 +38,38 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 5] = [
-    ModuleSource {
-        file: "shadow_types.wgsl",
-        source: include_str!("../../shaders/shadow_types.wgsl"),
-    },
+const MODULES: [ModuleSource; 10] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/types.wgsl",
+        source: include_str!("../../shaders/shadows/types.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/bindings.wgsl",
+        source: include_str!("../../shaders/shadows/bindings.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/common.wgsl",
+        source: include_str!("../../shaders/shadows/common.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/filters.wgsl",
+        source: include_str!("../../shaders/shadows/filters.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/cascades.wgsl",
+        source: include_str!("../../shaders/shadows/cascades.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/spot.wgsl",
+        source: include_str!("../../shaders/shadows/spot.wgsl"),
+    },
+    ModuleSource {
+        file: "lights.wgsl",
+        source: include_str!("../../shaders/lights.wgsl"),
     },
     ModuleSource {
         file: "mesh.wgsl",
@@ -54,10 +78,6 @@ const MODULES: [ModuleSource; 5] = [
     ModuleSource {
         file: "forward_io.wgsl",
         source: include_str!("../../shaders/forward_io.wgsl"),
-    },
-    ModuleSource {
-        file: "shadow.wgsl",
-        source: include_str!("../../shaders/shadow.wgsl"),
     },
 ];
 const FORWARD: ModuleSource = ModuleSource {
@@ -157,8 +177,8 @@ impl ShaderLibrary {
     }
 
     /// Replaces the forward shader with a material's own WGSL (which may `#import`
-    /// `penumbra::shadow` and the other library modules). It must keep the forward shader's
-    /// interface: `vs_main` and `fs_main`, bind groups 0–2 as in `forward.wgsl`, and the
+    /// `penumbra::lights` and the other library modules). It must keep the forward shader's
+    /// interface: `vs_main` and `fs_main`, bind groups 0–3 as in `forward.wgsl`, and the
     /// `ALPHA_MASK` / `ANALYSIS_OUTPUTS` defs. The source is composed and validated for the
     /// opaque and masked PCF variants first; if that fails, the error is returned and the
     /// current shader stays in use.

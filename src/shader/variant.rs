@@ -4,14 +4,17 @@ use std::collections::HashMap;
 
 use naga_oil::compose::ShaderDefValue;
 
+use crate::ecs::frame_lights::FrameLights;
 use crate::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
-/// How the forward shader filters the directional shadow map.
+/// Which shadow filters a forward shader compiles in: PCF always, PCSS (with the sample
+/// counts of a quality level) when a light needs it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShadowFilter {
-    /// `(2R+1)²` comparison grid; the radius is a uniform.
+    /// PCF only (a `(2R+1)²` grid for cascades, a rotated Poisson disc for spot lights; the
+    /// radius is per light).
     Pcf,
-    /// PCSS with the sample counts of a quality level.
+    /// PCF and PCSS, with the sample counts of a quality level.
     Pcss(PcssQuality),
 }
 
@@ -39,6 +42,29 @@ impl ForwardVariant {
         Self {
             filter,
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
+            alpha_mask,
+            analysis: false,
+        }
+    }
+
+    /// The variant a frame's lights need: PCSS (at the highest quality any shadowed PCSS
+    /// light asks for) when one uses it, else PCF; each light then picks its own filter among
+    /// those compiled in. The cascade debug tint is on when a sun asks for it.
+    pub fn for_lights(lights: &FrameLights, alpha_mask: bool) -> Self {
+        let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).map(|s| &s.settings);
+        let spots = lights.spots.iter().filter(|s| s.shadow.is_some()).map(|s| &s.settings);
+        let shadowed: Vec<&ShadowSettings> = suns.chain(spots).collect();
+        let quality = shadowed
+            .iter()
+            .filter(|s| s.mode == ShadowMode::Pcss)
+            .map(|s| s.pcss_quality)
+            .max_by_key(|q| (q.filter_samples(), q.blocker_samples()));
+        Self {
+            filter: quality.map_or(ShadowFilter::Pcf, ShadowFilter::Pcss),
+            debug_cascades: lights
+                .suns
+                .iter()
+                .any(|s| s.settings.debug_view == ShadowDebugView::Cascades),
             alpha_mask,
             analysis: false,
         }

@@ -17,7 +17,7 @@ pub struct ViewerArgs {
     /// settings" writes here. Default: `<scene>.settings.ron`.
     #[arg(long)]
     pub settings: Option<PathBuf>,
-    /// A material's own forward shader (WGSL that may `#import penumbra::shadow`), watched for
+    /// A material's own forward shader (WGSL that may `#import penumbra::lights`), watched for
     /// edits; a broken edit keeps the last good pipeline.
     #[arg(long)]
     pub shader: Option<PathBuf>,

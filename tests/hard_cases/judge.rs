@@ -114,8 +114,8 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
         renderer.render(&FrameInputs::from_world(s.app.world(), 0));
         let analysis = renderer.read_analysis().expect("analysis targets");
         let finite = s
-            .view()
-            .sun
+            .lights()
+            .sun()
             .is_none_or(|sun| sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
         assert!(finite, "{name} ({mode:?}): non-finite cascade matrix");
         let bad = analysis
@@ -128,7 +128,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
         session = Some(s);
     }
     let session = session.expect("two sessions");
-    let texels: Vec<f32> = session.view().sun.map_or(Vec::new(), |sun| {
+    let texels: Vec<f32> = session.lights().sun().map_or(Vec::new(), |sun| {
         sun.cascades.active().iter().map(|c| c.texel_world_size).collect()
     });
     let (pcf, pcss) = (&frames[0].1, &frames[1].1);
@@ -142,7 +142,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
     let forward = (desc.camera.target - desc.camera.position).normalize();
     // NOTE: pixels in the distance-fade band (and past max_distance) are meant to lose their
     // shadow; only pixels where the technique promises full-strength shadows are scored.
-    let fade_start = session.view().sun.map_or(0.0, |s| {
+    let fade_start = session.lights().sun().map_or(0.0, |s| {
         s.settings.max_distance.min(desc.camera.far) * (1.0 - s.settings.distance_fade_width)
     });
     let Points {

@@ -13,8 +13,9 @@ use bevy_ecs::world::World;
 use egui::{Button, CollapsingHeader, Color32, Slider, Ui};
 
 use crate::ecs::components::DirectionalLight;
+use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::ecs::view::ActiveView;
 use crate::render::FrameReport;
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;
@@ -88,8 +89,13 @@ impl Inspector {
         CollapsingHeader::new("Shadows").default_open(true).show(ui, |ui| {
             self.settings_section(ui, world);
         });
-        CollapsingHeader::new("Cascades").default_open(true).show(ui, |ui| {
-            stats::cascades_ui(ui, world.resource::<ActiveView>(), world.resource::<ShadowStats>());
+        CollapsingHeader::new("Shadow views").default_open(true).show(ui, |ui| {
+            stats::shadow_views_ui(
+                ui,
+                world.resource::<FrameLights>(),
+                world.resource::<ShadowViews>(),
+                world.resource::<ShadowStats>(),
+            );
         });
         CollapsingHeader::new("Timings").default_open(true).show(ui, |ui| {
             let empty = FrameReport::default();

@@ -1,11 +1,13 @@
-//! The statistics sections: per-cascade depth range, texel density and casters drawn; GPU
+//! The statistics sections: per shadow view its range, texel density and casters drawn; GPU
 //! and CPU timings per pass with a small history plot.
 
 use egui::{Color32, Grid, Sense, Stroke, Ui, pos2, vec2};
 
+use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
 use crate::ecs::stats::ShadowStats;
-use crate::ecs::view::ActiveView;
 use crate::render::FrameReport;
+use crate::render::shadows::depth_pass::view_name;
 use crate::viewer::history::TimingHistory;
 
 /// GPU-time line colour in the plot.
@@ -13,31 +15,51 @@ const GPU_COLOR: Color32 = Color32::from_rgb(110, 190, 255);
 /// CPU-time line colour in the plot.
 const CPU_COLOR: Color32 = Color32::from_rgb(255, 170, 80);
 
-/// One row per active cascade: view-depth range, shadow texels per metre, casters drawn.
-pub(crate) fn cascades_ui(ui: &mut Ui, view: &ActiveView, stats: &ShadowStats) {
-    let Some(sun) = view.sun.as_ref().filter(|s| s.cascades.count > 0) else {
-        ui.label("no shadowed sun in view");
+/// One row per shadow view: its light, what it covers (a cascade's view-depth range, a spot
+/// light's near and far planes), shadow texels per metre, casters drawn.
+pub(crate) fn shadow_views_ui(ui: &mut Ui, lights: &FrameLights, views: &ShadowViews, stats: &ShadowStats) {
+    if views.views.is_empty() {
+        ui.label("no shadowed light in view");
         return;
-    };
-    Grid::new("cascade stats").striped(true).show(ui, |ui| {
-        ui.label("cascade");
-        ui.label("depth range m");
+    }
+    let mut name = String::new();
+    Grid::new("shadow view stats").striped(true).show(ui, |ui| {
+        ui.label("view");
+        ui.label("range m");
         ui.label("texels/m");
         ui.label("casters");
         ui.end_row();
-        for (i, c) in sun.cascades.cascades[..sun.cascades.count].iter().enumerate() {
-            ui.label(i.to_string());
-            ui.label(format!("{:.1} – {:.1}", c.near, c.far));
-            let density = if c.texel_world_size > 0.0 {
-                1.0 / c.texel_world_size
-            } else {
-                0.0
+        for (i, view) in views.views.iter().enumerate() {
+            view_name(lights, view, &mut name);
+            ui.label(name.trim_start_matches("shadow "));
+            let (range, texel) = match view.kind {
+                ShadowViewKind::Cascade(c) => lights
+                    .suns
+                    .get(view.light as usize)
+                    .and_then(|s| s.cascades.active().get(c as usize))
+                    .map_or(((0.0, 0.0), 0.0), |c| ((c.near, c.far), c.texel_world_size)),
+                ShadowViewKind::Spot => (view_depths(lights, view), 0.0),
             };
-            ui.label(format!("{density:.1}"));
-            ui.label(stats.casters_per_cascade[i].to_string());
+            ui.label(format!("{:.1} – {:.1}", range.0, range.1));
+            let density = if texel > 0.0 {
+                format!("{:.1}", 1.0 / texel)
+            } else {
+                "—".to_string()
+            };
+            ui.label(density);
+            ui.label(stats.casters_per_view.get(i).copied().unwrap_or(0).to_string());
             ui.end_row();
         }
     });
+}
+
+/// Near and far planes of a spot light's view.
+fn view_depths(lights: &FrameLights, view: &ShadowView) -> (f32, f32) {
+    (view.light as usize)
+        .checked_sub(lights.suns.len())
+        .and_then(|i| lights.spots.get(i))
+        .and_then(|s| s.shadow)
+        .map_or((0.0, 0.0), |s| (s.view.near, s.view.far))
 }
 
 /// GPU passes, CPU systems and the plot of the last frames.
@@ -55,7 +77,7 @@ pub(crate) fn timings_ui(ui: &mut Ui, report: &FrameReport, stats: &ShadowStats,
             ui.end_row();
         }
         for (name, d) in [
-            ("CPU cascades", stats.cascades_cpu),
+            ("CPU lights and views", stats.cascades_cpu),
             ("CPU caster culling", stats.culling_cpu),
             ("CPU view culling", stats.view_culling_cpu),
         ] {

@@ -1,0 +1,19 @@
+// The shadow bind group (group 3): the frame's lights and shadow views as storage buffers,
+// one depth array per kind of shadow storage, the samplers and the Poisson taps. A material
+// does not name these; it calls `penumbra::lights`.
+#define_import_path penumbra::shadows::bindings
+
+#import penumbra::shadows::types::{Light, PoissonTaps, ShadowView}
+
+@group(3) @binding(0) var<storage, read> lights: array<Light>;
+@group(3) @binding(1) var<storage, read> shadow_views: array<ShadowView>;
+// Every cascade of every shadowed sun, one layer each.
+@group(3) @binding(2) var cascade_maps: texture_depth_2d_array;
+// Every shadowed spot light, one layer each.
+@group(3) @binding(3) var spot_maps: texture_depth_2d_array;
+// Comparison sampler: returns 1 where the reference depth is >= the stored depth (reverse-Z:
+// the receiver is at least as close to the light as the nearest caster, so it is lit).
+@group(3) @binding(4) var shadow_compare: sampler_comparison;
+// Nearest-neighbour sampler for raw depth reads (PCSS blocker search).
+@group(3) @binding(5) var shadow_point: sampler;
+@group(3) @binding(6) var<uniform> poisson_taps: PoissonTaps;

@@ -1,0 +1,199 @@
+// The cascades of a directional light: cascade selection, projection with normal offset and
+// receiver-plane depth gradient, PCF or PCSS from the cascades' depth array, cascade blend
+// and distance fade. The entry point is `directional_visibility`, called by
+// penumbra::lights::shadow_visibility for a sun.
+//
+// Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path (variants with a PCSS light);
+// without it a PCSS light is filtered with PCF.
+#define_import_path penumbra::shadows::cascades
+
+#import penumbra::shadows::bindings::{cascade_maps, shadow_views}
+#import penumbra::shadows::common::{
+    MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row,
+    normal_offset_metres, poisson_rotation,
+}
+#import penumbra::shadows::filters::{MapSample, find_blockers, pcf_grid, pcss_filter}
+#import penumbra::shadows::types::{
+    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+}
+
+// Which cascade a fragment samples, and how far it is into the blend band towards the next.
+struct CascadeSelection {
+    index: u32,
+    // 0 inside the cascade, rising to 1 at its far end when blending is on.
+    blend: f32,
+}
+
+// Maps a view-space depth to one of the light's cascades and a blend factor towards the next.
+fn select_cascade(light: Light, view_depth: f32) -> CascadeSelection {
+    let count = max(light.view_count, 1u);
+    var index = count - 1u;
+    for (var i = 0u; i < count; i++) {
+        if view_depth < shadow_views[light.first_view + i].range.y {
+            index = i;
+            break;
+        }
+    }
+    var blend = 0.0;
+    if index + 1u < count {
+        let range = shadow_views[light.first_view + index].range;
+        let width = light.shadow_params.z * (range.y - range.x);
+        if width > 0.0 {
+            blend = saturate((view_depth - (range.y - width)) / width);
+        }
+    }
+    return CascadeSelection(index, blend);
+}
+
+// 1 where the light's shadows are at full strength, falling smoothly to 0 at its
+// max_distance.
+fn shadow_distance_fade(light: Light, view_depth: f32) -> f32 {
+    let end = light.shadow_params.y;
+    let width = light.shadow_params.w * end;
+    if width <= 0.0 {
+        return select(0.0, 1.0, view_depth < end);
+    }
+    return 1.0 - smoothstep(end - width, end, view_depth);
+}
+
+// Projects a receiver into cascade `index` of `light`, offset along its normal, and derives
+// the depth gradient of the receiver's plane in shadow UV space. Returns the sample and
+// whether the receiver lies inside the cascade.
+//
+// NOTE: the gradient comes from the surface normal, not from screen-space derivatives: it
+// needs no uniform control flow, is defined at cascade and silhouette edges (where
+// derivatives mix unrelated pixels), and costs a few dot products. For the plane n·p = c, the
+// map world -> (u, v, z) has rows a_i; the plane's covector in (u, v, z) is
+// m_i = (a_i · n) / |a_i|², so dz = -(m.x du + m.y dv) / m.z.
+fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> MapSample {
+    let view = shadow_views[light.first_view + index];
+    let m = view.clip_from_world;
+    let texel_world = view.params.x;
+    let offset = normal_offset_metres(normal, light.direction, light.shadow_params.x, texel_world);
+    let clip = m * vec4<f32>(world_pos + normal * offset, 1.0);
+    let uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
+    var out: MapSample;
+    out.uv = view.rect.xy + uv * view.rect.zw;
+    // NOTE: a receiver past the box's far plane (depth < 0) is compared as if on it: a
+    // stored caster (depth > 0) still shadows it, an empty texel (cleared to 0) does not.
+    out.depth = max(clip.z, 0.0);
+    out.layer = view.layer;
+    out.texel = view.texel_size * view.rect.z;
+    out.uv_min = view.rect.xy + 0.5 * out.texel;
+    out.uv_max = view.rect.xy + view.rect.zw - 0.5 * out.texel;
+    // World size of a texel along u and along v (params.w is width_x / width_y).
+    let texel_metres = vec2<f32>(texel_world, texel_world / max(view.params.w, 1e-30));
+    out.filter_step = out.texel * min(vec2<f32>(1.0), MAX_FILTER_STEP_METRES / max(texel_metres, vec2<f32>(1e-30)));
+    out.dz_duv = vec2<f32>(0.0);
+    out.dz_duv_true = vec2<f32>(0.0);
+    if (light.flags & SHADOW_FLAG_RECEIVER_PLANE) != 0u {
+        let a0 = linear_row(m, 0u) * 0.5;
+        let a1 = linear_row(m, 1u) * -0.5;
+        let a2 = linear_row(m, 2u);
+        let cov = vec3<f32>(
+            dot(a0, normal) / max(dot(a0, a0), 1e-30),
+            dot(a1, normal) / max(dot(a1, a1), 1e-30),
+            dot(a2, normal) / max(dot(a2, a2), 1e-30),
+        );
+        // Largest gradient allowed: MAX_RECEIVER_SLOPE in world units, converted to NDC depth
+        // per UV (width_x / depth_range).
+        let width_x = texel_world / view.texel_size;
+        let max_gradient = MAX_RECEIVER_SLOPE * width_x / max(view.range.z, 1e-6);
+        let denom = select(cov.z, 1e-30, abs(cov.z) < 1e-30);
+        let max_true = MAX_TRUE_SLOPE * width_x / max(view.range.z, 1e-6);
+        // Per unit of view UV, then per unit of layer UV.
+        let dz_true = clamp(-cov.xy / denom, vec2<f32>(-max_true), vec2<f32>(max_true));
+        out.dz_duv_true = dz_true / view.rect.zw;
+        out.dz_duv = clamp(dz_true, vec2<f32>(-max_gradient), vec2<f32>(max_gradient)) / view.rect.zw;
+    }
+    return out;
+}
+
+#ifdef SHADOW_FILTER_PCSS
+// Percentage-closer soft shadows in a cascade: average the depth of occluders found around
+// the receiver, size the filter from the receiver-blocker distance, then filter with that
+// kernel.
+fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
+    let view = shadow_views[light.first_view + index];
+    let pcss_scale = view.params.z * view.rect.z;
+    let aspect = vec2<f32>(1.0, view.params.w);
+    // Smallest kernel radius in u units (the kernel's v extent is the radius times aspect.y).
+    let min_radius = min(p.filter_step.x, p.filter_step.y / aspect.y);
+    let max_radius = MAX_PENUMBRA_TEXELS * p.texel;
+    let rotation = poisson_rotation(frag_coord, light.flags);
+
+    // Blocker search: the widest penumbra any caster between the light-side plane and the
+    // receiver could throw, bounded to MAX_PENUMBRA_TEXELS.
+    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, min_radius, max_radius);
+    let blockers = find_blockers(cascade_maps, p, search_radius, aspect, rotation);
+    if blockers.count == 0.0 {
+        return 1.0;
+    }
+    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
+    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
+        return 0.0;
+    }
+    // Penumbra: full width = distance to the blockers times 2 tan(θ/2); the filter radius is
+    // half of it.
+    let penumbra = 0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale;
+    let radius = clamp(penumbra, min_radius, max_radius);
+    return pcss_filter(cascade_maps, p, radius, aspect, rotation, blockers.count);
+}
+#endif
+
+// Shadow factor from one cascade with the light's filter.
+fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
+    let p = project_to_cascade(light, index, surface.position, surface.normal);
+    let rect = shadow_views[light.first_view + index].rect;
+    let uv = (p.uv - rect.xy) / rect.zw;
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || p.depth > 1.0 {
+        return 1.0;
+    }
+#ifdef SHADOW_FILTER_PCSS
+    if light.shadow_filter == SHADOW_FILTER_PCSS {
+        return cascade_pcss(light, index, p, surface.frag_coord);
+    }
+#endif
+    return pcf_grid(cascade_maps, p, light.pcf_radius);
+}
+
+// The fraction of a sun visible from `surface` (1 lit, 0 shadowed), with cascade blending and
+// distance fade; 1 for a sun without shadow views.
+fn directional_visibility(light: Light, surface: Surface) -> f32 {
+    if light.view_count == 0u || surface.view_depth >= light.shadow_params.y {
+        return 1.0;
+    }
+    let selection = select_cascade(light, surface.view_depth);
+    var visibility = sample_cascade(light, selection.index, surface);
+    if selection.blend > 0.0 {
+        let next = sample_cascade(light, selection.index + 1u, surface);
+        visibility = mix(visibility, next, selection.blend);
+    }
+    return mix(1.0, visibility, shadow_distance_fade(light, surface.view_depth));
+}
+
+// The cascade a fragment at `view_depth` samples, or -1 when the light has no shadow or the
+// fragment lies past its max_distance (for analysis outputs and debug views).
+fn cascade_index(light: Light, view_depth: f32) -> i32 {
+    if light.view_count == 0u || view_depth >= light.shadow_params.y {
+        return -1;
+    }
+    return i32(select_cascade(light, view_depth).index);
+}
+
+// Debug colour of the cascade a fragment samples (red, green, blue, yellow, repeating),
+// blended like the shadow itself; grey beyond max_distance or without shadows.
+fn cascade_debug_color(light: Light, view_depth: f32) -> vec3<f32> {
+    var colors = array<vec3<f32>, 4>(
+        vec3<f32>(1.0, 0.25, 0.25),
+        vec3<f32>(0.25, 1.0, 0.25),
+        vec3<f32>(0.3, 0.45, 1.0),
+        vec3<f32>(1.0, 1.0, 0.25),
+    );
+    if light.view_count == 0u || view_depth >= light.shadow_params.y {
+        return vec3<f32>(0.5);
+    }
+    let selection = select_cascade(light, view_depth);
+    let next = min(selection.index + 1u, light.view_count - 1u);
+    return mix(colors[selection.index % 4u], colors[next % 4u], selection.blend);
+}

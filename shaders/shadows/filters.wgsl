@@ -1,0 +1,137 @@
+// Shadow-map filters, shared by every layout (cascades, spot lights): hardware comparison
+// taps with receiver-plane depth, the PCF grid, rotated-Poisson PCF, and PCSS's blocker
+// search and variable-width filter. Each takes the depth array to read and a `MapSample`:
+// the receiver already projected into one view by its layout module.
+//
+// The PCSS sample counts are the shader defs of penumbra::shadows::common.
+#define_import_path penumbra::shadows::filters
+
+#import penumbra::shadows::bindings::{shadow_compare, shadow_point}
+#import penumbra::shadows::common::{RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap, sixteen_tap}
+
+// A receiver projected into one shadow view, in the UV space of the view's layer.
+struct MapSample {
+    uv: vec2<f32>,
+    // Reverse-Z depth of the receiver in the view (1 near the light, 0 far).
+    depth: f32,
+    // Receiver-plane depth gradient: change of depth per unit of layer UV, clamped to the
+    // layout's steepest slope.
+    dz_duv: vec2<f32>,
+    // The same gradient clamped only to MAX_TRUE_SLOPE, for PCSS (see `pcss_tap_depth`).
+    dz_duv_true: vec2<f32>,
+    layer: u32,
+    // Step between PCF taps in layer UV along u and v: one texel, or less where a texel is
+    // wider than MAX_FILTER_STEP_METRES.
+    filter_step: vec2<f32>,
+    // One texel, in layer UV.
+    texel: f32,
+    // Taps are clamped to these corners (half a texel inside the view's rectangle), so a
+    // kernel never reads a neighbouring view.
+    uv_min: vec2<f32>,
+    uv_max: vec2<f32>,
+}
+
+// Comparison depth for a tap at `offset_uv` from the receiver: the receiver plane's depth
+// there, moved towards the light by a fraction of a texel of slope.
+fn tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
+    let slack = RECEIVER_PLANE_EPSILON_TEXELS * p.texel * (abs(p.dz_duv.x) + abs(p.dz_duv.y));
+    return p.depth + dot(p.dz_duv, offset_uv) + slack;
+}
+
+// One hardware 2x2 comparison tap: 1 lit, 0 shadowed.
+fn compare_tap(map: texture_depth_2d_array, p: MapSample, offset_uv: vec2<f32>) -> f32 {
+    let uv = clamp(p.uv + offset_uv, p.uv_min, p.uv_max);
+    return textureSampleCompareLevel(map, shadow_compare, uv, p.layer, tap_depth(p, offset_uv));
+}
+
+// Fixed (2R+1)² grid of comparison taps, `filter_step` apart (R at most 5).
+fn pcf_grid(map: texture_depth_2d_array, p: MapSample, radius: u32) -> f32 {
+    let r = i32(min(radius, 5u));
+    var sum = 0.0;
+    for (var y = -r; y <= r; y++) {
+        for (var x = -r; x <= r; x++) {
+            sum += compare_tap(map, p, vec2<f32>(f32(x), f32(y)) * p.filter_step);
+        }
+    }
+    let side = f32(2 * r + 1);
+    return sum / (side * side);
+}
+
+// 16 comparison taps of a rotated Poisson disc of `radius` (layer UV); one tap at radius 0.
+fn pcf_poisson(map: texture_depth_2d_array, p: MapSample, radius: f32, rotation: mat2x2<f32>) -> f32 {
+    if radius <= 0.0 {
+        return compare_tap(map, p, vec2<f32>(0.0));
+    }
+    var sum = 0.0;
+    for (var i = 0u; i < 16u; i++) {
+        sum += compare_tap(map, p, rotation * sixteen_tap(i) * radius);
+    }
+    return sum / 16.0;
+}
+
+// Comparison depth of a PCSS tap: `tap_depth`, or the true (unclamped) receiver plane where
+// that is nearer the light. A stored depth behind the receiver's own tangent plane cannot
+// shade it, but where the slope was clamped the clamped plane falls behind the surface on the
+// side that rises towards the light, and PCSS's wide search and kernel then find the
+// receiver's own faces there (a caster's top face under a sun 0.5° above the horizon).
+//
+// NOTE: the true plane carries no slack: the slack scales with the slope, and 0.5 texel of an
+// uncapped slope (115 at 0.5°) lets real blockers a metre away fail (10.6 % of the umbra lit
+// with MAX_RECEIVER_SLOPE at 200). PCF keeps `tap_depth` alone: its kernel spans about a
+// texel, where the clamped plane plus slack already holds, and the true plane there only lit
+// more contact shadow (5 of 498 umbra pixels instead of 3 under that sun).
+fn pcss_tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
+    return max(tap_depth(p, offset_uv), p.depth + dot(p.dz_duv_true, offset_uv));
+}
+
+// What the blocker search found: the mean depth of the blocking texels and how many of the
+// `4 · PCSS_BLOCKER_SAMPLES` gathered texels block.
+struct Blockers {
+    depth: f32,
+    count: f32,
+}
+
+// Gathers `PCSS_BLOCKER_SAMPLES` 2x2 footprints over a rotated Poisson disc of `radius`
+// (layer UV, stretched by `aspect`) and averages the depth of those nearer the light than
+// the receiver's plane.
+fn find_blockers(
+    map: texture_depth_2d_array,
+    p: MapSample,
+    radius: f32,
+    aspect: vec2<f32>,
+    rotation: mat2x2<f32>,
+) -> Blockers {
+    var sum = 0.0;
+    var count = 0.0;
+    for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
+        let offset = rotation * blocker_tap(i) * radius * aspect;
+        let uv = clamp(p.uv + offset, p.uv_min, p.uv_max);
+        let depths = textureGather(map, shadow_point, uv, p.layer);
+        let reference = pcss_tap_depth(p, offset);
+        let is_blocker = vec4<f32>(depths > vec4<f32>(reference));
+        sum += dot(depths, is_blocker);
+        count += dot(is_blocker, vec4<f32>(1.0));
+    }
+    return Blockers(sum / max(count, 1.0), count);
+}
+
+// `PCSS_FILTER_SAMPLES` comparison taps over a rotated Poisson disc of `radius` (layer UV,
+// stretched by `aspect`), faded towards lit where the search found few blockers (it only
+// grazed the penumbra's outer edge).
+fn pcss_filter(
+    map: texture_depth_2d_array,
+    p: MapSample,
+    radius: f32,
+    aspect: vec2<f32>,
+    rotation: mat2x2<f32>,
+    blocker_count: f32,
+) -> f32 {
+    var lit = 0.0;
+    for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
+        let offset = rotation * filter_tap(i) * radius * aspect;
+        let uv = clamp(p.uv + offset, p.uv_min, p.uv_max);
+        lit += textureSampleCompareLevel(map, shadow_compare, uv, p.layer, pcss_tap_depth(p, offset));
+    }
+    lit /= f32(#{PCSS_FILTER_SAMPLES});
+    return mix(1.0, lit, smoothstep(0.0, 4.0, blocker_count));
+}

@@ -1,0 +1,96 @@
+// Data the shadow library reads: the lights of the frame, the shadow views they render, and
+// the Poisson tap patterns. The Rust mirrors are in `render::shadows::gpu` and
+// `render::gpu_types`; a test compares both layouts field by field, and another the constants
+// below, so neither side counts offsets or flag bits by hand.
+#define_import_path penumbra::shadows::types
+
+// `Light::kind`.
+const LIGHT_DIRECTIONAL: u32 = 0u;
+const LIGHT_SPOT: u32 = 1u;
+const LIGHT_POINT: u32 = 2u;
+
+// `Light::shadow_filter`: how a light's shadow map is filtered.
+const SHADOW_FILTER_PCF: u32 = 0u;
+const SHADOW_FILTER_PCSS: u32 = 1u;
+
+// Flag bits of `Light::flags`.
+const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2u;
+const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4u;
+const SHADOW_FLAG_TEMPORAL: u32 = 8u;
+
+// One light of the frame. Positions are relative to the render origin.
+struct Light {
+    // Linear RGB colour times intensity (illuminance for a sun).
+    color: vec3<f32>,
+    // LIGHT_DIRECTIONAL, LIGHT_SPOT or LIGHT_POINT.
+    kind: u32,
+    // Position of a spot or point light.
+    position: vec3<f32>,
+    // Distance past which a spot or point light has no effect, metres.
+    range: f32,
+    // Direction the light travels (sun, spot), unit length.
+    direction: vec3<f32>,
+    // Size of the emitter: angular diameter of a sun (radians), radius of a spot or point
+    // light (metres).
+    size: f32,
+    // Spot cone: x = cos(outer angle), y = 1 / (cos(inner) - cos(outer)); zw unused.
+    cone: vec4<f32>,
+    // x: normal offset (texels), y: where a sun's shadows end (view depth), z: cascade blend
+    // fraction, w: distance fade fraction.
+    shadow_params: vec4<f32>,
+    // The light's shadow views are `first_view .. first_view + view_count` (none: 0).
+    first_view: u32,
+    view_count: u32,
+    // SHADOW_FILTER_*.
+    shadow_filter: u32,
+    // SHADOW_FLAG_* bits.
+    flags: u32,
+    // PCF kernel radius, texels.
+    pcf_radius: u32,
+    padding_a: u32,
+    padding_b: u32,
+    padding_c: u32,
+}
+
+// One view a shadow map was rendered from: a cascade of a sun, or a spot light's view.
+struct ShadowView {
+    // Light clip space from world space (reverse-Z).
+    clip_from_world: mat4x4<f32>,
+    // Cascade: x = world size of one texel, y = light size in UV per metre of depth,
+    // z = NDC depth difference -> penumbra width in UV, w = width_x / width_y.
+    // Spot: x = world size of one texel per metre of distance, y = near, z = far, w = 0.
+    params: vec4<f32>,
+    // Cascade: x = view depth where it starts, y = where it ends, z = depth range in metres.
+    range: vec4<f32>,
+    // Where the view lies in its layer: xy = UV offset, zw = UV scale.
+    rect: vec4<f32>,
+    // Layer of the view's storage (the cascades' array or the spot lights' array).
+    layer: u32,
+    // 1 / side of the view's shadow map in texels.
+    texel_size: f32,
+    padding_a: u32,
+    padding_b: u32,
+}
+
+// The Poisson-disk tap patterns (unit disc), two taps per vec4 (xy, then zw). Filled from
+// `math::poisson::STANDARD_SETS`; uniform memory keeps the dynamically indexed taps cheap on
+// every GPU (a function-local copy of a constant array may spill to scratch memory).
+struct PoissonTaps {
+    blocker_sixteen: array<vec4<f32>, 8>,
+    blocker_thirty_two: array<vec4<f32>, 16>,
+    filter_sixteen: array<vec4<f32>, 8>,
+    filter_twenty_five: array<vec4<f32>, 13>,
+    filter_forty_nine: array<vec4<f32>, 25>,
+}
+
+// A point being shaded, as every shadow technique needs it.
+struct Surface {
+    // World position (relative to the render origin).
+    position: vec3<f32>,
+    // Unit normal, facing the viewer.
+    normal: vec3<f32>,
+    // Positive distance along the camera's forward axis.
+    view_depth: f32,
+    // Pixel position (seeds the per-pixel rotation of the sampling patterns).
+    frag_coord: vec2<f32>,
+}

@@ -1,0 +1,326 @@
+//! This frame's lights as the renderer sees them: every [`DirectionalLight`], [`SpotLight`]
+//! and [`PointLight`] with a valid transform, its parameters repaired where they were out of
+//! range (with a warning), and — for the lights that ask for shadows and fit the
+//! [`ShadowLightBudget`] — the shadow settings and views. Computed by [`update_frame_lights`];
+//! the per-view caster lists are built from it by
+//! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).
+//!
+//! Lights are listed per kind; the renderer numbers them suns first, then spots, then points
+//! ([`FrameLights::light_index`]), which is the order of the GPU light list a material loops
+//! over.
+
+use std::time::Instant;
+
+use bevy_ecs::entity::Entity;
+use bevy_ecs::resource::Resource;
+use bevy_ecs::system::{Local, Query, Res, ResMut};
+use bevy_transform::components::GlobalTransform;
+use glam::Vec3;
+
+use crate::ecs::components::DirectionalLight;
+use crate::ecs::instances::RenderInstances;
+use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sanitized_settings};
+use crate::ecs::lights::{PointLight, SpotLight};
+use crate::ecs::origin::RenderOrigin;
+use crate::ecs::placement::{world_forward, world_pose};
+use crate::ecs::shadow_views::{SPOT_NEAR, ShadowLightBudget};
+use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::ecs::view::ActiveView;
+use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
+use crate::math::light_budget::{
+    BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
+};
+use crate::math::spot::{SpotInput, SpotView, spot_view};
+use crate::settings::ShadowSettings;
+
+/// A directional light this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// Unit direction the light travels.
+    pub direction: Vec3,
+    /// The light's parameters (repaired where out of range).
+    pub light: DirectionalLight,
+    /// Sanitized shadow settings (the entity's [`ShadowSettings`], else the defaults).
+    pub settings: ShadowSettings,
+    /// Cascades; `count == 0` when the light casts no shadows this frame.
+    pub cascades: CascadeSet,
+}
+
+/// The shadow of a spot light this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotShadow {
+    /// Its perspective view, relative to the render origin.
+    pub view: SpotView,
+    /// Side of its shadow map, texels.
+    pub resolution: u32,
+}
+
+/// A spot light this frame. Positions are relative to the [`RenderOrigin`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotLightView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// Position of the light.
+    pub position: Vec3,
+    /// Unit direction the light shines along.
+    pub direction: Vec3,
+    /// The light's parameters (repaired where out of range).
+    pub light: SpotLight,
+    /// Sanitized shadow settings (filter, bias, normal offset; the cascade fields are unused).
+    pub settings: ShadowSettings,
+    /// The shadow view, when the light casts a shadow this frame.
+    pub shadow: Option<SpotShadow>,
+}
+
+/// A point light this frame (lit, not shadowed yet). Its position is relative to the
+/// [`RenderOrigin`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLightView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// Position of the light.
+    pub position: Vec3,
+    /// The light's parameters (repaired where out of range).
+    pub light: PointLight,
+}
+
+/// Every light of this frame, per kind, in the order the ECS query returned them.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct FrameLights {
+    /// Directional lights.
+    pub suns: Vec<SunView>,
+    /// Spot lights.
+    pub spots: Vec<SpotLightView>,
+    /// Point lights.
+    pub points: Vec<PointLightView>,
+}
+
+impl FrameLights {
+    /// The first directional light, if any (the one the bench scores and the inspector edits
+    /// first).
+    pub fn sun(&self) -> Option<&SunView> {
+        self.suns.first()
+    }
+
+    /// Number of lights of every kind.
+    pub fn len(&self) -> usize {
+        self.suns.len() + self.spots.len() + self.points.len()
+    }
+
+    /// True when there is no light at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Index of light `index` of `kind` in the renderer's light list (suns, then spots, then
+    /// points), which is the `i` a material passes to `get_light(i)`.
+    pub fn light_index(&self, kind: LightKind, index: usize) -> usize {
+        match kind {
+            LightKind::Directional => index,
+            LightKind::Spot => self.suns.len() + index,
+            LightKind::Point => self.suns.len() + self.spots.len() + index,
+        }
+    }
+
+    /// Number of lights that cast a shadow this frame.
+    pub fn shadowed_count(&self) -> usize {
+        self.suns.iter().filter(|s| s.cascades.count > 0).count()
+            + self.spots.iter().filter(|s| s.shadow.is_some()).count()
+    }
+}
+
+/// Reused buffers of [`update_frame_lights`]. Candidates are identified by their index in
+/// the renderer's light list ([`FrameLights::light_index`]).
+#[derive(Default)]
+pub struct LightScratch {
+    candidates: Vec<LightCandidate>,
+    rank: RankScratch,
+    choice: BudgetChoice,
+}
+
+/// Collects the lights, chooses which cast shadows under the budget (reporting the others),
+/// and computes the cascades of shadowed suns and the views of shadowed spot lights.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub fn update_frame_lights(
+    suns: Query<(Entity, &DirectionalLight, &GlobalTransform, Option<&ShadowSettings>)>,
+    spots: Query<(Entity, &SpotLight, &GlobalTransform, Option<&ShadowSettings>)>,
+    points: Query<(Entity, &PointLight, &GlobalTransform)>,
+    view: Res<ActiveView>,
+    origin: Res<RenderOrigin>,
+    budget: Res<ShadowLightBudget>,
+    instances: Res<RenderInstances>,
+    mut lights: ResMut<FrameLights>,
+    mut stats: ResMut<ShadowStats>,
+    mut diagnostics: ResMut<ShadowDiagnostics>,
+    mut scratch: Local<LightScratch>,
+) {
+    let start = Instant::now();
+    let lights = &mut *lights;
+    let scratch = &mut *scratch;
+    lights.suns.clear();
+    lights.spots.clear();
+    lights.points.clear();
+    scratch.candidates.clear();
+    let diagnostics = &mut *diagnostics;
+    for (entity, light, transform, settings) in &suns {
+        let Some(direction) = world_forward(transform) else {
+            diagnostics.warn(format!(
+                "directional light {entity} has a non-finite or degenerate transform {:?}; it is ignored",
+                transform.affine()
+            ));
+            continue;
+        };
+        let light = sanitize_sun(entity, light, diagnostics);
+        if light.shadows_enabled {
+            scratch.candidates.push(LightCandidate {
+                id: lights.suns.len(),
+                kind: LightKind::Directional,
+                bounds: None,
+            });
+        }
+        lights.suns.push(SunView {
+            entity,
+            direction,
+            light,
+            settings: sanitized_settings(settings, diagnostics),
+            cascades: CascadeSet::default(),
+        });
+    }
+    for (entity, light, transform, settings) in &spots {
+        let Some((rotation, position)) = world_pose(transform) else {
+            diagnostics.warn(format!(
+                "spot light {entity} has a non-finite or degenerate transform; it is ignored"
+            ));
+            continue;
+        };
+        let light = sanitize_spot(entity, light, diagnostics);
+        let position = position - origin.0;
+        if light.shadows_enabled {
+            scratch.candidates.push(LightCandidate {
+                id: lights.suns.len() + lights.spots.len(),
+                kind: LightKind::Spot,
+                bounds: Some((position, light.range)),
+            });
+        }
+        // NOTE: a spot without its own settings uses the budget's resolution, so adding many
+        // spot lights does not multiply the sun's 2048² maps.
+        let resolution = settings.map_or(budget.spot_resolution, |s| s.resolution);
+        let mut settings = sanitized_settings(settings, diagnostics);
+        settings.resolution = resolution.max(1);
+        lights.spots.push(SpotLightView {
+            entity,
+            position,
+            direction: rotation * Vec3::NEG_Z,
+            light,
+            settings,
+            shadow: None,
+        });
+    }
+    for (entity, light, transform) in &points {
+        let Some((_, position)) = world_pose(transform) else {
+            diagnostics.warn(format!(
+                "point light {entity} has a non-finite or degenerate transform; it is ignored"
+            ));
+            continue;
+        };
+        lights.points.push(PointLightView {
+            entity,
+            position: position - origin.0,
+            light: sanitize_point(entity, light, diagnostics),
+        });
+    }
+    let unshadowed_points = lights.points.iter().filter(|p| p.light.shadows_enabled).count();
+    if unshadowed_points > 0 {
+        diagnostics.warn(format!(
+            "{unshadowed_points} point light(s) ask for shadows: point-light shadows are not rendered yet, so they light the scene unshadowed"
+        ));
+    }
+    let ranking = match &view.camera {
+        Some((camera, _)) => RankingView {
+            position: camera.position(),
+            tan_half_fov_y: (camera.fov_y * 0.5).tan(),
+        },
+        None => RankingView {
+            position: Vec3::ZERO,
+            tan_half_fov_y: 1.0,
+        },
+    };
+    choose_shadowed_lights_into(
+        &scratch.candidates,
+        &budget.lights,
+        &ranking,
+        &mut scratch.rank,
+        &mut scratch.choice,
+    );
+    report_over_budget(lights, &scratch.choice, &budget, diagnostics);
+    for &id in &scratch.choice.shadowed {
+        if let Some(sun) = lights.suns.get_mut(id) {
+            if let Some((camera, _)) = &view.camera {
+                sun.cascades = compute_cascades(&CascadeInput {
+                    camera: *camera,
+                    light_direction: sun.direction,
+                    scene_bounds: instances.caster_bounds,
+                    count: sun.settings.cascade_count as usize,
+                    split_lambda: sun.settings.split_lambda,
+                    max_distance: sun.settings.max_distance,
+                    resolution: sun.settings.resolution,
+                    fit: sun.settings.fit,
+                    angular_diameter: sun.light.angular_diameter,
+                    blend_width: sun.settings.blend_width,
+                });
+            }
+            continue;
+        }
+        let spot = &mut lights.spots[id - lights.suns.len()];
+        let input = SpotInput {
+            position: spot.position,
+            direction: spot.direction,
+            outer_angle: spot.light.outer_angle,
+            range: spot.light.range,
+            near: SPOT_NEAR,
+            resolution: spot.settings.resolution,
+        };
+        match spot_view(&input) {
+            Some(view) => {
+                spot.shadow = Some(SpotShadow {
+                    view,
+                    resolution: input.resolution,
+                })
+            }
+            None => diagnostics.warn(format!(
+                "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
+                spot.entity, spot.light.range, spot.light.outer_angle
+            )),
+        }
+    }
+    stats.cascades_cpu = start.elapsed();
+}
+
+/// Names every light over budget, per kind.
+fn report_over_budget(
+    lights: &FrameLights,
+    choice: &BudgetChoice,
+    budget: &ShadowLightBudget,
+    diagnostics: &mut ShadowDiagnostics,
+) {
+    for &(kind, id) in &choice.dropped {
+        let (what, entity) = match kind {
+            LightKind::Directional => ("directional", lights.suns[id].entity),
+            LightKind::Spot => ("spot", lights.spots[id - lights.suns.len()].entity),
+            LightKind::Point => (
+                "point",
+                lights.points[id - lights.suns.len() - lights.spots.len()].entity,
+            ),
+        };
+        let order = match kind {
+            LightKind::Directional => "it comes later in the scene",
+            _ => "it is smaller on screen",
+        };
+        diagnostics.warn(format!(
+            "{what} light {entity} gets no shadow: only {} shadowed {what} lights fit the budget, and {order}",
+            budget.lights.of(kind)
+        ));
+    }
+}

@@ -1,0 +1,50 @@
+//! What every mesh pass shares: the vertex layout of the mesh buffers and the instanced draw
+//! of a list of batches.
+
+use crate::ecs::draw_groups::DrawBatch;
+use crate::mesh::Vertex;
+use crate::render::scene_gpu::SceneGpu;
+
+/// Vertex layout of the mesh buffers: position (0), normal (1), uv (2).
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
+
+/// The mesh vertex buffer layout.
+pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    }
+}
+
+/// Issues one instanced indexed draw per batch, binding each batch's material (group 2) when
+/// `bind_material`; returns the draw calls recorded.
+pub fn draw_batches(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &SceneGpu,
+    batches: &[DrawBatch],
+    bind_material: bool,
+) -> u32 {
+    let mut last_material = None;
+    let mut calls = 0;
+    for batch in batches {
+        let Some(range) = scene.mesh_ranges.get(batch.mesh.0 as usize) else {
+            continue;
+        };
+        if bind_material && last_material != Some(batch.material) {
+            let Some(group) = scene.material_groups.get(batch.material.0 as usize) else {
+                continue;
+            };
+            pass.set_bind_group(2, group, &[]);
+            last_material = Some(batch.material);
+        }
+        pass.draw_indexed(
+            range.first_index..range.first_index + range.index_count,
+            range.base_vertex,
+            batch.first..batch.first + batch.count,
+        );
+        calls += 1;
+    }
+    calls
+}

@@ -1,0 +1,144 @@
+//! The shadow-caster pipelines, cached by everything that changes one: whether the material
+//! is alpha-masked, the slope-scaled depth bias and its clamp, and unclipped depth. Views of
+//! several lights with different biases each get theirs; a key seen before reuses its
+//! pipeline.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use crate::render::draw::vertex_layout;
+use crate::render::layouts::Layouts;
+use crate::render::shadows::storage::SHADOW_FORMAT;
+use crate::settings::ShadowSettings;
+use crate::shader::ShaderLibrary;
+
+/// Everything that selects a caster pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CasterKey {
+    /// Alpha-tested (fragment stage) instead of depth-only.
+    pub masked: bool,
+    /// `f32::to_bits` of the slope-scaled bias.
+    pub slope_bias: u32,
+    /// `f32::to_bits` of the bias clamp.
+    pub bias_clamp: u32,
+    /// Casters in front of the near plane are flattened onto it instead of clipped.
+    pub unclipped: bool,
+}
+
+impl CasterKey {
+    /// The key for a light's settings on a device that does (or does not) support unclipped
+    /// depth.
+    pub fn new(settings: &ShadowSettings, masked: bool, unclipped_supported: bool) -> Self {
+        Self {
+            masked,
+            slope_bias: settings.slope_bias.to_bits(),
+            bias_clamp: settings.bias_clamp.to_bits(),
+            unclipped: settings.depth_clamp && unclipped_supported,
+        }
+    }
+}
+
+/// Built caster pipelines.
+#[derive(Default)]
+pub struct CasterPipelines {
+    pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
+    shader: Option<wgpu::ShaderModule>,
+}
+
+impl CasterPipelines {
+    /// The pipeline for `key`, built on first use; `built` is incremented when one is made.
+    pub fn get(
+        &mut self,
+        device: &wgpu::Device,
+        layouts: &Layouts,
+        library: &mut ShaderLibrary,
+        key: CasterKey,
+        built: &mut u32,
+    ) -> &wgpu::RenderPipeline {
+        let shader = self.shader.get_or_insert_with(|| {
+            let module = library
+                .caster()
+                .expect("the shipped caster shader composes (checked by tests)");
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("caster"),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+            })
+        });
+        self.pipelines.entry(key).or_insert_with(|| {
+            *built += 1;
+            create_pipeline(device, layouts, shader, key)
+        })
+    }
+}
+
+fn create_pipeline(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    shader: &wgpu::ShaderModule,
+    key: CasterKey,
+) -> wgpu::RenderPipeline {
+    let layout = if key.masked {
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow masked"),
+            bind_group_layouts: &[
+                Some(&layouts.caster_view),
+                Some(&layouts.instances),
+                Some(&layouts.material),
+            ],
+            immediate_size: 0,
+        })
+    } else {
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow opaque"),
+            bind_group_layouts: &[Some(&layouts.caster_view), Some(&layouts.instances)],
+            immediate_size: 0,
+        })
+    };
+    // NOTE: reverse-Z stores larger depth nearer the light, so the bias is negative: it pushes
+    // casters away from the light. The clamp is negative too (Vulkan takes max(bias, clamp)).
+    let depth_stencil = wgpu::DepthStencilState {
+        format: SHADOW_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Greater),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState {
+            constant: 0,
+            slope_scale: -f32::from_bits(key.slope_bias),
+            clamp: -f32::from_bits(key.bias_clamp),
+        },
+    };
+    let primitive = wgpu::PrimitiveState {
+        // Two-sided: single-sided casters (planes, cards) must cast from both sides.
+        cull_mode: None,
+        unclipped_depth: key.unclipped,
+        ..Default::default()
+    };
+    let buffers = [Some(vertex_layout())];
+    let fragment = key.masked.then(|| wgpu::FragmentState {
+        module: shader,
+        entry_point: Some("fs_masked"),
+        compilation_options: Default::default(),
+        targets: &[],
+    });
+    let label = if key.masked {
+        "shadow masked (alpha test)"
+    } else {
+        "shadow opaque (depth only)"
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &buffers,
+        },
+        primitive,
+        depth_stencil: Some(depth_stencil),
+        multisample: wgpu::MultisampleState::default(),
+        fragment,
+        multiview_mask: None,
+        cache: None,
+    })
+}

@@ -1,0 +1,234 @@
+//! Host mirrors of the shadow library's WGSL structs (`shaders/shadows/types.wgsl`) and the
+//! pure packing of a frame's lights and shadow views into them. The layout test in
+//! `render::gpu_types` compares every field with naga's layout of the WGSL.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
+use crate::settings::{ShadowMode, ShadowSettings};
+
+/// `Light::kind` of a directional light.
+pub const LIGHT_DIRECTIONAL: u32 = 0;
+/// `Light::kind` of a spot light.
+pub const LIGHT_SPOT: u32 = 1;
+/// `Light::kind` of a point light.
+pub const LIGHT_POINT: u32 = 2;
+/// `Light::shadow_filter`: PCF.
+pub const SHADOW_FILTER_PCF: u32 = 0;
+/// `Light::shadow_filter`: PCSS.
+pub const SHADOW_FILTER_PCSS: u32 = 1;
+/// PCSS blocker early-out.
+pub const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2;
+/// Receiver-plane depth bias.
+pub const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4;
+/// Temporal rotation of the Poisson patterns.
+pub const SHADOW_FLAG_TEMPORAL: u32 = 8;
+
+/// Mirror of WGSL `Light`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightGpu {
+    /// Colour times intensity.
+    pub color: Vec3,
+    /// `LIGHT_*`.
+    pub kind: u32,
+    /// Position (spot, point).
+    pub position: Vec3,
+    /// Range (spot, point).
+    pub range: f32,
+    /// Direction the light travels (sun, spot).
+    pub direction: Vec3,
+    /// Angular diameter (sun) or radius (spot, point).
+    pub size: f32,
+    /// Spot cone: cos(outer), 1 / (cos(inner) − cos(outer)).
+    pub cone: Vec4,
+    /// Normal offset (texels), max distance, blend width, fade width.
+    pub shadow_params: Vec4,
+    /// First shadow view.
+    pub first_view: u32,
+    /// Number of shadow views (0: unshadowed).
+    pub view_count: u32,
+    /// `SHADOW_FILTER_*`.
+    pub shadow_filter: u32,
+    /// `SHADOW_FLAG_*` bits.
+    pub flags: u32,
+    /// PCF radius, texels.
+    pub pcf_radius: u32,
+    /// Padding to the WGSL size.
+    pub _pad: [u32; 3],
+}
+
+/// Mirror of WGSL `ShadowView`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ShadowViewGpu {
+    /// Light clip space from world.
+    pub clip_from_world: Mat4,
+    /// Per kind, see the WGSL.
+    pub params: Vec4,
+    /// Cascade split range and depth range.
+    pub range: Vec4,
+    /// UV offset and scale of the view in its layer.
+    pub rect: Vec4,
+    /// Layer of its storage.
+    pub layer: u32,
+    /// 1 / side of its map.
+    pub texel_size: f32,
+    /// Padding to the WGSL size.
+    pub _pad: [u32; 2],
+}
+
+/// Mirror of WGSL `CasterView` in `caster.wgsl`, padded to the 256-byte dynamic-offset
+/// alignment every adapter accepts: one per shadow view, bound at `index * 256`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct CasterViewGpu {
+    /// Light clip space from world.
+    pub clip_from_world: Mat4,
+    /// Padding to 256 bytes.
+    pub _pad: [Vec4; 12],
+}
+
+/// The filter and flag bits a light's settings select.
+fn filter_and_flags(settings: &ShadowSettings) -> (u32, u32) {
+    let filter = match settings.mode {
+        ShadowMode::Pcf => SHADOW_FILTER_PCF,
+        ShadowMode::Pcss => SHADOW_FILTER_PCSS,
+    };
+    let mut flags = 0;
+    if settings.blocker_early_out {
+        flags |= SHADOW_FLAG_BLOCKER_EARLY_OUT;
+    }
+    if settings.receiver_plane_bias {
+        flags |= SHADOW_FLAG_RECEIVER_PLANE;
+    }
+    if settings.temporal_rotation {
+        flags |= SHADOW_FLAG_TEMPORAL;
+    }
+    (filter, flags)
+}
+
+/// Packs every light (suns, then spots, then points) into `out`, pointing each shadowed one
+/// at its views in `views`.
+pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<LightGpu>) {
+    out.clear();
+    for sun in &lights.suns {
+        let (filter, flags) = filter_and_flags(&sun.settings);
+        let s = &sun.settings;
+        let set = &sun.cascades;
+        out.push(LightGpu {
+            color: sun.light.color * sun.light.illuminance,
+            kind: LIGHT_DIRECTIONAL,
+            direction: sun.direction,
+            size: sun.light.angular_diameter,
+            shadow_params: Vec4::new(
+                s.normal_offset,
+                set.splits[set.count.max(1)],
+                s.blend_width,
+                s.distance_fade_width,
+            ),
+            shadow_filter: filter,
+            flags,
+            pcf_radius: s.pcf_radius,
+            ..LightGpu::default()
+        });
+    }
+    for spot in &lights.spots {
+        let (filter, flags) = filter_and_flags(&spot.settings);
+        let l = &spot.light;
+        let (cos_outer, cos_inner) = (l.outer_angle.cos(), l.inner_angle.min(l.outer_angle).cos());
+        out.push(LightGpu {
+            color: l.color * l.intensity,
+            kind: LIGHT_SPOT,
+            position: spot.position,
+            range: l.range,
+            direction: spot.direction,
+            size: l.radius,
+            cone: Vec4::new(cos_outer, 1.0 / (cos_inner - cos_outer).max(1e-4), 0.0, 0.0),
+            shadow_params: Vec4::new(spot.settings.normal_offset, 0.0, 0.0, 0.0),
+            shadow_filter: filter,
+            flags,
+            pcf_radius: spot.settings.pcf_radius,
+            ..LightGpu::default()
+        });
+    }
+    for point in &lights.points {
+        out.push(LightGpu {
+            color: point.light.color * point.light.intensity,
+            kind: LIGHT_POINT,
+            position: point.position,
+            range: point.light.range,
+            size: point.light.radius,
+            ..LightGpu::default()
+        });
+    }
+    for (v, view) in views.views.iter().enumerate() {
+        let Some(light) = out.get_mut(view.light as usize) else {
+            continue;
+        };
+        if light.view_count == 0 {
+            light.first_view = v as u32;
+        }
+        light.view_count += 1;
+    }
+}
+
+/// The GPU description of `view`, drawn at `view.resolution` texels in the top-left corner of
+/// a layer `side` texels wide.
+pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32) -> ShadowViewGpu {
+    let scale = view.resolution as f32 / side.max(1) as f32;
+    let mut gpu = ShadowViewGpu {
+        clip_from_world: view.clip_from_world,
+        rect: Vec4::new(0.0, 0.0, scale, scale),
+        layer: view.slot,
+        texel_size: 1.0 / view.resolution.max(1) as f32,
+        ..ShadowViewGpu::default()
+    };
+    match view.kind {
+        ShadowViewKind::Cascade(c) => {
+            let sun = lights.suns.get(view.light as usize);
+            if let Some(c) = sun.and_then(|s| s.cascades.active().get(c as usize)) {
+                gpu.params = Vec4::new(c.texel_world_size, c.light_size_uv, c.pcss_scale, c.uv_scale_y);
+                gpu.range = Vec4::new(c.near, c.far, c.depth_range, 0.0);
+            }
+        }
+        ShadowViewKind::Spot => {
+            let spot = (view.light as usize)
+                .checked_sub(lights.suns.len())
+                .and_then(|i| lights.spots.get(i));
+            if let Some(shadow) = spot.and_then(|s| s.shadow) {
+                let v = &shadow.view;
+                gpu.params = Vec4::new(v.texel_per_metre, v.near, v.far, 0.0);
+            }
+        }
+    }
+    gpu
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_match_wgsl() {
+        let source = include_str!("../../../shaders/shadows/types.wgsl");
+        for (name, value) in [
+            ("LIGHT_DIRECTIONAL", LIGHT_DIRECTIONAL),
+            ("LIGHT_SPOT", LIGHT_SPOT),
+            ("LIGHT_POINT", LIGHT_POINT),
+            ("SHADOW_FILTER_PCF", SHADOW_FILTER_PCF),
+            ("SHADOW_FILTER_PCSS", SHADOW_FILTER_PCSS),
+            ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
+            ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
+            ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
+        ] {
+            assert!(
+                source.contains(&format!("const {name}: u32 = {value}u;")),
+                "{name} differs"
+            );
+        }
+        assert_eq!(size_of::<CasterViewGpu>(), 256);
+    }
+}

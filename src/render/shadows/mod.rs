@@ -1,0 +1,216 @@
+//! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
+//! lights), the frame's lights and shadow views packed into storage buffers, the casters'
+//! per-view matrices, and the shadow bind group (group 3) every material samples through
+//! `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
+//! ([`depth_pass`]) renders every view.
+
+pub mod casters;
+pub mod depth_pass;
+pub mod gpu;
+pub mod storage;
+
+use wgpu::util::DeviceExt;
+
+use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::shadow_views::{ShadowViewKind, ShadowViews};
+use crate::render::context::GpuContext;
+use crate::render::counters::RenderCounters;
+use crate::render::gpu_types::PoissonTapsGpu;
+use crate::render::grow_buffer::GrowBuffer;
+use crate::render::layouts::Layouts;
+use crate::render::limits::LimitError;
+use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, ShadowViewGpu, pack_lights, pack_view};
+use crate::render::shadows::storage::DepthArray;
+
+/// Everything the shadow passes and the materials share.
+pub struct ShadowResources {
+    /// Every cascade of every shadowed sun.
+    pub cascades: DepthArray,
+    /// Every shadowed spot light.
+    pub spots: DepthArray,
+    lights: GrowBuffer,
+    views: GrowBuffer,
+    caster_views: GrowBuffer,
+    poisson_taps: wgpu::Buffer,
+    /// Group 3 of forward materials and the probe pass.
+    pub group: wgpu::BindGroup,
+    /// Group 0 of the caster pipelines; bind view `i` at offset `i * 256`.
+    pub caster_group: wgpu::BindGroup,
+    light_data: Vec<LightGpu>,
+    view_data: Vec<ShadowViewGpu>,
+    caster_data: Vec<CasterViewGpu>,
+}
+
+fn shadow_group(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    buffers: [&wgpu::Buffer; 3],
+    maps: [&DepthArray; 2],
+) -> wgpu::BindGroup {
+    let [lights, views, taps] = buffers;
+    let [cascades, spots] = maps;
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadows"),
+        layout: &layouts.shadows,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: lights.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: views.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&cascades.array_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(&spots.array_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::Sampler(&layouts.shadow_compare),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::Sampler(&layouts.shadow_point),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: taps.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+fn caster_group(device: &wgpu::Device, layouts: &Layouts, buffer: &wgpu::Buffer) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("caster views"),
+        layout: &layouts.caster_view,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer,
+                offset: 0,
+                size: wgpu::BufferSize::new(size_of::<CasterViewGpu>() as u64),
+            }),
+        }],
+    })
+}
+
+impl ShadowResources {
+    /// Empty buffers and 1×1 stand-in maps.
+    pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Self {
+        let lights = GrowBuffer::new(device, "lights", 16 * size_of::<LightGpu>() as u64);
+        let views = GrowBuffer::new(device, "shadow views", 16 * size_of::<ShadowViewGpu>() as u64);
+        let caster_views = GrowBuffer::with_usage(
+            device,
+            "caster views",
+            16 * size_of::<CasterViewGpu>() as u64,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let poisson_taps = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("poisson taps"),
+            contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let cascades = DepthArray::placeholder(device, "cascade shadow maps");
+        let spots = DepthArray::placeholder(device, "spot shadow maps");
+        let group = shadow_group(
+            device,
+            layouts,
+            [&lights.buffer, &views.buffer, &poisson_taps],
+            [&cascades, &spots],
+        );
+        let caster_group = caster_group(device, layouts, &caster_views.buffer);
+        Self {
+            cascades,
+            spots,
+            lights,
+            views,
+            caster_views,
+            poisson_taps,
+            group,
+            caster_group,
+            light_data: Vec::new(),
+            view_data: Vec::new(),
+            caster_data: Vec::new(),
+        }
+    }
+
+    /// The storage a view of `kind` renders into.
+    pub fn storage(&self, kind: ShadowViewKind) -> &DepthArray {
+        match kind {
+            ShadowViewKind::Cascade(_) => &self.cascades,
+            ShadowViewKind::Spot => &self.spots,
+        }
+    }
+
+    /// Bytes of shadow-map memory.
+    pub fn memory_bytes(&self) -> u64 {
+        self.cascades.memory_bytes() + self.spots.memory_bytes()
+    }
+
+    /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
+    /// the lights, views and caster matrices, and rebuilds the bind groups whose resources
+    /// were replaced; returns true when the shadow group was rebuilt. Data too large for the
+    /// device is refused before any upload.
+    pub fn prepare(
+        &mut self,
+        gpu: &GpuContext,
+        layouts: &Layouts,
+        lights: &FrameLights,
+        views: &ShadowViews,
+        counters: &mut RenderCounters,
+    ) -> Result<bool, LimitError> {
+        let device = &gpu.device;
+        let side_of = |cascade: bool| {
+            views
+                .views
+                .iter()
+                .filter(|v| matches!(v.kind, ShadowViewKind::Cascade(_)) == cascade)
+                .map(|v| v.resolution)
+                .max()
+                .unwrap_or(0)
+        };
+        let mut rebuild = false;
+        for (cascade, label) in [(true, "cascade shadow maps"), (false, "spot shadow maps")] {
+            let (side, layers) = (side_of(cascade), views.slots(cascade));
+            let storage = if cascade { &mut self.cascades } else { &mut self.spots };
+            if storage.needs(side, layers) {
+                gpu.limits.check_target(side, side)?;
+                *storage = DepthArray::new(device, label, side, layers);
+                counters.shadow_maps += 1;
+                rebuild = true;
+            }
+        }
+        pack_lights(lights, views, &mut self.light_data);
+        self.view_data.clear();
+        self.caster_data.clear();
+        for view in &views.views {
+            let side = self.storage(view.kind).side;
+            self.view_data.push(pack_view(lights, view, side));
+            self.caster_data.push(CasterViewGpu {
+                clip_from_world: view.clip_from_world,
+                _pad: [glam::Vec4::ZERO; 12],
+            });
+        }
+        rebuild |= self.lights.write(gpu, bytemuck::cast_slice(&self.light_data))?;
+        rebuild |= self.views.write(gpu, bytemuck::cast_slice(&self.view_data))?;
+        if self.caster_views.write(gpu, bytemuck::cast_slice(&self.caster_data))? {
+            self.caster_group = caster_group(device, layouts, &self.caster_views.buffer);
+        }
+        if rebuild {
+            self.group = shadow_group(
+                device,
+                layouts,
+                [&self.lights.buffer, &self.views.buffer, &self.poisson_taps],
+                [&self.cascades, &self.spots],
+            );
+            counters.shadow_groups += 1;
+        }
+        Ok(rebuild)
+    }
+}

@@ -1,0 +1,93 @@
+//! Shadow storage: a `Depth32Float` 2D array with one layer per shadow view of one kind (the
+//! cascades of every shadowed sun; every shadowed spot light). A view smaller than the layer
+//! is drawn in its top-left corner and sampled through its UV rectangle, so each light keeps
+//! its own resolution. The array is owned across frames: it is recreated when the largest
+//! view changes size or more layers are needed, never for fewer.
+
+/// Depth format of every shadow map.
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// One kind's depth array and its views.
+pub struct DepthArray {
+    /// The texture.
+    pub texture: wgpu::Texture,
+    /// All layers, for sampling.
+    pub array_view: wgpu::TextureView,
+    /// One view per layer, for rendering a shadow view.
+    pub layer_views: Vec<wgpu::TextureView>,
+    /// Texels per side of a layer.
+    pub side: u32,
+    /// True for the 1×1 stand-in bound while the kind has no view.
+    pub placeholder: bool,
+}
+
+impl DepthArray {
+    /// Allocates `layers` layers of `side`² texels.
+    pub fn new(device: &wgpu::Device, label: &str, side: u32, layers: u32) -> Self {
+        let layers = layers.max(1);
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let layer_views = (0..layers)
+            .map(|layer| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(label),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        Self {
+            texture,
+            array_view,
+            layer_views,
+            side,
+            placeholder: false,
+        }
+    }
+
+    /// The 1×1, one-layer stand-in bound while a kind has no shadow view.
+    pub fn placeholder(device: &wgpu::Device, label: &str) -> Self {
+        Self {
+            placeholder: true,
+            ..Self::new(device, label, 1, 1)
+        }
+    }
+
+    /// Number of layers.
+    pub fn layers(&self) -> u32 {
+        self.layer_views.len() as u32
+    }
+
+    /// True when views of `side` texels in `layers` layers need a new array: the side differs
+    /// or there are too few layers. A kind with no views keeps what it has.
+    pub fn needs(&self, side: u32, layers: u32) -> bool {
+        layers > 0 && (self.placeholder || self.side != side || self.layers() < layers)
+    }
+
+    /// Bytes of GPU memory the array occupies (0 for the stand-in).
+    pub fn memory_bytes(&self) -> u64 {
+        if self.placeholder {
+            return 0;
+        }
+        u64::from(self.side) * u64::from(self.side) * 4 * u64::from(self.layers())
+    }
+}
