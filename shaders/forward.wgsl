@@ -2,13 +2,15 @@
 // shadow, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
 // SHADOW_DEBUG_CASCADES (tint by the focus light's cascade), ANALYSIS_OUTPUTS (also write the
 // focus light's shadow factor, world position and normal of every pixel, for scoring against
-// a reference), and the filter defs of penumbra::shadows.
+// a reference), SHADOW_SPOT (spot-light shadows) and the filter defs of penumbra::shadows.
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
+#ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_covers
+#endif
 #import penumbra::shadows::types::{LIGHT_DIRECTIONAL, LIGHT_SPOT}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
@@ -77,21 +79,27 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         }
     }
     var color = base.rgb * (frame.ambient + direct) * frame.exposure;
+#ifdef SHADOW_DEBUG_CASCADES
+    if frame.focus_light < light_count() && get_light(frame.focus_light).kind == LIGHT_DIRECTIONAL {
+        let tint = cascade_debug_color(get_light(frame.focus_light), view_depth);
+        color = mix(color, color * tint * 1.6, 0.6);
+    }
+#endif
+    var out: FragmentOutput;
+    out.color = vec4<f32>(tonemap(color), 1.0);
+#ifdef ANALYSIS_OUTPUTS
     var focus_cascade = -1;
     if frame.focus_light < light_count() {
         let light = get_light(frame.focus_light);
         if light.kind == LIGHT_DIRECTIONAL {
             focus_cascade = cascade_index(light, view_depth);
-#ifdef SHADOW_DEBUG_CASCADES
-            color = mix(color, color * cascade_debug_color(light, view_depth) * 1.6, 0.6);
-#endif
-        } else if light.kind == LIGHT_SPOT && spot_covers(light, surface) {
+        }
+#ifdef SHADOW_SPOT
+        if light.kind == LIGHT_SPOT && spot_covers(light, surface) {
             focus_cascade = 0;
         }
+#endif
     }
-    var out: FragmentOutput;
-    out.color = vec4<f32>(tonemap(color), 1.0);
-#ifdef ANALYSIS_OUTPUTS
     out.shadow = vec4<f32>(focus.x, f32(focus_cascade), focus.z, focus.w);
     out.position = vec4<f32>(in.world_position, 1.0);
     out.normal = vec4<f32>(normal, view_depth);

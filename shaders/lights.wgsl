@@ -14,14 +14,18 @@
 // `shadow_visibility` works for every kind of light and every shadow technique: a material
 // written against these functions keeps compiling, and keeps its shadows, when new lights,
 // filters or shadow layouts are added. It reads group 3 (the shadow bind group) and the
-// frame uniforms of group 0; a material uses groups 1 and 2 as `forward.wgsl` does.
+// frame uniforms of group 0; a material uses groups 1 and 2 as `forward.wgsl` does. The
+// renderer composes it with the defs of the frame's variant (SHADOW_SPOT when a spot light
+// casts, the PCSS defs when a light filters with PCSS); a material only forwards them.
 #define_import_path penumbra::lights
 
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::lights
 #import penumbra::shadows::cascades::directional_visibility
+#ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_visibility
-#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT}
+#endif
+#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_SPOT}
 
 // Light arriving at a surface point from one light.
 struct Incidence {
@@ -38,7 +42,7 @@ fn light_count() -> u32 {
 
 // Light `i` (0 <= i < light_count()).
 fn get_light(i: u32) -> Light {
-    return lights[i];
+    return lights.items[i];
 }
 
 // A point being shaded: world position, unit normal facing the viewer, positive view depth,
@@ -78,8 +82,10 @@ fn shadow_visibility(light: Light, surface: Surface) -> f32 {
     if light.kind == LIGHT_DIRECTIONAL {
         return directional_visibility(light, surface);
     }
+#ifdef SHADOW_SPOT
     if light.kind == LIGHT_SPOT {
         return spot_visibility(light, surface);
     }
+#endif
     return 1.0;
 }

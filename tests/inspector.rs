@@ -171,3 +171,53 @@ fn statistics_errors_and_save_are_shown() {
     assert!(h.query_by_label_contains("saved to").is_some());
     let _ = std::fs::remove_file(path);
 }
+
+#[test]
+fn a_spot_light_panel_edits_the_light_and_gives_it_settings() {
+    use penumbra::ecs::SpotLight;
+
+    let mut s = state("spot");
+    let world = s.app.world_mut();
+    world.spawn((
+        SpotLight::default(),
+        Transform::from_xyz(0.0, 4.0, 0.0).looking_to(-glam::Vec3::Y, glam::Vec3::Z),
+    ));
+    s.app.update();
+    let mut h = harness(s);
+    h.run();
+    // Collapsed by default, so the sun's controls stay the only ones with their labels.
+    h.get_by_label("spot light 0").click();
+    h.run();
+    slider(&h, "outer angle °").set_value_accesskit(30.0);
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let spot = *world.query::<&SpotLight>().single(world).unwrap();
+    assert!(
+        (spot.outer_angle - 30f32.to_radians()).abs() < 1e-4,
+        "{}",
+        spot.outer_angle
+    );
+    // The light had no settings; editing its filter gives it some, at the budget resolution.
+    // The spot panel comes after the sun's settings, so its slider is the last of the name.
+    h.get_all_by_role_and_label(Role::Slider, "normal offset")
+        .last()
+        .expect("a normal offset slider")
+        .set_value_accesskit(2.0);
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let mut q = world.query_filtered::<&ShadowSettings, bevy_ecs::query::With<SpotLight>>();
+    let settings = *q.single(world).expect("the spot light got its own settings");
+    assert_eq!(settings.normal_offset, 2.0);
+    assert_eq!(settings.resolution, 1024);
+    // Its shadow is drawn on the next frame.
+    h.state_mut().app.update();
+    let views = h.state().app.world().resource::<ShadowViews>();
+    assert_eq!(
+        views
+            .views
+            .iter()
+            .filter(|v| v.kind == penumbra::ecs::ShadowViewKind::Spot)
+            .count(),
+        1
+    );
+}

@@ -114,7 +114,7 @@ fn a_broken_forward_shader_is_rejected_and_the_last_good_pipeline_keeps_drawing(
     let mismatched = FLAT
         .replace(
             "@fragment",
-            "@group(3) @binding(0) var<uniform> extra: vec4<f32>;\n@fragment",
+            "@group(3) @binding(9) var<uniform> extra: vec4<f32>;\n@fragment",
         )
         .replace("return vec4<f32>(1.0, 0.0, 1.0, 1.0);", "return extra;");
     app.world_mut()

@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        32,
-        "PCF + 3 PCSS qualities, each with and without debug view, alpha mask and analysis outputs"
+        64,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, debug view, alpha mask and analysis outputs"
     );
     for variant in variants {
         let module = library

@@ -1,12 +1,12 @@
-// The shadow bind group (group 3): the frame's lights and shadow views as storage buffers,
+// The shadow bind group (group 3): the frame's lights and shadow views as uniform arrays,
 // one depth array per kind of shadow storage, the samplers and the Poisson taps. A material
 // does not name these; it calls `penumbra::lights`.
 #define_import_path penumbra::shadows::bindings
 
-#import penumbra::shadows::types::{Light, PoissonTaps, ShadowView}
+#import penumbra::shadows::types::{LightList, PoissonTaps, ShadowViewList}
 
-@group(3) @binding(0) var<storage, read> lights: array<Light>;
-@group(3) @binding(1) var<storage, read> shadow_views: array<ShadowView>;
+@group(3) @binding(0) var<uniform> lights: LightList;
+@group(3) @binding(1) var<uniform> shadow_views: ShadowViewList;
 // Every cascade of every shadowed sun, one layer each.
 @group(3) @binding(2) var cascade_maps: texture_depth_2d_array;
 // Every shadowed spot light, one layer each.

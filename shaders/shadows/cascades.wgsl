@@ -29,14 +29,14 @@ fn select_cascade(light: Light, view_depth: f32) -> CascadeSelection {
     let count = max(light.view_count, 1u);
     var index = count - 1u;
     for (var i = 0u; i < count; i++) {
-        if view_depth < shadow_views[light.first_view + i].range.y {
+        if view_depth < shadow_views.items[light.first_view + i].range.y {
             index = i;
             break;
         }
     }
     var blend = 0.0;
     if index + 1u < count {
-        let range = shadow_views[light.first_view + index].range;
+        let range = shadow_views.items[light.first_view + index].range;
         let width = light.shadow_params.z * (range.y - range.x);
         if width > 0.0 {
             blend = saturate((view_depth - (range.y - width)) / width);
@@ -66,7 +66,7 @@ fn shadow_distance_fade(light: Light, view_depth: f32) -> f32 {
 // map world -> (u, v, z) has rows a_i; the plane's covector in (u, v, z) is
 // m_i = (a_i · n) / |a_i|², so dz = -(m.x du + m.y dv) / m.z.
 fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: vec3<f32>) -> MapSample {
-    let view = shadow_views[light.first_view + index];
+    let view = shadow_views.items[light.first_view + index];
     let m = view.clip_from_world;
     let texel_world = view.params.x;
     let offset = normal_offset_metres(normal, light.direction, light.shadow_params.x, texel_world);
@@ -79,8 +79,6 @@ fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: ve
     out.depth = max(clip.z, 0.0);
     out.layer = view.layer;
     out.texel = view.texel_size * view.rect.z;
-    out.uv_min = view.rect.xy + 0.5 * out.texel;
-    out.uv_max = view.rect.xy + view.rect.zw - 0.5 * out.texel;
     // World size of a texel along u and along v (params.w is width_x / width_y).
     let texel_metres = vec2<f32>(texel_world, texel_world / max(view.params.w, 1e-30));
     out.filter_step = out.texel * min(vec2<f32>(1.0), MAX_FILTER_STEP_METRES / max(texel_metres, vec2<f32>(1e-30)));
@@ -114,7 +112,7 @@ fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: ve
 // the receiver, size the filter from the receiver-blocker distance, then filter with that
 // kernel.
 fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
-    let view = shadow_views[light.first_view + index];
+    let view = shadow_views.items[light.first_view + index];
     let pcss_scale = view.params.z * view.rect.z;
     let aspect = vec2<f32>(1.0, view.params.w);
     // Smallest kernel radius in u units (the kernel's v extent is the radius times aspect.y).
@@ -144,7 +142,7 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
 // Shadow factor from one cascade with the light's filter.
 fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
     let p = project_to_cascade(light, index, surface.position, surface.normal);
-    let rect = shadow_views[light.first_view + index].rect;
+    let rect = shadow_views.items[light.first_view + index].rect;
     let uv = (p.uv - rect.xy) / rect.zw;
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || p.depth > 1.0 {
         return 1.0;

@@ -25,10 +25,6 @@ struct MapSample {
     filter_step: vec2<f32>,
     // One texel, in layer UV.
     texel: f32,
-    // Taps are clamped to these corners (half a texel inside the view's rectangle), so a
-    // kernel never reads a neighbouring view.
-    uv_min: vec2<f32>,
-    uv_max: vec2<f32>,
 }
 
 // Comparison depth for a tap at `offset_uv` from the receiver: the receiver plane's depth
@@ -39,9 +35,12 @@ fn tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
 }
 
 // One hardware 2x2 comparison tap: 1 lit, 0 shadowed.
+//
+// NOTE: taps are not clamped to the view's rectangle: each layer holds one view and is
+// cleared to the far depth (0) around it, so a kernel reaching past a smaller view's corner
+// reads "no caster" there, as it does past the edge of a full layer.
 fn compare_tap(map: texture_depth_2d_array, p: MapSample, offset_uv: vec2<f32>) -> f32 {
-    let uv = clamp(p.uv + offset_uv, p.uv_min, p.uv_max);
-    return textureSampleCompareLevel(map, shadow_compare, uv, p.layer, tap_depth(p, offset_uv));
+    return textureSampleCompareLevel(map, shadow_compare, p.uv + offset_uv, p.layer, tap_depth(p, offset_uv));
 }
 
 // Fixed (2R+1)² grid of comparison taps, `filter_step` apart (R at most 5).
@@ -105,8 +104,7 @@ fn find_blockers(
     var count = 0.0;
     for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
         let offset = rotation * blocker_tap(i) * radius * aspect;
-        let uv = clamp(p.uv + offset, p.uv_min, p.uv_max);
-        let depths = textureGather(map, shadow_point, uv, p.layer);
+        let depths = textureGather(map, shadow_point, p.uv + offset, p.layer);
         let reference = pcss_tap_depth(p, offset);
         let is_blocker = vec4<f32>(depths > vec4<f32>(reference));
         sum += dot(depths, is_blocker);
@@ -129,8 +127,7 @@ fn pcss_filter(
     var lit = 0.0;
     for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
         let offset = rotation * filter_tap(i) * radius * aspect;
-        let uv = clamp(p.uv + offset, p.uv_min, p.uv_max);
-        lit += textureSampleCompareLevel(map, shadow_compare, uv, p.layer, pcss_tap_depth(p, offset));
+        lit += textureSampleCompareLevel(map, shadow_compare, p.uv + offset, p.layer, pcss_tap_depth(p, offset));
     }
     lit /= f32(#{PCSS_FILTER_SAMPLES});
     return mix(1.0, lit, smoothstep(0.0, 4.0, blocker_count));

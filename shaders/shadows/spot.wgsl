@@ -69,8 +69,6 @@ fn project_to_spot(light: Light, view: ShadowView, world_pos: vec3<f32>, normal:
     out.map.depth = max(q.z, 0.0);
     out.map.layer = view.layer;
     out.map.texel = view.texel_size * view.rect.z;
-    out.map.uv_min = view.rect.xy + 0.5 * out.map.texel;
-    out.map.uv_max = view.rect.xy + view.rect.zw - 0.5 * out.map.texel;
     out.map.filter_step = vec2<f32>(out.map.texel * min(1.0, MAX_FILTER_STEP_METRES / max(texel_metres, 1e-30)));
     out.map.dz_duv = vec2<f32>(0.0);
     out.map.dz_duv_true = vec2<f32>(0.0);
@@ -139,7 +137,7 @@ fn spot_visibility(light: Light, surface: Surface) -> f32 {
     if light.view_count == 0u {
         return 1.0;
     }
-    let view = shadow_views[light.first_view];
+    let view = shadow_views.items[light.first_view];
     let s = project_to_spot(light, view, surface.position, surface.normal);
     if !s.in_front || any(s.view_uv < vec2<f32>(0.0)) || any(s.view_uv > vec2<f32>(1.0)) || s.map.depth > 1.0 {
         return 1.0;
@@ -160,6 +158,6 @@ fn spot_covers(light: Light, surface: Surface) -> bool {
     if light.view_count == 0u {
         return false;
     }
-    let q = spot_project(shadow_views[light.first_view].clip_from_world, surface.position);
+    let q = spot_project(shadow_views.items[light.first_view].clip_from_world, surface.position);
     return q.w > 0.0 && all(q.xy >= vec2<f32>(0.0)) && all(q.xy <= vec2<f32>(1.0)) && q.z <= 1.0;
 }

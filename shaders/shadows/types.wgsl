@@ -13,12 +13,17 @@ const LIGHT_POINT: u32 = 2u;
 const SHADOW_FILTER_PCF: u32 = 0u;
 const SHADOW_FILTER_PCSS: u32 = 1u;
 
+// Capacity of the light and shadow-view lists (uniform arrays: the constant cache makes the
+// per-pixel reads cheap). The renderer reports an error for anything past them.
+const MAX_LIGHTS: u32 = 256u;
+const MAX_SHADOW_VIEWS: u32 = 256u;
+
 // Flag bits of `Light::flags`.
 const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2u;
 const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4u;
 const SHADOW_FLAG_TEMPORAL: u32 = 8u;
 
-// One light of the frame. Positions are relative to the render origin.
+// One light of the frame (112 bytes). Positions are relative to the render origin.
 struct Light {
     // Linear RGB colour times intensity (illuminance for a sun).
     color: vec3<f32>,
@@ -52,7 +57,8 @@ struct Light {
     padding_c: u32,
 }
 
-// One view a shadow map was rendered from: a cascade of a sun, or a spot light's view.
+// One view a shadow map was rendered from: a cascade of a sun, or a spot light's view
+// (128 bytes).
 struct ShadowView {
     // Light clip space from world space (reverse-Z).
     clip_from_world: mat4x4<f32>,
@@ -81,6 +87,16 @@ struct PoissonTaps {
     filter_sixteen: array<vec4<f32>, 8>,
     filter_twenty_five: array<vec4<f32>, 13>,
     filter_forty_nine: array<vec4<f32>, 25>,
+}
+
+// The light list: `frame.light_count` entries are used.
+struct LightList {
+    items: array<Light, MAX_LIGHTS>,
+}
+
+// The shadow-view list.
+struct ShadowViewList {
+    items: array<ShadowView, MAX_SHADOW_VIEWS>,
 }
 
 // A point being shaded, as every shadow technique needs it.

@@ -6,13 +6,13 @@
 use std::num::NonZeroU64;
 
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
-use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, ShadowViewGpu};
+use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, ShadowViewGpu};
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
     /// Forward group 0: the frame uniforms.
     pub view: wgpu::BindGroupLayout,
-    /// Group 3: lights and shadow views (storage), the cascade and spot depth arrays, the
+    /// Group 3: lights and shadow views (uniform arrays), the cascade and spot depth arrays, the
     /// comparison and point samplers, the Poisson taps.
     pub shadows: wgpu::BindGroupLayout,
     /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
@@ -46,6 +46,14 @@ fn uniform<T>(dynamic: bool) -> wgpu::BindingType {
     }
 }
 
+fn uniform_array<T>(len: usize) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: NonZeroU64::new((len * size_of::<T>()) as u64),
+    }
+}
+
 fn storage<T>() -> wgpu::BindingType {
     wgpu::BindingType::Buffer {
         ty: wgpu::BufferBindingType::Storage { read_only: true },
@@ -72,8 +80,8 @@ impl Layouts {
         let shadows = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadows"),
             entries: &[
-                entry(0, fc, storage::<LightGpu>()),
-                entry(1, fc, storage::<ShadowViewGpu>()),
+                entry(0, fc, uniform_array::<LightGpu>(MAX_LIGHTS)),
+                entry(1, fc, uniform_array::<ShadowViewGpu>(MAX_SHADOW_VIEWS)),
                 entry(2, fc, depth_array),
                 entry(3, fc, depth_array),
                 entry(4, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),

@@ -248,6 +248,7 @@ impl Renderer {
                     input.lights,
                     input.shadow_views,
                     &mut self.counters,
+                    &mut problems,
                 )
             });
         let drawable = prepared.is_ok();

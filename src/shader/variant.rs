@@ -23,6 +23,10 @@ pub enum ShadowFilter {
 pub struct ForwardVariant {
     /// Shadow filter.
     pub filter: ShadowFilter,
+    /// Compile spot-light shadows in (the frame has a shadowed spot light). A variant
+    /// without it lights spot lights unshadowed; leaving the code out when no spot light
+    /// casts keeps the sun-only shader as lean as before spot lights existed.
+    pub spot_shadows: bool,
     /// Tint fragments by cascade.
     pub debug_cascades: bool,
     /// Discard fragments below the material's alpha cutoff.
@@ -41,6 +45,7 @@ impl ForwardVariant {
         };
         Self {
             filter,
+            spot_shadows: false,
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
             alpha_mask,
             analysis: false,
@@ -61,6 +66,7 @@ impl ForwardVariant {
             .max_by_key(|q| (q.filter_samples(), q.blocker_samples()));
         Self {
             filter: quality.map_or(ShadowFilter::Pcf, ShadowFilter::Pcss),
+            spot_shadows: lights.spots.iter().any(|s| s.shadow.is_some()),
             debug_cascades: lights
                 .suns
                 .iter()
@@ -80,15 +86,18 @@ impl ForwardVariant {
         ];
         let mut all = Vec::new();
         for filter in filters {
-            for debug_cascades in [false, true] {
-                for alpha_mask in [false, true] {
-                    for analysis in [false, true] {
-                        all.push(ForwardVariant {
-                            filter,
-                            debug_cascades,
-                            alpha_mask,
-                            analysis,
-                        });
+            for spot_shadows in [false, true] {
+                for debug_cascades in [false, true] {
+                    for alpha_mask in [false, true] {
+                        for analysis in [false, true] {
+                            all.push(ForwardVariant {
+                                filter,
+                                spot_shadows,
+                                debug_cascades,
+                                alpha_mask,
+                                analysis,
+                            });
+                        }
                     }
                 }
             }
@@ -110,6 +119,9 @@ impl ForwardVariant {
         if matches!(self.filter, ShadowFilter::Pcss(_)) {
             defs.insert("SHADOW_FILTER_PCSS".to_string(), ShaderDefValue::Bool(true));
         }
+        if self.spot_shadows {
+            defs.insert("SHADOW_SPOT".to_string(), ShaderDefValue::Bool(true));
+        }
         if self.debug_cascades {
             defs.insert("SHADOW_DEBUG_CASCADES".to_string(), ShaderDefValue::Bool(true));
         }
@@ -128,6 +140,9 @@ impl ForwardVariant {
             ShadowFilter::Pcf => "pcf".to_string(),
             ShadowFilter::Pcss(q) => format!("pcss-{}", format!("{q:?}").to_lowercase()),
         };
+        if self.spot_shadows {
+            s.push_str("+spot");
+        }
         if self.debug_cascades {
             s.push_str("+cascades");
         }

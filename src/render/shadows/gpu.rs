@@ -9,6 +9,11 @@ use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
 use crate::settings::{ShadowMode, ShadowSettings};
 
+/// Capacity of the light list the materials read (WGSL `MAX_LIGHTS`).
+pub const MAX_LIGHTS: usize = 256;
+/// Capacity of the shadow-view list (WGSL `MAX_SHADOW_VIEWS`).
+pub const MAX_SHADOW_VIEWS: usize = 256;
+
 /// `Light::kind` of a directional light.
 pub const LIGHT_DIRECTIONAL: u32 = 0;
 /// `Light::kind` of a spot light.
@@ -164,7 +169,8 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
             ..LightGpu::default()
         });
     }
-    for (v, view) in views.views.iter().enumerate() {
+    // NOTE: views past the list's capacity are not uploaded, so no light points at them.
+    for (v, view) in views.views.iter().enumerate().take(MAX_SHADOW_VIEWS) {
         let Some(light) = out.get_mut(view.light as usize) else {
             continue;
         };
@@ -223,6 +229,8 @@ mod tests {
             ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
+            ("MAX_LIGHTS", MAX_LIGHTS as u32),
+            ("MAX_SHADOW_VIEWS", MAX_SHADOW_VIEWS as u32),
         ] {
             assert!(
                 source.contains(&format!("const {name}: u32 = {value}u;")),

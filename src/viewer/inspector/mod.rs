@@ -1,8 +1,9 @@
 //! The egui inspector: the sun, every shadow setting (with the ranges of the runtime table),
-//! the cascade debug view, per-cascade statistics, GPU and CPU timings with a history plot,
+//! the cascade debug view, a panel per spot light and extra sun, per-view statistics, GPU and CPU timings with a history plot,
 //! and "save settings to RON". It edits the ECS world directly, so it runs the same with a
 //! window or headless (the tests drive it through egui's accessibility tree).
 
+mod lights;
 mod settings;
 mod stats;
 mod sun;
@@ -88,6 +89,11 @@ impl Inspector {
         });
         CollapsingHeader::new("Shadows").default_open(true).show(ui, |ui| {
             self.settings_section(ui, world);
+        });
+        CollapsingHeader::new("Lights").default_open(true).show(ui, |ui| {
+            if lights::lights_ui(ui, world) == 0 {
+                ui.label("no spot light or second sun");
+            }
         });
         CollapsingHeader::new("Shadow views").default_open(true).show(ui, |ui| {
             stats::shadow_views_ui(

@@ -13,6 +13,55 @@ pub(crate) const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];
 
 /// Draws the controls for `s`; the caller writes the copy back when it changed.
 pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    filter_ui(ui, s);
+    ui.add(Slider::new(&mut s.cascade_count, 1..=MAX_CASCADES as u32).text("cascades"));
+    resolution_ui(ui, s);
+    ComboBox::from_label("fit")
+        .selected_text(format!("{:?}", s.fit))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut s.fit, CascadeFit::Tight, "Tight");
+            ui.selectable_value(&mut s.fit, CascadeFit::Stable, "Stable");
+        });
+    ui.add(Slider::new(&mut s.split_lambda, 0.0..=1.0).text("split λ"));
+    ui.add(
+        Slider::new(&mut s.max_distance, 1.0..=2000.0)
+            .logarithmic(true)
+            .text("max distance m"),
+    );
+    bias_ui(ui, s);
+    ui.add(Slider::new(&mut s.blend_width, 0.0..=0.5).text("cascade blend"));
+    ui.add(Slider::new(&mut s.distance_fade_width, 0.0..=0.5).text("distance fade"));
+    ui.checkbox(&mut s.depth_clamp, "depth clamp");
+    let mut debug = s.debug_view == ShadowDebugView::Cascades;
+    if ui.checkbox(&mut debug, "debug: cascade colours").changed() {
+        s.debug_view = if debug {
+            ShadowDebugView::Cascades
+        } else {
+            ShadowDebugView::None
+        };
+    }
+}
+
+/// The shadow-map side.
+pub(crate) fn resolution_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    ComboBox::from_label("resolution")
+        .selected_text(s.resolution.to_string())
+        .show_ui(ui, |ui| {
+            for r in RESOLUTIONS {
+                ui.selectable_value(&mut s.resolution, r, r.to_string());
+            }
+        });
+}
+
+/// Slope bias, its clamp and the normal offset.
+pub(crate) fn bias_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    ui.add(Slider::new(&mut s.slope_bias, 0.0..=10.0).text("slope bias"));
+    ui.add(Slider::new(&mut s.bias_clamp, 0.0..=0.05).text("bias clamp"));
+    ui.add(Slider::new(&mut s.normal_offset, 0.0..=5.0).text("normal offset"));
+}
+
+/// The filter: PCF with its radius, or PCSS with its quality and switches.
+pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     ComboBox::from_label("mode")
         .selected_text(mode_name(s.mode))
         .show_ui(ui, |ui| {
@@ -42,40 +91,6 @@ pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
             ui.checkbox(&mut s.receiver_plane_bias, "receiver-plane bias");
             ui.checkbox(&mut s.temporal_rotation, "temporal rotation");
         }
-    }
-    ui.add(Slider::new(&mut s.cascade_count, 1..=MAX_CASCADES as u32).text("cascades"));
-    ComboBox::from_label("resolution")
-        .selected_text(s.resolution.to_string())
-        .show_ui(ui, |ui| {
-            for r in RESOLUTIONS {
-                ui.selectable_value(&mut s.resolution, r, r.to_string());
-            }
-        });
-    ComboBox::from_label("fit")
-        .selected_text(format!("{:?}", s.fit))
-        .show_ui(ui, |ui| {
-            ui.selectable_value(&mut s.fit, CascadeFit::Tight, "Tight");
-            ui.selectable_value(&mut s.fit, CascadeFit::Stable, "Stable");
-        });
-    ui.add(Slider::new(&mut s.split_lambda, 0.0..=1.0).text("split λ"));
-    ui.add(
-        Slider::new(&mut s.max_distance, 1.0..=2000.0)
-            .logarithmic(true)
-            .text("max distance m"),
-    );
-    ui.add(Slider::new(&mut s.slope_bias, 0.0..=10.0).text("slope bias"));
-    ui.add(Slider::new(&mut s.bias_clamp, 0.0..=0.05).text("bias clamp"));
-    ui.add(Slider::new(&mut s.normal_offset, 0.0..=5.0).text("normal offset"));
-    ui.add(Slider::new(&mut s.blend_width, 0.0..=0.5).text("cascade blend"));
-    ui.add(Slider::new(&mut s.distance_fade_width, 0.0..=0.5).text("distance fade"));
-    ui.checkbox(&mut s.depth_clamp, "depth clamp");
-    let mut debug = s.debug_view == ShadowDebugView::Cascades;
-    if ui.checkbox(&mut debug, "debug: cascade colours").changed() {
-        s.debug_view = if debug {
-            ShadowDebugView::Cascades
-        } else {
-            ShadowDebugView::None
-        };
     }
 }
 

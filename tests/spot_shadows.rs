@@ -1,0 +1,269 @@
+//! Several lights on a real wgpu device (lavapipe in CI), judged against rays cast on the CPU:
+//! two suns each cast their own shadow, a spot light's shadow lands where a ray to the light
+//! is blocked, and a spot light's PCSS penumbra widens with the gap between caster and
+//! receiver as the perspective estimate says.
+
+use glam::Vec3;
+use image::RgbaImage;
+use penumbra::bench::session::SceneSession;
+use penumbra::render::Renderer;
+use penumbra::render::frame::FrameInputs;
+use penumbra::render::probe::ProbeGpu;
+use penumbra::render::target::AnalysisImage;
+use penumbra::scene::SceneDesc;
+
+fn scene(text: &str) -> SceneDesc {
+    SceneDesc::from_str(text, "test.ron").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Renders `desc` with analysis targets, reporting light `focus`.
+fn render(desc: &SceneDesc, focus: usize, (w, h): (u32, u32)) -> (AnalysisImage, RgbaImage) {
+    let mut session = SceneSession::new(desc, w, h).unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = Renderer::headless_with_analysis(w, h).unwrap_or_else(|e| panic!("{e}"));
+    renderer.set_focus_light(focus);
+    session.update();
+    renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+    assert!(renderer.take_errors().is_empty());
+    (
+        renderer.read_analysis().expect("analysis targets"),
+        renderer.read_image(),
+    )
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy)]
+struct Aabb {
+    min: Vec3,
+    max: Vec3,
+}
+
+impl Aabb {
+    fn cube(center: Vec3, size: Vec3) -> Self {
+        Self {
+            min: center - size * 0.5,
+            max: center + size * 0.5,
+        }
+    }
+
+    /// True when the segment from `a` to `b` passes through the box (slab test).
+    fn blocks(&self, a: Vec3, b: Vec3) -> bool {
+        let d = b - a;
+        let (mut t0, mut t1) = (0.0f32, 1.0f32);
+        for i in 0..3 {
+            let inv = 1.0 / d[i];
+            let (mut near, mut far) = ((self.min[i] - a[i]) * inv, (self.max[i] - a[i]) * inv);
+            if near > far {
+                std::mem::swap(&mut near, &mut far);
+            }
+            if d[i] == 0.0 && !(self.min[i]..=self.max[i]).contains(&a[i]) {
+                return false;
+            }
+            if d[i] != 0.0 {
+                t0 = t0.max(near);
+                t1 = t1.min(far);
+            }
+        }
+        t0 <= t1
+    }
+}
+
+/// Ground pixels the light's shadow was evaluated at, with what a ray says: (rendered
+/// visibility, blocked). Pixels whose ray grazes a box (blocked from one end of a 3 cm
+/// neighbourhood and not the other) are left out: the filter blurs them by design.
+fn judged(a: &AnalysisImage, boxes: &[Aabb], to_light: impl Fn(Vec3) -> Vec3) -> Vec<(f32, bool)> {
+    let mut out = Vec::new();
+    for i in 0..a.shadow.len() {
+        let p = a.position[i];
+        if !a.evaluated[i] || !p.is_finite() || p.y.abs() > 1e-3 {
+            continue;
+        }
+        let blocked_at = |q: Vec3| boxes.iter().any(|b| b.blocks(q + Vec3::Y * 1e-3, to_light(q)));
+        let here = blocked_at(p);
+        let edge = [Vec3::X, Vec3::Z, -Vec3::X, -Vec3::Z]
+            .iter()
+            .any(|&o| blocked_at(p + o * 0.03) != here);
+        if !edge {
+            out.push((a.shadow[i], here));
+        }
+    }
+    out
+}
+
+/// Share of judged pixels whose rendered visibility disagrees with the ray (shadowed where a
+/// ray is free, lit where it is blocked), and how many were shadowed.
+fn disagreement(judged: &[(f32, bool)]) -> (f64, usize) {
+    let wrong = judged.iter().filter(|(v, blocked)| (*v < 0.5) != *blocked).count();
+    let shadowed = judged.iter().filter(|(_, b)| *b).count();
+    (wrong as f64 / judged.len().max(1) as f64, shadowed)
+}
+
+const TWO_SUNS: &str = r#"Scene(
+    camera: (position: (0, 14, 9), target: (0, 0, 0), fov: 50, near: 0.1, far: 100),
+    sun: (direction: (1, -1, 0.2), illuminance: 1.0),
+    shadows: (mode: Pcf, pcf_radius: 1, cascade_count: 2, resolution: 1024, max_distance: 40),
+    lights: [
+        Directional(direction: (-1, -1.2, -0.3), illuminance: 1.0,
+            shadows: (mode: Pcf, pcf_radius: 1, cascade_count: 3, resolution: 512, max_distance: 40)),
+    ],
+    materials: { "m": (base_color: (0.7, 0.7, 0.7, 1)) },
+    objects: [
+        (shape: Plane(size: (40, 40)), material: "m", cast_shadows: false),
+        (shape: Cuboid(size: (0.6, 4, 0.6)), material: "m", translation: (0, 2, 0)),
+    ],
+)"#;
+
+#[test]
+fn two_suns_each_cast_their_own_shadow() {
+    let desc = scene(TWO_SUNS);
+    let pillar = [Aabb::cube(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.6, 4.0, 0.6))];
+    let size = (160, 120);
+    let mut regions = Vec::new();
+    let mut images = Vec::new();
+    for (focus, direction) in [(0, Vec3::new(1.0, -1.0, 0.2)), (1, Vec3::new(-1.0, -1.2, -0.3))] {
+        let (a, image) = render(&desc, focus, size);
+        let to_sun = -direction.normalize();
+        let judged = judged(&a, &pillar, |p| p + to_sun * 100.0);
+        let (wrong, shadowed) = disagreement(&judged);
+        assert!(judged.len() >= 5000, "sun {focus}: only {} pixels judged", judged.len());
+        assert!(shadowed >= 100, "sun {focus}: only {shadowed} shadowed pixels judged");
+        assert!(
+            wrong <= 0.01,
+            "sun {focus}: {:.2} % of pixels disagree with the rays",
+            wrong * 100.0
+        );
+        let mine: Vec<usize> = (0..a.shadow.len())
+            .filter(|&i| a.evaluated[i] && a.shadow[i] < 0.2)
+            .collect();
+        regions.push(mine);
+        images.push(image);
+    }
+    // The two shadows fall on opposite sides of the pillar: one sun's umbra is lit by the other.
+    let overlap = regions[0].iter().filter(|i| regions[1].contains(i)).count();
+    assert!(
+        overlap * 20 < regions[0].len().min(regions[1].len()),
+        "{overlap} pixels in both umbrae"
+    );
+    // In the final image each sun's shadow is darker than open ground but still lit by the
+    // other sun.
+    let luma = |p: &image::Rgba<u8>| 0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32;
+    let mean = |idx: &[usize]| {
+        idx.iter()
+            .map(|&i| luma(images[0].get_pixel(i as u32 % size.0, i as u32 / size.0)))
+            .sum::<f32>()
+            / idx.len() as f32
+    };
+    let (a, _) = render(&desc, 0, size);
+    let open: Vec<usize> = (0..a.shadow.len())
+        .filter(|&i| a.evaluated[i] && a.shadow[i] > 0.99 && !regions[1].contains(&i))
+        .take(2000)
+        .collect();
+    let (in_0, in_1, lit) = (mean(&regions[0]), mean(&regions[1]), mean(&open));
+    assert!(
+        in_0 < lit - 20.0 && in_1 < lit - 20.0,
+        "shadows {in_0}, {in_1} vs open {lit}"
+    );
+    assert!(
+        in_0 > 30.0 && in_1 > 30.0,
+        "each umbra is lit by the other sun: {in_0}, {in_1}"
+    );
+}
+
+const SPOT: &str = r#"Scene(
+    camera: (position: (0, 9, 7), target: (0, 0, 0), fov: 50, near: 0.1, far: 100),
+    ambient: (0.05, 0.05, 0.05),
+    lights: [
+        Spot(position: (1.5, 5, 1), direction: (-0.2, -1, -0.1), intensity: 40, range: 15,
+            inner_angle: 40, outer_angle: 50, shadows: (mode: Pcf, pcf_radius: 1, resolution: 1024)),
+    ],
+    materials: { "m": (base_color: (0.7, 0.7, 0.7, 1)) },
+    objects: [
+        (shape: Plane(size: (40, 40)), material: "m", cast_shadows: false),
+        (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (0, 0.5, 0)),
+        (shape: Cuboid(size: (0.4, 2, 0.4)), material: "m", translation: (-1.5, 1.0, 1.0)),
+    ],
+)"#;
+
+#[test]
+fn a_spot_shadow_lands_where_a_ray_to_the_light_is_blocked() {
+    let desc = scene(SPOT);
+    let boxes = [
+        Aabb::cube(Vec3::new(0.0, 0.5, 0.0), Vec3::ONE),
+        Aabb::cube(Vec3::new(-1.5, 1.0, 1.0), Vec3::new(0.4, 2.0, 0.4)),
+    ];
+    let light = Vec3::new(1.5, 5.0, 1.0);
+    let (a, _) = render(&desc, 0, (160, 120));
+    let inside = a.cascade.iter().filter(|&&c| c == 0).count();
+    assert!(inside >= 4000, "only {inside} pixels inside the spot light's view");
+    let judged = judged(&a, &boxes, |_| light);
+    let (wrong, shadowed) = disagreement(&judged);
+    assert!(judged.len() >= 4000, "only {} pixels judged", judged.len());
+    assert!(shadowed >= 150, "only {shadowed} shadowed pixels judged");
+    assert!(wrong <= 0.01, "{:.2} % of pixels disagree with the rays", wrong * 100.0);
+}
+
+/// Width of the shadow edge crossed by the probes: the distance between the last probe below
+/// 0.1 and the first above 0.9, walking away from the umbra.
+fn edge_width(values: &[f32], step: f32) -> f32 {
+    let last_dark = values
+        .iter()
+        .rposition(|&v| v < 0.1)
+        .expect("the walk starts in the umbra");
+    let first_lit = values
+        .iter()
+        .position(|&v| v > 0.9)
+        .expect("the walk ends in the light");
+    assert!(first_lit > last_dark, "{values:?}");
+    (first_lit - last_dark) as f32 * step
+}
+
+#[test]
+fn a_spot_pcss_penumbra_widens_with_the_gap_to_the_caster() {
+    // A light 6 m up with a 0.15 m radius over two boxes: one 0.1 m above the ground, one
+    // 2.5 m. Their outer shadow edges on the ground are at x = −3.06 and x = 6.0.
+    let desc = scene(
+        r#"Scene(
+        camera: (position: (0, 10, 12), target: (1, 0, 0), fov: 60, near: 0.1, far: 100),
+        lights: [
+            Spot(position: (0, 6, 0), direction: (0, -1, 0), intensity: 40, range: 20,
+                inner_angle: 50, outer_angle: 60, radius: 0.15,
+                shadows: (mode: Pcss, pcss_quality: High, temporal_rotation: false, resolution: 2048)),
+        ],
+        materials: { "m": (base_color: (0.7, 0.7, 0.7, 1)) },
+        objects: [
+            (shape: Plane(size: (40, 40)), material: "m", cast_shadows: false),
+            (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (-2, 0.6, 0)),
+            (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (2, 3.0, 0)),
+        ],
+    )"#,
+    );
+    let (w, h) = (64, 48);
+    let mut session = SceneSession::new(&desc, w, h).unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = Renderer::headless_with_analysis(w, h).unwrap_or_else(|e| panic!("{e}"));
+    session.update();
+    let input = FrameInputs::from_world(session.app.world(), 0);
+    renderer.render(&input);
+    let step = 0.01;
+    let mut walk = |from: f32, to: f32| -> Vec<f32> {
+        let n = ((to - from).abs() / step) as usize;
+        let dir = (to - from).signum();
+        let probes: Vec<ProbeGpu> = (0..=n)
+            .map(|k| {
+                ProbeGpu::new(
+                    Vec3::new(from + dir * step * k as f32, 0.0, 0.0),
+                    Vec3::Y,
+                    (k as u32, 7),
+                )
+            })
+            .collect();
+        renderer.evaluate_probes(&input, &probes)
+    };
+    let near = edge_width(&walk(-2.6, -3.6), step);
+    let far = edge_width(&walk(5.2, 7.0), step);
+    // The perspective estimate (d_receiver − d_blocker) · 2r / d_blocker: 0.07 m and 0.42 m.
+    assert!(
+        far > 3.0 * near,
+        "penumbra {far} m behind the high box, {near} m behind the low one"
+    );
+    assert!((0.25..=0.65).contains(&far), "penumbra {far} m, the estimate is 0.42 m");
+    assert!(near <= 0.15, "penumbra {near} m, the estimate is 0.07 m");
+}
