@@ -12,7 +12,7 @@ use penumbra::asset_io::{AssetError, AssetIo};
 use penumbra::gltf::{load, load_with};
 use penumbra::scene::SceneDesc;
 
-/// A scratch tree: `<tmp>/root/` is the asset root (the model's folder), with a secret file
+/// A scratch tree: `<tmp>/confined/` is the asset root (the model's folder), with a secret file
 /// beside it, outside.
 struct Tree(PathBuf);
 
@@ -20,16 +20,16 @@ impl Tree {
     fn new(name: &str) -> Self {
         let dir = std::env::temp_dir().join(format!("penumbra-confine-{}-{name}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(dir.join("root/sub")).unwrap();
+        fs::create_dir_all(dir.join("confined/sub")).unwrap();
         fs::write(dir.join("secret.bin"), vec![7u8; 4096]).unwrap();
         for file in ["fern.bin", "fern_leaf.png"] {
-            fs::copy(Path::new("assets/models").join(file), dir.join("root").join(file)).unwrap();
+            fs::copy(Path::new("assets/models").join(file), dir.join("confined").join(file)).unwrap();
         }
         Self(dir)
     }
 
     fn root(&self) -> PathBuf {
-        self.0.join("root")
+        self.0.join("confined")
     }
 
     /// A special (non-regular) file at `path`: a Unix socket, the one kind std can create.
@@ -37,7 +37,7 @@ impl Tree {
         std::os::unix::net::UnixListener::bind(path).expect("a socket can be bound in the scratch tree")
     }
 
-    /// Writes the sample model with its JSON edited, as `root/model.gltf`.
+    /// Writes the sample model with its JSON edited, as `confined/model.gltf`.
     fn model(&self, edit: impl FnOnce(&mut json::Root)) -> PathBuf {
         let text = fs::read_to_string("assets/models/fern.gltf").unwrap();
         let mut root: json::Root = json::deserialize::from_str(&text).unwrap();
