@@ -64,7 +64,9 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     let receives = (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u;
 
     var direct = vec3<f32>(0.0);
+#ifdef ANALYSIS_OUTPUTS
     var focus = vec4<f32>(1.0, -1.0, 0.0, 0.0);
+#endif
     for (var i = 0u; i < light_count(); i++) {
         let light = get_light(i);
         let incidence = light_incidence(light, in.world_position);
@@ -74,9 +76,11 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
             visibility = shadow_visibility(light, surface);
         }
         direct += incidence.radiance * n_dot_l * visibility;
+#ifdef ANALYSIS_OUTPUTS
         if i == frame.focus_light {
             focus = vec4<f32>(visibility, -1.0, select(0.0, 1.0, receives && n_dot_l > 0.0), n_dot_l);
         }
+#endif
     }
     var color = base.rgb * (frame.ambient + direct) * frame.exposure;
 #ifdef SHADOW_DEBUG_CASCADES

@@ -48,15 +48,6 @@ pub struct SunView {
     pub cascades: CascadeSet,
 }
 
-/// The shadow of a spot light this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpotShadow {
-    /// Its perspective view, relative to the render origin.
-    pub view: SpotView,
-    /// Side of its shadow map, texels.
-    pub resolution: u32,
-}
-
 /// A spot light this frame. Positions are relative to the [`RenderOrigin`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpotLightView {
@@ -68,10 +59,12 @@ pub struct SpotLightView {
     pub direction: Vec3,
     /// The light's parameters (repaired where out of range).
     pub light: SpotLight,
-    /// Sanitized shadow settings (filter, bias, normal offset; the cascade fields are unused).
+    /// Sanitized shadow settings (filter, bias, normal offset, and `resolution`: the side of
+    /// its map; the cascade fields are unused).
     pub settings: ShadowSettings,
-    /// The shadow view, when the light casts a shadow this frame.
-    pub shadow: Option<SpotShadow>,
+    /// The shadow view, relative to the render origin, when the light casts a shadow this
+    /// frame.
+    pub shadow: Option<SpotView>,
 }
 
 /// A point light this frame (lit, not shadowed yet). Its position is relative to the
@@ -124,10 +117,14 @@ impl FrameLights {
         }
     }
 
-    /// Number of lights that cast a shadow this frame.
-    pub fn shadowed_count(&self) -> usize {
-        self.suns.iter().filter(|s| s.cascades.count > 0).count()
-            + self.spots.iter().filter(|s| s.shadow.is_some()).count()
+    /// The sun at `light` in the renderer's light list, if that light is a sun.
+    pub fn sun_at(&self, light: u32) -> Option<&SunView> {
+        self.suns.get(light as usize)
+    }
+
+    /// The spot light at `light` in the renderer's light list, if that light is a spot light.
+    pub fn spot_at(&self, light: u32) -> Option<&SpotLightView> {
+        self.spots.get((light as usize).checked_sub(self.suns.len())?)
     }
 }
 
@@ -282,17 +279,12 @@ pub fn update_frame_lights(
             near: SPOT_NEAR,
             resolution: spot.settings.resolution,
         };
-        match spot_view(&input) {
-            Some(view) => {
-                spot.shadow = Some(SpotShadow {
-                    view,
-                    resolution: input.resolution,
-                })
-            }
-            None => diagnostics.warn(format!(
+        spot.shadow = spot_view(&input);
+        if spot.shadow.is_none() {
+            diagnostics.warn(format!(
                 "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
                 spot.entity, spot.light.range, spot.light.outer_angle
-            )),
+            ));
         }
     }
     stats.cascades_cpu = start.elapsed();

@@ -63,6 +63,22 @@ fn check_color(
     (color, intensity)
 }
 
+/// A positional light's `(range, radius)`: a positive range (else `default_range`) and a
+/// radius that is not negative (else 0).
+fn check_reach(
+    what: &str,
+    entity: Entity,
+    (range, radius): (f32, f32),
+    default_range: f32,
+    diagnostics: &mut ShadowDiagnostics,
+) -> (f32, f32) {
+    let range_ok = range.is_finite() && range > 0.0;
+    let range = checked(what, entity, "range", range, range_ok, default_range, diagnostics);
+    let radius_ok = radius.is_finite() && radius >= 0.0;
+    let radius = checked(what, entity, "radius", radius, radius_ok, 0.0, diagnostics);
+    (range, radius)
+}
+
 /// A directional light with its colour, illuminance and angular diameter in range.
 pub fn sanitize_sun(entity: Entity, light: &DirectionalLight, diagnostics: &mut ShadowDiagnostics) -> DirectionalLight {
     let (color, illuminance) = check_color("directional", entity, light.color, light.illuminance, diagnostics);
@@ -82,17 +98,8 @@ pub fn sanitize_sun(entity: Entity, light: &DirectionalLight, diagnostics: &mut 
 pub fn sanitize_spot(entity: Entity, light: &SpotLight, diagnostics: &mut ShadowDiagnostics) -> SpotLight {
     let (color, intensity) = check_color("spot", entity, light.color, light.intensity, diagnostics);
     let d = SpotLight::default();
+    let (range, radius) = check_reach("spot", entity, (light.range, light.radius), d.range, diagnostics);
     let w = &mut *diagnostics;
-    let range = light.range;
-    let range = checked(
-        "spot",
-        entity,
-        "range",
-        range,
-        range.is_finite() && range > 0.0,
-        d.range,
-        w,
-    );
     let outer = light.outer_angle;
     let outer_ok = outer.is_finite() && outer > 0.0 && outer <= MAX_SPOT_HALF_ANGLE;
     let fallback = if outer.is_finite() {
@@ -104,8 +111,6 @@ pub fn sanitize_spot(entity: Entity, light: &SpotLight, diagnostics: &mut Shadow
     let inner = light.inner_angle;
     let inner_ok = inner.is_finite() && (0.0..=outer_angle).contains(&inner);
     let inner_angle = checked("spot", entity, "inner_angle", inner, inner_ok, 0.0, w);
-    let r = light.radius;
-    let radius = checked("spot", entity, "radius", r, r.is_finite() && r >= 0.0, 0.0, w);
     SpotLight {
         color,
         intensity,
@@ -120,27 +125,8 @@ pub fn sanitize_spot(entity: Entity, light: &SpotLight, diagnostics: &mut Shadow
 /// A point light with a positive range and a radius that is not negative.
 pub fn sanitize_point(entity: Entity, light: &PointLight, diagnostics: &mut ShadowDiagnostics) -> PointLight {
     let (color, intensity) = check_color("point", entity, light.color, light.intensity, diagnostics);
-    let d = PointLight::default();
-    let range = light.range;
-    let range = checked(
-        "point",
-        entity,
-        "range",
-        range,
-        range.is_finite() && range > 0.0,
-        d.range,
-        diagnostics,
-    );
-    let r = light.radius;
-    let radius = checked(
-        "point",
-        entity,
-        "radius",
-        r,
-        r.is_finite() && r >= 0.0,
-        0.0,
-        diagnostics,
-    );
+    let reach = (light.range, light.radius);
+    let (range, radius) = check_reach("point", entity, reach, PointLight::default().range, diagnostics);
     PointLight {
         color,
         intensity,

@@ -22,7 +22,7 @@ pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ViewDrawGroups};
-pub use frame_lights::{FrameLights, PointLightView, SpotLightView, SpotShadow, SunView};
+pub use frame_lights::{FrameLights, PointLightView, SpotLightView, SunView};
 pub use instances::RenderInstances;
 pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;

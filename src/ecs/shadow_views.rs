@@ -111,14 +111,15 @@ pub struct ShadowViews {
 }
 
 impl ShadowViews {
-    /// Number of views of `kind`'s storage (cascade layers or spot layers) this frame.
-    pub fn slots(&self, cascades: bool) -> u32 {
+    /// What the storage of cascades (`true`) or of spot lights (`false`) must hold this
+    /// frame: the side of its largest view and the number of layers (0, 0 without views).
+    pub fn extent(&self, cascades: bool) -> (u32, u32) {
         self.views
             .iter()
             .filter(|v| matches!(v.kind, ShadowViewKind::Cascade(_)) == cascades)
-            .map(|v| v.slot + 1)
-            .max()
-            .unwrap_or(0)
+            .fold((0, 0), |(side, layers), v| {
+                (side.max(v.resolution), layers.max(v.slot + 1))
+            })
     }
 }
 
@@ -177,10 +178,10 @@ pub fn update_shadow_views(
             light_kind: LightKind::Spot,
             light: lights.light_index(LightKind::Spot, i) as u32,
             kind: ShadowViewKind::Spot,
-            clip_from_world: shadow.view.clip_from_world,
-            cull: CullVolume::Frustum(shadow.view.frustum),
+            clip_from_world: shadow.clip_from_world,
+            cull: CullVolume::Frustum(shadow.frustum),
             slot: spot_slot,
-            resolution: shadow.resolution,
+            resolution: spot.settings.resolution,
         });
         spot_slot += 1;
     }

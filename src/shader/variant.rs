@@ -56,11 +56,11 @@ impl ForwardVariant {
     /// light asks for) when one uses it, else PCF; each light then picks its own filter among
     /// those compiled in. The cascade debug tint is on when a sun asks for it.
     pub fn for_lights(lights: &FrameLights, alpha_mask: bool) -> Self {
+        // NOTE: called for every pipeline a frame draws with, so nothing is collected.
         let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).map(|s| &s.settings);
         let spots = lights.spots.iter().filter(|s| s.shadow.is_some()).map(|s| &s.settings);
-        let shadowed: Vec<&ShadowSettings> = suns.chain(spots).collect();
-        let quality = shadowed
-            .iter()
+        let quality = suns
+            .chain(spots)
             .filter(|s| s.mode == ShadowMode::Pcss)
             .map(|s| s.pcss_quality)
             .max_by_key(|q| (q.filter_samples(), q.blocker_samples()));

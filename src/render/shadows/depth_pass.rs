@@ -40,13 +40,9 @@ pub fn view_name(lights: &FrameLights, view: &ShadowView, name: &mut String) {
 
 /// The settings of the light a view belongs to.
 fn view_settings<'a>(lights: &'a FrameLights, view: &ShadowView) -> Option<&'a ShadowSettings> {
-    let light = view.light as usize;
     match view.kind {
-        ShadowViewKind::Cascade(_) => lights.suns.get(light).map(|s| &s.settings),
-        ShadowViewKind::Spot => lights
-            .spots
-            .get(light.checked_sub(lights.suns.len())?)
-            .map(|s| &s.settings),
+        ShadowViewKind::Cascade(_) => lights.sun_at(view.light).map(|s| &s.settings),
+        ShadowViewKind::Spot => lights.spot_at(view.light).map(|s| &s.settings),
     }
 }
 

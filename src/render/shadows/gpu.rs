@@ -194,18 +194,16 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32) -> ShadowVi
     };
     match view.kind {
         ShadowViewKind::Cascade(c) => {
-            let sun = lights.suns.get(view.light as usize);
-            if let Some(c) = sun.and_then(|s| s.cascades.active().get(c as usize)) {
+            if let Some(c) = lights
+                .sun_at(view.light)
+                .and_then(|s| s.cascades.active().get(c as usize))
+            {
                 gpu.params = Vec4::new(c.texel_world_size, c.light_size_uv, c.pcss_scale, c.uv_scale_y);
                 gpu.range = Vec4::new(c.near, c.far, c.depth_range, 0.0);
             }
         }
         ShadowViewKind::Spot => {
-            let spot = (view.light as usize)
-                .checked_sub(lights.suns.len())
-                .and_then(|i| lights.spots.get(i));
-            if let Some(shadow) = spot.and_then(|s| s.shadow) {
-                let v = &shadow.view;
+            if let Some(v) = lights.spot_at(view.light).and_then(|s| s.shadow) {
                 gpu.params = Vec4::new(v.texel_per_metre, v.near, v.far, 0.0);
             }
         }

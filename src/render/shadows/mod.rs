@@ -1,7 +1,7 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
 //! lights), the frame's lights and shadow views packed into uniform arrays (read through the
-//! constant cache: on the H200 the forward pass ran 12 % faster than from storage buffers in
-//! a scene with two suns and four spot lights), the casters' per-view matrices, and the shadow bind group (group 3) every material samples through
+//! constant cache, which made the forward pass faster than storage buffers on the H200; see
+//! docs/benchmarks.md), the casters' per-view matrices, and the shadow bind group (group 3) every material samples through
 //! `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
 //! ([`depth_pass`]) renders every view.
 
@@ -174,18 +174,9 @@ impl ShadowResources {
         problems: &mut UploadProblems,
     ) -> Result<bool, LimitError> {
         let device = &gpu.device;
-        let side_of = |cascade: bool| {
-            views
-                .views
-                .iter()
-                .filter(|v| matches!(v.kind, ShadowViewKind::Cascade(_)) == cascade)
-                .map(|v| v.resolution)
-                .max()
-                .unwrap_or(0)
-        };
         let mut rebuild = false;
         for (cascade, label) in [(true, "cascade shadow maps"), (false, "spot shadow maps")] {
-            let (side, layers) = (side_of(cascade), views.slots(cascade));
+            let (side, layers) = views.extent(cascade);
             let storage = if cascade { &mut self.cascades } else { &mut self.spots };
             if storage.needs(side, layers) {
                 gpu.limits.check_target(side, side)?;

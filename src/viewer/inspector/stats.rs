@@ -4,7 +4,7 @@
 use egui::{Color32, Grid, Sense, Stroke, Ui, pos2, vec2};
 
 use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::shadow_views::{ShadowViewKind, ShadowViews};
 use crate::ecs::stats::ShadowStats;
 use crate::render::FrameReport;
 use crate::render::shadows::depth_pass::view_name;
@@ -34,11 +34,13 @@ pub(crate) fn shadow_views_ui(ui: &mut Ui, lights: &FrameLights, views: &ShadowV
             ui.label(name.trim_start_matches("shadow "));
             let (range, texel) = match view.kind {
                 ShadowViewKind::Cascade(c) => lights
-                    .suns
-                    .get(view.light as usize)
+                    .sun_at(view.light)
                     .and_then(|s| s.cascades.active().get(c as usize))
                     .map_or(((0.0, 0.0), 0.0), |c| ((c.near, c.far), c.texel_world_size)),
-                ShadowViewKind::Spot => (view_depths(lights, view), 0.0),
+                ShadowViewKind::Spot => {
+                    let planes = lights.spot_at(view.light).and_then(|s| s.shadow);
+                    (planes.map_or((0.0, 0.0), |v| (v.near, v.far)), 0.0)
+                }
             };
             ui.label(format!("{:.1} – {:.1}", range.0, range.1));
             let density = if texel > 0.0 {
@@ -51,15 +53,6 @@ pub(crate) fn shadow_views_ui(ui: &mut Ui, lights: &FrameLights, views: &ShadowV
             ui.end_row();
         }
     });
-}
-
-/// Near and far planes of a spot light's view.
-fn view_depths(lights: &FrameLights, view: &ShadowView) -> (f32, f32) {
-    (view.light as usize)
-        .checked_sub(lights.suns.len())
-        .and_then(|i| lights.spots.get(i))
-        .and_then(|s| s.shadow)
-        .map_or((0.0, 0.0), |s| (s.view.near, s.view.far))
 }
 
 /// GPU passes, CPU systems and the plot of the last frames.
