@@ -76,6 +76,9 @@ const NUMBERS: &[&str] = &[
     "0x7fffffff",
     "1_000_000",
     "9e999",
+    "1e999",
+    "0x",
+    "1_",
 ];
 
 /// xorshift64* (Vigna 2016): a few lines, deterministic, good enough to pick mutations.
@@ -387,41 +390,8 @@ fn damaged_input_never_panics() {
         .iter()
         .map(|f| std::fs::read_to_string(dir.join(f)).unwrap())
         .collect();
-    let pieces = [
-        "(",
-        ")",
-        "[",
-        "]",
-        "{",
-        "}",
-        ",",
-        ":",
-        "\"",
-        "'",
-        "/*",
-        "*/",
-        "//",
-        "-",
-        "NaN",
-        "inf",
-        "1e999",
-        "-1",
-        "0",
-        "4294967296",
-        "r#\"",
-        "#![enable(",
-        "Some(",
-        "None",
-        "\n",
-        "é",
-        "\u{0}",
-        "\\",
-        "Scene",
-        "0x",
-        "1_",
-        "b'",
-        "true",
-    ];
+    // RON's punctuation and keywords, plus numbers at and past the edges of their types.
+    let pieces: Vec<&str> = PIECES.iter().chain(NUMBERS).copied().collect();
     let mut rng = Lcg(0x5eed);
     for text in &texts {
         let last_paren = text.rfind(')').unwrap();

@@ -200,7 +200,7 @@ fn each_shadowed_spot_light_gets_a_view_with_the_casters_in_its_cone() {
             .all(|v| v.kind == penumbra::ecs::ShadowViewKind::Spot)
     );
     // Each view belongs to one spot light (the scene has no sun, so light i is spot i).
-    let spot_of = |i: usize| lights.spots[views.views[i].light as usize].shadow.unwrap().view;
+    let spot_of = |i: usize| lights.spots[views.views[i].light as usize].shadow.unwrap();
     let by_range = |far: f32| {
         (0..3)
             .find(|&i| (spot_of(i).far - far).abs() < 1e-6)
@@ -237,7 +237,7 @@ fn spot_lights_over_the_budget_are_named_and_the_smallest_lose_their_shadows() {
         views
             .views
             .iter()
-            .all(|v| lights.spots[v.light as usize].shadow.unwrap().view.far > 3.0),
+            .all(|v| lights.spots[v.light as usize].shadow.unwrap().far > 3.0),
         "the far, small light is dropped"
     );
     let warnings = &world.resource::<ShadowDiagnostics>().current;
