@@ -14,4 +14,7 @@ pub struct RenderCounters {
     /// Shadow bind groups (lights, views, shadow storage) rebuilt because a buffer or a
     /// storage texture was replaced.
     pub shadow_groups: u32,
+    /// Transient textures and buffers the render graph's pool created (the camera depth;
+    /// again only when the target's size changes).
+    pub transient_resources: u32,
 }

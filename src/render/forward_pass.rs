@@ -6,8 +6,8 @@ use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::draw::{draw_batches, vertex_layout};
-use crate::render::frame::FrameContext;
-use crate::render::graph::RenderNode;
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc};
 use crate::render::layouts::Layouts;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -37,6 +37,8 @@ pub struct ForwardPass {
     pipelines: HashMap<PipelineKey, Built>,
     /// Colour the target is cleared to (linear RGB).
     pub clear_color: [f64; 3],
+    /// This frame's resources, set in `setup`.
+    handles: Option<FrameResources>,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -103,12 +105,25 @@ fn create_pipeline(
     }
 }
 
+/// The camera's depth buffer at the target's size.
+fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
+    TextureDesc {
+        label: "camera depth",
+        width,
+        height,
+        layers: 1,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+    }
+}
+
 impl ForwardPass {
     /// A forward pass clearing to `clear_color` (linear RGB).
     pub fn new(clear_color: [f64; 3]) -> Self {
         Self {
             pipelines: HashMap::new(),
             clear_color,
+            handles: None,
         }
     }
 
@@ -162,18 +177,38 @@ impl RenderNode for ForwardPass {
         FORWARD_PASS_NAME
     }
 
-    fn reads(&self) -> &'static [&'static str] {
-        &["shadow_map", "instances"]
+    /// Reads both shadow storages; writes the colour (and analysis) targets and the camera
+    /// depth, which it creates when no earlier node did.
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
+        pass.read(frame.cascade_maps);
+        pass.read(frame.spot_maps);
+        let depth = match frame.depth {
+            Some(depth) => pass.write(depth),
+            None => *frame.depth.insert(pass.create_texture(camera_depth(frame.size))),
+        };
+        pass.write(frame.color);
+        for target in frame.analysis.iter().flatten() {
+            pass.write(*target);
+        }
+        self.handles = Some(FrameResources {
+            depth: Some(depth),
+            ..*frame
+        });
     }
 
-    fn writes(&self) -> &'static [&'static str] {
-        &["color", "depth"]
-    }
-
-    fn record(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
-        let analysis = ctx.target.analysis.is_some();
+    fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        let Some(FrameResources {
+            color,
+            color_format: format,
+            analysis: analysis_targets,
+            depth: Some(depth),
+            ..
+        }) = self.handles
+        else {
+            return;
+        };
+        let analysis = analysis_targets.is_some();
         let lights = ctx.lights;
-        let format = ctx.target.format;
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {
                 analysis,
@@ -218,7 +253,7 @@ impl RenderNode for ForwardPass {
         };
         // NOTE: a fixed array, not a Vec: nothing is allocated per frame.
         let mut color_attachments = [const { None }; 4];
-        color_attachments[0] = attachment(&ctx.target.color, wgpu::Color { r, g, b, a: 1.0 });
+        color_attachments[0] = attachment(resources.view(color), wgpu::Color { r, g, b, a: 1.0 });
         let mut used = 1;
         // Background: shadow factor 1 (nothing shadows the sky), cascade -1, position w = 0.
         let clears = [
@@ -231,15 +266,15 @@ impl RenderNode for ForwardPass {
             wgpu::Color::TRANSPARENT,
             wgpu::Color::TRANSPARENT,
         ];
-        for (view, clear) in ctx.target.analysis.iter().flatten().zip(clears) {
-            color_attachments[used] = attachment(view, clear);
+        for (target, clear) in analysis_targets.iter().flatten().zip(clears) {
+            color_attachments[used] = attachment(resources.view(*target), clear);
             used += 1;
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(FORWARD_PASS_NAME),
             color_attachments: &color_attachments[..used],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &ctx.target.depth,
+                view: resources.view(depth),
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(0.0),
                     store: wgpu::StoreOp::Discard,

@@ -15,7 +15,6 @@ use crate::render::counters::RenderCounters;
 use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
-use crate::render::target::TargetViews;
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
 
@@ -29,8 +28,8 @@ pub struct FrameContext<'a> {
     pub library: &'a mut ShaderLibrary,
     /// Scene buffers and bind groups, already prepared for this frame.
     pub scene: &'a SceneGpu,
-    /// Shadow storage, light and view buffers, and the shadow bind group (imported resource
-    /// `shadow_map`).
+    /// Shadow storage, light and view buffers, and the shadow bind group (the storages are
+    /// imported into the graph).
     pub shadows: &'a ShadowResources,
     /// The shadow views and their culled casters.
     pub shadow_views: &'a ShadowViews,
@@ -38,8 +37,6 @@ pub struct FrameContext<'a> {
     pub view_groups: &'a ViewDrawGroups,
     /// The lights of the frame.
     pub lights: &'a FrameLights,
-    /// The colour and depth targets the camera renders to.
-    pub target: &'a TargetViews,
     /// Timestamp queries.
     pub timer: &'a mut GpuTimer,
     /// Draw calls recorded so far this frame.

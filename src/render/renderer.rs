@@ -9,7 +9,7 @@ use crate::render::counters::RenderCounters;
 use crate::render::forward_pass::ForwardPass;
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::FrameUniformsGpu;
-use crate::render::graph::RenderGraph;
+use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::probe::{ProbeGpu, ProbePass};
@@ -109,11 +109,8 @@ impl Renderer {
         let shadows = ShadowResources::new(&gpu.device, &layouts);
         let timer = GpuTimer::new(&gpu.device, &gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
-        graph.import("instances");
-        graph.import("shadow_map");
         graph.add_node(Box::new(DepthPass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
-        graph.compile().expect("the built-in graph is acyclic and complete");
         let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
         let probes = ProbePass::new(&gpu.device);
         Self {
@@ -197,9 +194,21 @@ impl Renderer {
         self.target.as_ref().map_or((0, 0), |t| (t.views.width, t.views.height))
     }
 
-    /// Names of the graph's nodes in execution order.
+    /// Names of the graph's nodes the last frame recorded, in execution order.
     pub fn graph_order(&self) -> Vec<&'static str> {
         self.graph.execution_order()
+    }
+
+    /// Names of the graph's nodes the last frame culled (nothing read what they write).
+    pub fn graph_culled(&self) -> Vec<&'static str> {
+        self.graph.culled()
+    }
+
+    /// Adds a node to the render graph (after the built-in shadow and forward nodes in
+    /// declaration order; it runs where its reads and writes put it). It declares its work
+    /// from the next frame on.
+    pub fn add_node(&mut self, node: Box<dyn RenderNode>) {
+        self.graph.add_node(node);
     }
 
     /// Renders one frame into the headless target and waits for its GPU timings.
@@ -251,9 +260,16 @@ impl Renderer {
                     &mut problems,
                 )
             });
-        let drawable = prepared.is_ok();
+        let mut drawable = prepared.is_ok();
         if let Err(e) = prepared {
             problems.errors.push(format!("the frame is not drawn: {e}"));
+        }
+        match self.build_graph(input, target) {
+            Ok(created) => self.counters.transient_resources += created,
+            Err(e) => {
+                drawable = false;
+                problems.errors.push(format!("the frame is not drawn: {e}"));
+            }
         }
         for warning in &problems.warnings {
             log::warn!("{warning}");
@@ -278,7 +294,6 @@ impl Renderer {
             shadow_views: input.shadow_views,
             view_groups: input.view_groups,
             lights: input.lights,
-            target,
             timer: &mut self.timer,
             draw_calls: 0,
             counters: &mut self.counters,
@@ -297,6 +312,31 @@ impl Renderer {
             shadow_memory: self.shadows.memory_bytes(),
         };
         &self.last_report
+    }
+
+    /// Declares this frame's graph: imports the target and the shadow storages, lets every
+    /// node declare its work, and allocates the transients.
+    fn build_graph(&mut self, input: &FrameInputs<'_>, target: &TargetViews) -> Result<u32, GraphError> {
+        let graph = &mut self.graph;
+        graph.begin_frame();
+        let color = graph.import_texture("target colour", &target.color);
+        let analysis = target.analysis.as_ref().map(|[shadow, position, normal]| {
+            [
+                graph.import_texture("analysis shadow", shadow),
+                graph.import_texture("analysis position", position),
+                graph.import_texture("analysis normal", normal),
+            ]
+        });
+        let mut frame = FrameResources {
+            color,
+            color_format: target.format,
+            size: (target.width, target.height),
+            analysis,
+            cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
+            spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
+            depth: None,
+        };
+        graph.build(&self.gpu.device, &mut frame, input)
     }
 
     /// Evaluates the focus light's shadow (see [`set_focus_light`](Self::set_focus_light)) at

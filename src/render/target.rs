@@ -13,14 +13,12 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the three analysis targets.
 pub const ANALYSIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// The views a frame renders into.
+/// The views a frame renders into (the camera's depth buffer is a transient of the graph).
 pub struct TargetViews {
     /// Colour attachment.
     pub color: wgpu::TextureView,
     /// Its format.
     pub format: wgpu::TextureFormat,
-    /// Depth attachment.
-    pub depth: wgpu::TextureView,
     /// Analysis attachments (shadow, position, normal), when the frame is to be scored.
     pub analysis: Option<[wgpu::TextureView; 3]>,
     /// Size in pixels.
@@ -86,16 +84,6 @@ fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
-fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
-    view(&texture_2d(
-        device,
-        "camera depth",
-        (width, height),
-        DEPTH_FORMAT,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    ))
-}
-
 /// Copies a 2D texture's first layer to the CPU (waits for the GPU): `texel_bytes` per texel,
 /// rows top to bottom, unpadded. The texture needs `COPY_SRC`.
 pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, texel_bytes: u32) -> Vec<u8> {
@@ -149,18 +137,12 @@ fn read_f32x4(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Textur
 }
 
 impl TargetViews {
-    /// Views for an external colour texture (a swapchain image) plus a new depth buffer.
-    pub fn for_color(
-        device: &wgpu::Device,
-        color: wgpu::TextureView,
-        format: wgpu::TextureFormat,
-        width: u32,
-        height: u32,
-    ) -> Self {
+    /// Views for an external colour texture (a swapchain image); the render graph provides
+    /// the depth buffer.
+    pub fn for_color(color: wgpu::TextureView, format: wgpu::TextureFormat, width: u32, height: u32) -> Self {
         Self {
             color,
             format,
-            depth: depth_view(device, width, height),
             analysis: None,
             width,
             height,
@@ -177,7 +159,7 @@ impl HeadlessTarget {
             ["analysis shadow", "analysis position", "analysis normal"]
                 .map(|label| texture_2d(device, label, (width, height), ANALYSIS_FORMAT, usage))
         });
-        let mut views = TargetViews::for_color(device, view(&color), HEADLESS_FORMAT, width, height);
+        let mut views = TargetViews::for_color(view(&color), HEADLESS_FORMAT, width, height);
         views.analysis = analysis.as_ref().map(|textures| textures.each_ref().map(view));
         Self { color, analysis, views }
     }

@@ -8,14 +8,13 @@ use std::path::Path;
 use image::RgbaImage;
 
 use crate::export::write_color_image;
-use crate::render::target::{TargetViews, read_texture, texture_2d};
+use crate::render::target::read_texture;
 use crate::viewer::options::ViewerError;
 
-/// A configured surface and the depth buffer that goes with it.
+/// A configured surface (the render graph provides the depth buffer).
 pub(crate) struct WindowSurface {
     pub surface: wgpu::Surface<'static>,
     pub config: wgpu::SurfaceConfiguration,
-    pub depth: TargetViews,
     /// The window has no area; frames are skipped.
     pub minimised: bool,
     /// Swapchain images can be copied (for screenshots).
@@ -61,11 +60,9 @@ impl WindowSurface {
             view_formats: vec![format.add_srgb_suffix()],
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
-        let depth = depth_target(device, &config);
         let s = Self {
             surface,
             config,
-            depth,
             minimised: width == 0 || height == 0,
             can_copy,
             recoveries: 0,
@@ -90,7 +87,6 @@ impl WindowSurface {
         if (width, height) != (self.config.width, self.config.height) {
             self.config.width = width;
             self.config.height = height;
-            self.depth = depth_target(device, &self.config);
         }
         self.surface.configure(device, &self.config);
         self.stale = false;
@@ -163,18 +159,4 @@ impl WindowSurface {
         }
         RgbaImage::from_raw(texture.width(), texture.height(), pixels)
     }
-}
-
-fn depth_target(device: &wgpu::Device, config: &wgpu::SurfaceConfiguration) -> TargetViews {
-    let format = config.format.add_srgb_suffix();
-    // Only the depth view is used; the colour view is replaced by each swapchain image.
-    let placeholder = texture_2d(
-        device,
-        "unused colour",
-        (1, 1),
-        format,
-        wgpu::TextureUsages::RENDER_ATTACHMENT,
-    )
-    .create_view(&wgpu::TextureViewDescriptor::default());
-    TargetViews::for_color(device, placeholder, format, config.width, config.height)
 }

@@ -338,7 +338,6 @@ impl Viewer {
         let target = TargetViews {
             color: view,
             format: scene_format,
-            depth: state.surface.depth.depth.clone(),
             analysis: None,
             width: config.width,
             height: config.height,

@@ -10,8 +10,8 @@ use std::fmt::Write;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::{ShadowView, ShadowViewKind};
 use crate::render::draw::draw_batches;
-use crate::render::frame::FrameContext;
-use crate::render::graph::RenderNode;
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::gpu::CasterViewGpu;
 use crate::settings::ShadowSettings;
@@ -51,15 +51,19 @@ impl RenderNode for DepthPass {
         "shadow"
     }
 
-    fn reads(&self) -> &'static [&'static str] {
-        &["instances"]
+    /// Writes each storage that has a view this frame (the layer views it renders into
+    /// belong to that storage); with no shadow view nothing is written and the node is culled.
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        let views = &inputs.shadow_views.views;
+        if views.iter().any(|v| matches!(v.kind, ShadowViewKind::Cascade(_))) {
+            pass.write(frame.cascade_maps);
+        }
+        if views.iter().any(|v| v.kind == ShadowViewKind::Spot) {
+            pass.write(frame.spot_maps);
+        }
     }
 
-    fn writes(&self) -> &'static [&'static str] {
-        &["shadow_map"]
-    }
-
-    fn record(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
+    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
             return;
         };

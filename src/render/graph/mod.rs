@@ -1,0 +1,152 @@
+//! The render graph, built every frame. Nodes stay from frame to frame; each frame, each node
+//! declares through typed handles ([`TextureId`], [`BufferId`]) what it reads, writes and
+//! creates: imported resources (the target, the shadow storages) and transient ones (the
+//! camera's depth buffer) that the graph allocates from a pool. The graph then orders the
+//! nodes (each after the writers of what it reads), culls those whose output nothing kept
+//! reads, lets transients with disjoint lifetimes share memory, and records the rest.
+//!
+//! Declarations: [`declare`]; scheduling without a GPU: [`schedule`]; the pool and the
+//! handle table: [`pool`].
+
+pub mod declare;
+pub mod pool;
+pub mod schedule;
+
+pub use declare::{BufferDesc, BufferId, PassBuilder, ResourceHandle, TextureDesc, TextureId};
+pub use pool::GraphResources;
+
+use thiserror::Error;
+
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::declare::Declarations;
+use crate::render::graph::pool::{Physical, TransientPool};
+use crate::render::graph::schedule::Schedule;
+
+/// A pass in the graph.
+pub trait RenderNode: Send + Sync {
+    /// Unique node name.
+    fn name(&self) -> &'static str;
+    /// Declares this frame's reads, writes and transient resources; keeps the handles it
+    /// records with. `frame` holds the frame's shared handles (a node may fill one in, as the
+    /// first to need the camera depth creates it); `inputs` is the ECS data of the frame.
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>);
+    /// Records the node's GPU work, resolving its handles through `resources`.
+    fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder);
+}
+
+/// A graph that cannot run (a bug in a node's declarations, not in user data).
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum GraphError {
+    /// Nodes read each other's outputs in a loop.
+    #[error("render graph has a cycle through node `{0}`")]
+    Cycle(&'static str),
+    /// A node used a handle from another frame's graph.
+    #[error("node `{node}` used a resource handle from an earlier frame; declare it again in `setup`")]
+    StaleHandle {
+        /// The node.
+        node: &'static str,
+    },
+}
+
+/// The handles every frame has, shared by the nodes.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameResources {
+    /// The colour target (imported).
+    pub color: TextureId,
+    /// Its format.
+    pub color_format: wgpu::TextureFormat,
+    /// The target's size in pixels.
+    pub size: (u32, u32),
+    /// The analysis targets, when the frame is scored (imported).
+    pub analysis: Option<[TextureId; 3]>,
+    /// The cascades' depth array (imported: it persists between frames).
+    pub cascade_maps: TextureId,
+    /// The spot lights' depth array (imported).
+    pub spot_maps: TextureId,
+    /// The camera's depth buffer: a transient created by the first node that needs it.
+    pub depth: Option<TextureId>,
+}
+
+/// The nodes, the pool of transients, and the last frame's schedule.
+#[derive(Default)]
+pub struct RenderGraph {
+    nodes: Vec<Box<dyn RenderNode>>,
+    names: Vec<&'static str>,
+    decls: Declarations,
+    schedule: Schedule,
+    pool: TransientPool,
+    resources: GraphResources,
+}
+
+impl RenderGraph {
+    /// Adds a node; it declares its work from the next frame on.
+    pub fn add_node(&mut self, node: Box<dyn RenderNode>) {
+        self.names.push(node.name());
+        self.nodes.push(node);
+    }
+
+    /// Starts a frame's build: handles of the last frame become stale.
+    pub fn begin_frame(&mut self) {
+        self.decls.begin(self.nodes.len());
+        self.resources.clear();
+    }
+
+    /// Imports a texture that lives outside the graph (its view), for this frame.
+    pub fn import_texture(&mut self, label: &'static str, view: &wgpu::TextureView) -> TextureId {
+        let handle = self.decls.add(label, None);
+        self.resources.set(handle.index, Physical::View(view.clone()));
+        TextureId(handle)
+    }
+
+    /// Imports a buffer that lives outside the graph, for this frame.
+    pub fn import_buffer(&mut self, label: &'static str, buffer: &wgpu::Buffer) -> BufferId {
+        let handle = self.decls.add(label, None);
+        self.resources.set(handle.index, Physical::Buffer(buffer.clone()));
+        BufferId(handle)
+    }
+
+    /// Lets every node declare its work, schedules the frame and allocates its transients;
+    /// returns how many transient resources had to be created.
+    pub fn build(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &mut FrameResources,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<u32, GraphError> {
+        for (pass, node) in self.nodes.iter_mut().enumerate() {
+            let mut builder = PassBuilder {
+                decls: &mut self.decls,
+                pass: pass as u32,
+                node: self.names[pass],
+            };
+            node.setup(&mut builder, frame, inputs);
+        }
+        self.schedule.compute(&self.decls, &self.names)?;
+        let created = self.pool.acquire(device, &self.schedule);
+        self.resources.bind_transients(&self.pool, &self.schedule);
+        Ok(created)
+    }
+
+    /// Names of the nodes the last build kept, in execution order.
+    pub fn execution_order(&self) -> Vec<&'static str> {
+        self.schedule.order.iter().map(|&p| self.names[p as usize]).collect()
+    }
+
+    /// Names of the nodes the last build culled.
+    pub fn culled(&self) -> Vec<&'static str> {
+        self.schedule.culled.iter().map(|&p| self.names[p as usize]).collect()
+    }
+
+    /// Transient resources held by the pool.
+    pub fn pooled(&self) -> usize {
+        self.pool.len()
+    }
+
+    /// Records the kept nodes, in order, into one encoder.
+    pub fn execute(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder) {
+        for &pass in &self.schedule.order {
+            self.nodes[pass as usize].record(ctx, &self.resources, encoder);
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! The render graph as a user meets it: built each frame, the shadow node culled when no light
+//! casts a shadow, the camera's depth buffer a pooled transient created once, and a custom
+//! node that declares its reads and writes runs after the passes whose output it reads, while
+//! a node whose output nothing reads is never recorded.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use bevy_app::App;
+use penumbra::app::{headless_app, spawn_scene};
+use penumbra::ecs::DirectionalLight;
+use penumbra::render::Renderer;
+use penumbra::render::frame::{FrameContext, FrameInputs};
+use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
+use penumbra::scene::SceneDesc;
+
+fn app() -> App {
+    let renderer = Renderer::headless(64, 40)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = headless_app(renderer);
+    let desc = SceneDesc::load("assets/scenes/default.ron").expect("default scene loads");
+    spawn_scene(app.world_mut(), &desc).expect("default scene spawns");
+    app
+}
+
+fn renderer(app: &App) -> &Renderer {
+    app.world().resource::<Renderer>()
+}
+
+fn renderer_mut(app: &mut App) -> bevy_ecs::world::Mut<'_, Renderer> {
+    app.world_mut().resource_mut::<Renderer>()
+}
+
+#[test]
+fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
+    let mut app = app();
+    for _ in 0..3 {
+        app.update();
+    }
+    let r = renderer(&app);
+    assert_eq!(r.graph_order(), ["shadow", "forward"]);
+    assert!(r.graph_culled().is_empty());
+    // Three frames of one size: the camera depth was created once and reused.
+    assert_eq!(r.counters().transient_resources, 1, "{:?}", r.counters());
+
+    let world = app.world_mut();
+    let mut suns = world.query::<&mut DirectionalLight>();
+    for mut sun in suns.iter_mut(world) {
+        sun.shadows_enabled = false;
+    }
+    app.update();
+    let r = renderer(&app);
+    assert_eq!(r.graph_order(), ["forward"], "no shadow view, yet the shadow node ran");
+    assert_eq!(r.graph_culled(), ["shadow"]);
+    assert_eq!(r.counters().transient_resources, 1);
+}
+
+/// Overwrites the colour target with one colour; counts its recordings.
+struct Paint {
+    color: Option<TextureId>,
+    recorded: Arc<AtomicU32>,
+}
+
+impl RenderNode for Paint {
+    fn name(&self) -> &'static str {
+        "paint"
+    }
+
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
+        pass.read(frame.color);
+        self.color = Some(pass.write(frame.color));
+    }
+
+    fn record(&mut self, _: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        self.recorded.fetch_add(1, Ordering::Relaxed);
+        let Some(color) = self.color else { return };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("paint"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: resources.view(color),
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 1.0,
+                        g: 0.0,
+                        b: 1.0,
+                        a: 1.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+    }
+}
+
+/// Makes a scratch texture nothing reads: culled, so never recorded.
+struct Unread {
+    recorded: Arc<AtomicU32>,
+}
+
+impl RenderNode for Unread {
+    fn name(&self) -> &'static str {
+        "unread"
+    }
+
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, _: &mut FrameResources, _: &FrameInputs<'_>) {
+        pass.create_texture(TextureDesc {
+            label: "scratch",
+            width: 16,
+            height: 16,
+            layers: 1,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        });
+    }
+
+    fn record(&mut self, _: &mut FrameContext<'_>, _: &GraphResources, _: &mut wgpu::CommandEncoder) {
+        self.recorded.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+#[test]
+fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
+    let mut app = app();
+    let (painted, unread) = (Arc::new(AtomicU32::new(0)), Arc::new(AtomicU32::new(0)));
+    // Added before nothing in particular: the graph puts "paint" after "forward", which
+    // writes the colour it reads.
+    renderer_mut(&mut app).add_node(Box::new(Unread {
+        recorded: Arc::clone(&unread),
+    }));
+    renderer_mut(&mut app).add_node(Box::new(Paint {
+        color: None,
+        recorded: Arc::clone(&painted),
+    }));
+    app.update();
+    app.update();
+    let r = renderer(&app);
+    assert_eq!(r.graph_order(), ["shadow", "forward", "paint"]);
+    assert_eq!(r.graph_culled(), ["unread"]);
+    assert_eq!(painted.load(Ordering::Relaxed), 2);
+    assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
+    // The culled node's transient was never allocated: only the camera depth was.
+    assert_eq!(r.counters().transient_resources, 1);
+    let image = r.read_image();
+    let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
+    assert_eq!(magenta, 64 * 40, "the custom node did not paint the whole frame last");
+}
