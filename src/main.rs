@@ -79,8 +79,10 @@ struct RenderArgs {
 /// Options of `penumbra bench`.
 #[derive(Args)]
 struct BenchArgs {
-    /// Scene files (default: the contact-hardening pillars, the benchmark field and the thin
-    /// casters under a grazing sun).
+    /// Scene files (default: the contact-hardening pillars, the benchmark field, the thin
+    /// casters under a grazing sun and the spot-light scene). A scene with no directional
+    /// light and a shadowed spot light is scored on its first shadowed spot light, any other
+    /// on its first sun.
     #[arg(long, num_args = 1..)]
     scenes: Vec<PathBuf>,
     /// Folder for report.md and plot.png.
@@ -305,6 +307,7 @@ fn bench(args: BenchArgs) -> Result<(), String> {
             "assets/scenes/pillars.ron",
             "assets/bench/field.ron",
             "assets/scenes/thin.ron",
+            "assets/scenes/spot.ron",
         ]
         .map(PathBuf::from)
         .to_vec()

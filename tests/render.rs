@@ -215,10 +215,11 @@ fn default_scene_matches_its_reference_image() {
     }
 }
 
-/// Renders a scene file twice, with and without the sun's shadows.
+/// Renders a scene file twice, with and without the shadows of its suns and spot lights.
 fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u32) -> (RgbaImage, RgbaImage) {
     use penumbra::app::{headless_app, spawn_scene};
     use penumbra::ecs::DirectionalLight;
+    use penumbra::ecs::lights::SpotLight;
     use penumbra::render::Renderer;
 
     let mut desc = SceneDesc::load(path).unwrap_or_else(|e| panic!("{e}"));
@@ -231,6 +232,10 @@ fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u
         let world = app.world_mut();
         let mut lights = world.query::<&mut DirectionalLight>();
         for mut light in lights.iter_mut(world) {
+            light.shadows_enabled = shadows;
+        }
+        let mut spots = world.query::<&mut SpotLight>();
+        for mut light in spots.iter_mut(world) {
             light.shadows_enabled = shadows;
         }
         app.update();

@@ -1,11 +1,17 @@
 //! Several lights on a real wgpu device (lavapipe in CI), judged against rays cast on the CPU:
 //! two suns each cast their own shadow, a spot light's shadow lands where a ray to the light
-//! is blocked, and a spot light's PCSS penumbra widens with the gap between caster and
-//! receiver as the perspective estimate says.
+//! is blocked, a spot light's PCSS penumbra widens with the gap between caster and receiver
+//! as the perspective estimate says, and `penumbra bench` scores the spot-light scene against
+//! the sphere-light reference.
+
+use std::path::PathBuf;
 
 use glam::Vec3;
 use image::RgbaImage;
+use penumbra::analysis::ScoredLight;
 use penumbra::bench::session::SceneSession;
+use penumbra::bench::{BenchConfig, presets, run_bench};
+use penumbra::reference::ReferenceSettings;
 use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
@@ -268,4 +274,70 @@ fn a_spot_pcss_penumbra_widens_with_the_gap_to_the_caster() {
     );
     assert!((0.25..=0.65).contains(&far), "penumbra {far} m, the estimate is 0.42 m");
     assert!(near <= 0.15, "penumbra {near} m, the estimate is 0.07 m");
+}
+
+#[test]
+fn the_bench_scores_the_spot_scene_against_the_sphere_light() {
+    let wanted = ["hard", "pcss-high", "pcf2-no-blend"];
+    let config = BenchConfig {
+        scenes: vec![PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/scenes/spot.ron"
+        ))],
+        presets: presets().into_iter().filter(|p| wanted.contains(&p.name)).collect(),
+        width: 64,
+        height: 36,
+        analysis_width: 160,
+        analysis_height: 90,
+        timing_frames: 1,
+        warmup_frames: 0,
+        reference: ReferenceSettings {
+            max_samples: 32,
+            min_samples: 16,
+            seed: 1,
+        },
+        shimmer_steps: 2,
+        max_probes: 200,
+        progress: false,
+    };
+    let report = run_bench(&config).unwrap_or_else(|e| panic!("{e}"));
+    // Cascade blending means nothing to a spot light: that preset is not run, and with no
+    // scene left it is not reported.
+    let names: Vec<&str> = report.presets.iter().map(|p| p.preset.as_str()).collect();
+    assert_eq!(names, ["hard", "pcss-high"]);
+    let notes = report.notes.join("\n");
+    assert!(notes.contains("spot light 0, radius 0.25 m"), "{notes}");
+    assert!(notes.contains("sphere-light reference"), "{notes}");
+    assert!(notes.contains("not applicable, so not run: pcf2-no-blend"), "{notes}");
+    let mut penumbra_mae = Vec::new();
+    for p in &report.presets {
+        let [s] = p.scenes.as_slice() else {
+            panic!("{}: {} scenes", p.preset, p.scenes.len())
+        };
+        assert_eq!(s.scene, "spot");
+        assert_eq!(s.light, ScoredLight::Spot { index: 0, radius: 0.25 });
+        let e = &s.errors;
+        // Only points inside the spot light's view are scored: all of them in "cascade" 0.
+        assert!(e.pixels >= 4000, "{}: only {} points judged", p.preset, e.pixels);
+        assert!(
+            e.penumbra_pixels >= 100,
+            "{}: only {} penumbra points",
+            p.preset,
+            e.penumbra_pixels
+        );
+        assert!(e.lit_pixels >= 2000 && e.shadowed_pixels >= 200, "{}: {e:?}", p.preset);
+        assert_eq!(s.per_cascade[0].pixels, e.pixels, "{}", p.preset);
+        assert!(s.per_cascade[1..].iter().all(|c| c.pixels == 0), "{}", p.preset);
+        assert_eq!(e.skipped_nan, 0);
+        for v in [e.mae, e.penumbra_mae, e.p95, e.acne_rate, e.leak_rate] {
+            assert!(v.is_finite(), "{}: {e:?}", p.preset);
+        }
+        assert!(e.acne_rate <= 0.005, "{}: acne {:.2} %", p.preset, e.acne_rate * 100.0);
+        assert!(s.shimmer_translation.points > 0 && s.shimmer_translation.mean_spread.is_finite());
+        penumbra_mae.push(e.penumbra_mae);
+    }
+    // Contact hardening matters here: the soft filter follows the sphere light's penumbrae,
+    // one hardware comparison cannot.
+    let (hard, pcss) = (penumbra_mae[0], penumbra_mae[1]);
+    assert!(pcss < 0.5 * hard, "penumbra MAE: PCSS High {pcss:.4}, hard {hard:.4}");
 }

@@ -1,5 +1,6 @@
-//! The benchmark's results (one [`PresetResult`] per shadow technique preset, each with one
-//! [`SceneResult`] per scene) and their Markdown report.
+//! The Markdown report of a benchmark's results (one [`PresetResult`] per shadow technique
+//! preset, each with one [`SceneResult`] per scene; the types live in
+//! [`results`](crate::analysis::results) and are re-exported here).
 //!
 //! Numbers are formatted the same everywhere: milliseconds with 3 decimals, errors and
 //! shimmer spreads (shadow-factor units) with 4, rates as percent with 2; a value that is not
@@ -7,118 +8,8 @@
 
 use std::fmt::{self, Write};
 
-use serde::Serialize;
-
-use crate::analysis::metrics::ErrorMetrics;
 use crate::analysis::pareto::pareto_front;
-use crate::analysis::shimmer::Shimmer;
-
-/// GPU time of one frame, from timestamp queries, averaged over the timed frames.
-#[derive(Clone, Debug, Serialize)]
-pub struct GpuTimes {
-    /// The shadow passes (all cascades).
-    pub shadow_ms: f64,
-    /// The forward pass that samples the shadows.
-    pub forward_ms: f64,
-    /// The whole frame.
-    pub total_ms: f64,
-}
-
-/// One preset's results on one scene.
-#[derive(Clone, Debug, Serialize)]
-pub struct SceneResult {
-    /// The scene's name.
-    pub scene: String,
-    /// GPU time at the timing resolution.
-    pub gpu: GpuTimes,
-    /// CPU time of cascade fitting and culling per frame.
-    pub cpu_ms: f64,
-    /// Draw calls per frame (shadow and forward).
-    pub draw_calls: u32,
-    /// Memory of the shadow maps and their auxiliary textures.
-    pub shadow_memory_bytes: u64,
-    /// Error against the reference over the analysed pixels.
-    pub errors: ErrorMetrics,
-    /// The same error split by the cascade that shaded each pixel.
-    pub per_cascade: [ErrorMetrics; 4],
-    /// Temporal stability while the camera translates.
-    pub shimmer_translation: Shimmer,
-    /// Temporal stability while the camera rotates.
-    pub shimmer_rotation: Shimmer,
-}
-
-/// One shadow technique preset's results on every scene.
-#[derive(Clone, Debug, Serialize)]
-pub struct PresetResult {
-    /// The preset's name.
-    pub preset: String,
-    /// What the preset does, in a line.
-    pub description: String,
-    /// One entry per scene.
-    pub scenes: Vec<SceneResult>,
-}
-
-impl PresetResult {
-    /// Total GPU ms per frame, mean over the scenes (NaN without scenes).
-    pub fn mean_gpu_ms(&self) -> f64 {
-        self.mean(|s| s.gpu.total_ms)
-    }
-
-    /// Penumbra MAE, mean over the scenes (NaN without scenes).
-    pub fn mean_penumbra_mae(&self) -> f64 {
-        self.mean(|s| s.errors.penumbra_mae)
-    }
-
-    /// Mean of `f` over the scenes; NaN without scenes.
-    fn mean(&self, f: impl Fn(&SceneResult) -> f64) -> f64 {
-        self.scenes.iter().map(f).sum::<f64>() / self.scenes.len() as f64
-    }
-}
-
-/// A whole benchmark run: where it ran, at which settings, and every preset's results.
-#[derive(Clone, Debug, Serialize)]
-pub struct BenchReport {
-    /// The report's title.
-    pub title: String,
-    /// The GPU adapter's name.
-    pub adapter: String,
-    /// The driver's name and version.
-    pub driver: String,
-    /// The graphics API (Vulkan, Metal, DX12).
-    pub backend: String,
-    /// The source commit that was measured.
-    pub commit: String,
-    /// When it ran.
-    pub date: String,
-    /// Width of the timed frames.
-    pub width: u32,
-    /// Height of the timed frames.
-    pub height: u32,
-    /// Width of the frames compared with the reference.
-    pub analysis_width: u32,
-    /// Height of the frames compared with the reference.
-    pub analysis_height: u32,
-    /// How the reference was sampled, e.g. "1024 rays per pixel".
-    pub reference_samples: String,
-    /// Frames averaged per GPU timing.
-    pub timing_frames: u32,
-    /// One entry per preset.
-    pub presets: Vec<PresetResult>,
-    /// Free-form remarks, written as a bullet list.
-    pub notes: Vec<String>,
-}
-
-impl BenchReport {
-    /// For each preset, whether it is on the Pareto front of (mean GPU ms, mean penumbra MAE).
-    pub fn pareto_front(&self) -> Vec<bool> {
-        let points: Vec<(f64, f64)> = self
-            .presets
-            .iter()
-            .map(|p| (p.mean_gpu_ms(), p.mean_penumbra_mae()))
-            .collect();
-        pareto_front(&points)
-    }
-}
+pub use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 
 /// How a column's numbers are written.
 #[derive(Clone, Copy)]
@@ -248,7 +139,15 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
     }
 
     writeln!(out, "\n## Penumbra MAE per cascade\n")?;
-    writeln!(out, "`—`: no penumbra pixel in that cascade.\n")?;
+    let single_view = r.presets.iter().flat_map(|p| &p.scenes).any(|s| s.light.views() < 4);
+    if single_view {
+        writeln!(
+            out,
+            "`—`: no penumbra pixel in that cascade. `n/a`: the scored light has no such view (a spot light has one, shown as cascade 0).\n"
+        )?;
+    } else {
+        writeln!(out, "`—`: no penumbra pixel in that cascade.\n")?;
+    }
     writeln!(
         out,
         "| Preset | Scene | Cascade 0 | Cascade 1 | Cascade 2 | Cascade 3 |"
@@ -257,7 +156,11 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
     for p in &r.presets {
         for s in &p.scenes {
             write!(out, "| {} | {} |", cell(&p.preset), cell(&s.scene))?;
-            for c in &s.per_cascade {
+            for (i, c) in s.per_cascade.iter().enumerate() {
+                if i >= s.light.views() {
+                    write!(out, " n/a |")?;
+                    continue;
+                }
                 let v = if c.penumbra_pixels == 0 {
                     f64::NAN
                 } else {
@@ -339,6 +242,8 @@ fn table_row(out: &mut String, name: &str, values: &[f64; 10], extra: &[String],
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::analysis::metrics::ErrorMetrics;
+    use crate::analysis::shimmer::Shimmer;
 
     fn scene(name: &str, total_ms: f64, penumbra_mae: f64) -> SceneResult {
         let errors = ErrorMetrics {
@@ -358,6 +263,7 @@ pub(crate) mod tests {
             cpu_ms: 0.125,
             draw_calls: 42,
             shadow_memory_bytes: 3 * 1024 * 1024,
+            light: ScoredLight::Sun { angular_diameter: 0.53 },
             errors,
             per_cascade: [errors, errors, ErrorMetrics::default(), errors],
             shimmer_translation: Shimmer {
@@ -488,6 +394,21 @@ pub(crate) mod tests {
         assert!(md.contains("](plot.png)"), "{md}");
         assert!(md.contains("\n- first note\n"), "{md}");
         assert!(!markdown(&sample_report(), None).contains("plot.png"));
+    }
+
+    #[test]
+    fn a_spot_scene_has_one_cascade_column() {
+        let mut r = sample_report();
+        assert!(
+            !markdown(&r, None).contains("n/a"),
+            "sun scenes have four cascade columns"
+        );
+        r.presets[0].scenes[1].light = ScoredLight::Spot { index: 0, radius: 0.25 };
+        let md = markdown(&r, None);
+        let cascades = table_after(&md, "## Penumbra MAE per cascade");
+        assert_eq!(cascades[1], ["hard", "forest", "0.3500", "n/a", "n/a", "n/a"], "{md}");
+        assert_eq!(cascades[0][2..], ["0.2500", "0.2500", "—", "0.2500"], "{md}");
+        assert!(md.contains("`n/a`: the scored light has no such view"), "{md}");
     }
 
     #[test]

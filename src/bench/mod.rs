@@ -1,8 +1,12 @@
-//! `penumbra bench`: scores every preset against the ray-traced reference and measures its
-//! cost, then writes a Markdown report and a plot of GPU time against error.
+//! `penumbra bench`: scores every preset against the ray-traced reference of each scene's
+//! scored light (its first sun, or its first shadowed spot light when it has no sun: see
+//! [`focus`]) and measures its cost, then writes a Markdown report and a plot of GPU time
+//! against error.
 
+pub mod focus;
 pub mod presets;
 pub mod run;
+pub mod score;
 pub mod session;
 
 pub use presets::{Preset, presets};

@@ -1,25 +1,21 @@
-//! The benchmark run: for every scene, the ray-traced reference at the analysis resolution,
-//! then for every preset its error against the reference, its temporal stability under
-//! sub-texel camera moves and in-place turns, and its GPU and CPU cost at the timing
-//! resolution.
+//! The benchmark run: for every scene, the scores of every preset that applies to the
+//! scene's scored light ([`score`](crate::bench::score): error against the ray-traced
+//! reference and temporal stability), then their GPU and CPU cost at the timing resolution.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use thiserror::Error;
 
-use crate::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics, per_cascade};
-use crate::analysis::report::{BenchReport, GpuTimes, PresetResult, SceneResult};
-use crate::analysis::shimmer::{Shimmer, shimmer};
+use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult};
 use crate::app::SpawnError;
 use crate::bench::presets::Preset;
+pub use crate::bench::score::{Points, evaluated_points};
+use crate::bench::score::{SceneScores, score_scene};
 use crate::bench::session::SceneSession;
-use crate::reference::{ReferencePoint, ReferenceSettings, sun_visibility};
+use crate::reference::ReferenceSettings;
 use crate::render::frame::FrameInputs;
-use crate::render::probe::ProbeGpu;
-use crate::render::target::AnalysisImage;
 use crate::render::{FrameReport, GpuError, Renderer};
 use crate::scene::{SceneDesc, SceneError};
 
@@ -36,9 +32,9 @@ pub enum BenchError {
     /// No GPU.
     #[error(transparent)]
     Gpu(#[from] GpuError),
-    /// A scene has no camera or no sun.
-    #[error("{0}: the benchmark needs a camera and a sun")]
-    NoSun(String),
+    /// A scene has no light to score: neither a directional light nor a shadowed spot light.
+    #[error("{0}: the benchmark needs a directional light, or a shadowed spot light and no directional light")]
+    NoLight(String),
 }
 
 /// What to measure.
@@ -78,7 +74,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn bar(len: u64, message: String, show: bool) -> ProgressBar {
+pub(crate) fn bar(len: u64, message: String, show: bool) -> ProgressBar {
     if !show {
         return ProgressBar::hidden();
     }
@@ -91,159 +87,30 @@ fn bar(len: u64, message: String, show: bool) -> ProgressBar {
     bar
 }
 
-/// Renders one analysis frame of the session with the given renderer.
-fn analysis_frame(session: &mut SceneSession, renderer: &mut Renderer) -> AnalysisImage {
-    session.update();
-    renderer.render(&FrameInputs::from_world(session.app.world(), 0));
-    renderer.read_analysis().unwrap_or_default()
-}
-
-/// The points (and the pixels they were seen at) where the shadow was evaluated.
-pub struct Points {
-    /// Pixel index of each point.
-    pub pixels: Vec<usize>,
-    /// The points, for the ray-traced reference.
-    pub reference: Vec<ReferencePoint>,
-    /// The points, for the shadow-probe pass.
-    pub probes: Vec<ProbeGpu>,
-}
-
-/// Every pixel of an analysis frame where the shadow was evaluated, as reference points and
-/// shadow probes.
-pub fn evaluated_points(a: &AnalysisImage) -> Points {
-    let pixels: Vec<usize> = (0..a.shadow.len())
-        .filter(|&i| a.evaluated[i] && a.position[i].is_finite() && a.normal[i].is_finite())
-        .collect();
-    let reference = pixels
-        .iter()
-        .map(|&i| ReferencePoint {
-            position: a.position[i],
-            normal: a.normal[i],
-        })
-        .collect();
-    let probes = pixels
-        .iter()
-        .map(|&i| ProbeGpu::new(a.position[i], a.normal[i], ((i as u32) % a.width, (i as u32) / a.width)))
-        .collect();
-    Points {
-        pixels,
-        reference,
-        probes,
-    }
-}
-
-/// Shadow values at `probes` for each pose of a camera path.
-fn path_values(
-    session: &mut SceneSession,
-    renderer: &mut Renderer,
-    probes: &[ProbeGpu],
-    poses: &[(Vec3, f32)],
-) -> Vec<Vec<f32>> {
-    let values = poses
-        .iter()
-        .map(|&(offset, yaw)| {
-            session.move_camera(offset, yaw);
-            session.update();
-            renderer.render(&FrameInputs::from_world(session.app.world(), 0));
-            renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), probes)
-        })
-        .collect();
-    session.move_camera(Vec3::ZERO, 0.0);
-    values
-}
-
-/// Errors and stability of every preset on one scene.
-struct SceneScores {
-    errors: Vec<(ErrorMetrics, [ErrorMetrics; 4])>,
-    shimmer: Vec<(Shimmer, Shimmer)>,
-}
-
-fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<SceneScores, BenchError> {
-    let name = path.display().to_string();
-    let (w, h) = (config.analysis_width, config.analysis_height);
-    let mut session = SceneSession::new(desc, w, h)?;
-    let mut renderer = Renderer::headless_with_analysis(w, h)?;
-    let first = analysis_frame(&mut session, &mut renderer);
-    let points = evaluated_points(&first);
-    let sun = session.sun_disc().ok_or_else(|| BenchError::NoSun(name.clone()))?;
-
-    let reference_scene = session.reference_scene();
-    let progress = bar(
-        points.reference.len() as u64,
-        format!("reference {}", short(path)),
-        config.progress,
-    );
-    let reference = sun_visibility(&reference_scene, &sun, &points.reference, &config.reference, &|n| {
-        progress.set_position(n as u64)
-    });
-    progress.finish_and_clear();
-    let reference_values: Vec<f32> = reference.iter().map(|v| v.value).collect();
-
-    // Stability paths: sub-texel moves of the start camera (within one texel of cascade 0)
-    // and small in-place turns.
-    let texel = session
-        .lights()
-        .sun()
-        .map_or(0.01, |s| s.cascades.cascades[0].texel_world_size);
-    let start = session.start_camera();
-    let (right, up) = (start.rotation * Vec3::X, start.rotation * Vec3::Y);
-    let steps = config.shimmer_steps.max(2);
-    let translations: Vec<(Vec3, f32)> = (0..steps)
-        .map(|k| {
-            let t = k as f32 / steps as f32 * 0.95 * texel;
-            (right * t + up * (0.37 * t), 0.0)
-        })
-        .collect();
-    let rotations: Vec<(Vec3, f32)> = (0..steps)
-        .map(|k| (Vec3::ZERO, (k as f32 * 0.1).to_radians()))
-        .collect();
-    let stride = points.probes.len().div_ceil(config.max_probes.max(1)).max(1);
-    let followed: Vec<ProbeGpu> = points.probes.iter().step_by(stride).copied().collect();
-
-    let mut scores = SceneScores {
-        errors: Vec::new(),
-        shimmer: Vec::new(),
-    };
-    let progress = bar(
-        config.presets.len() as u64,
-        format!("presets {}", short(path)),
-        config.progress,
-    );
-    let thresholds = Thresholds::default();
-    for preset in &config.presets {
-        session.apply_settings(preset.apply);
-        let image = analysis_frame(&mut session, &mut renderer);
-        let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
-        let cascade: Vec<u8> = points.pixels.iter().map(|&i| image.cascade[i]).collect();
-        let all = |_: usize| true;
-        scores.errors.push((
-            error_metrics(&technique, &reference_values, all, &thresholds),
-            per_cascade(&technique, &reference_values, &cascade, all, &thresholds),
-        ));
-        let moved = path_values(&mut session, &mut renderer, &followed, &translations);
-        let turned = path_values(&mut session, &mut renderer, &followed, &rotations);
-        scores.shimmer.push((shimmer(&moved), shimmer(&turned)));
-        progress.inc(1);
-    }
-    progress.finish_and_clear();
-    Ok(scores)
-}
-
-/// GPU and CPU cost of every preset on one scene at the timing resolution.
+/// GPU and CPU cost of every preset on one scene at the timing resolution; None for the
+/// presets that `applies` leaves out.
+#[allow(clippy::type_complexity)]
 fn time_scene(
     path: &Path,
     desc: &SceneDesc,
     config: &BenchConfig,
-) -> Result<Vec<(GpuTimes, f64, FrameReport)>, BenchError> {
+    applies: &[bool],
+) -> Result<Vec<Option<(GpuTimes, f64, FrameReport)>>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
     let mut renderer = Renderer::headless(config.width, config.height)?;
+    renderer.set_focus_light(session.focus_light_index());
     let progress = bar(
         config.presets.len() as u64,
         format!("timing {}", short(path)),
         config.progress,
     );
     let mut out = Vec::new();
-    for preset in &config.presets {
+    for (preset, &applies) in config.presets.iter().zip(applies) {
+        if !applies {
+            out.push(None);
+            progress.inc(1);
+            continue;
+        }
         session.apply_settings(preset.apply);
         let (mut shadow, mut forward, mut total, mut cpu) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut last = FrameReport::default();
@@ -261,7 +128,7 @@ fn time_scene(
                 last = report;
             }
         }
-        out.push((
+        out.push(Some((
             GpuTimes {
                 shadow_ms: median(shadow),
                 forward_ms: median(forward),
@@ -269,14 +136,14 @@ fn time_scene(
             },
             median(cpu),
             last,
-        ));
+        )));
         progress.inc(1);
     }
     progress.finish_and_clear();
     Ok(out)
 }
 
-fn short(path: &Path) -> String {
+pub(crate) fn short(path: &Path) -> String {
     path.file_stem()
         .map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().to_string())
 }
@@ -305,7 +172,10 @@ impl SettingsOverrides {
     }
 }
 
-/// Runs the whole benchmark and returns the report (without writing files).
+/// Runs the whole benchmark and returns the report (without writing files). Each scene is
+/// scored on its focus light ([`choose_focus`](crate::bench::focus::choose_focus)); a preset
+/// that does not apply to a scene's light is not run there, and one that applies to none of
+/// the scenes is left out of the report.
 pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
     run_bench_with(config, &SettingsOverrides::default())
 }
@@ -325,31 +195,37 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
     let info = probe.gpu.adapter_info.clone();
     let timestamps = probe.gpu.timestamps;
     drop(probe);
+    let mut scene_notes = Vec::new();
     for path in &config.scenes {
         let mut desc = SceneDesc::load(path)?;
         overrides.apply(&mut desc);
         let scores = score_scene(path, &desc, config)?;
-        let times = time_scene(path, &desc, config)?;
-        for (i, result) in presets.iter_mut().enumerate() {
-            let (gpu, cpu_ms, report) = times[i].clone();
-            let (errors, per_cascade) = scores.errors[i];
-            let (shimmer_translation, shimmer_rotation) = scores.shimmer[i];
+        let applies: Vec<bool> = scores.presets.iter().map(Option::is_some).collect();
+        let times = time_scene(path, &desc, config, &applies)?;
+        for ((result, score), time) in presets.iter_mut().zip(&scores.presets).zip(times) {
+            let (Some(score), Some((gpu, cpu_ms, report))) = (score, time) else {
+                continue;
+            };
             result.scenes.push(SceneResult {
                 scene: short(path),
                 gpu,
                 cpu_ms,
                 draw_calls: report.draw_calls,
                 shadow_memory_bytes: report.shadow_memory,
-                errors,
-                per_cascade,
-                shimmer_translation,
-                shimmer_rotation,
+                light: scores.light,
+                errors: score.errors,
+                per_cascade: score.per_cascade,
+                shimmer_translation: score.shimmer_translation,
+                shimmer_rotation: score.shimmer_rotation,
             });
         }
+        scene_notes.extend(scene_light_notes(&short(path), &scores, &config.presets));
     }
+    // NOTE: a preset that applies to none of the scenes has nothing to report.
+    presets.retain(|p| !p.scenes.is_empty());
     let mut notes = vec![
         format!(
-            "Errors are scored at {}×{} against a Monte-Carlo reference of the sun disc ({}); GPU times at {}×{}, median of {} frames after {} warm-up frames.",
+            "Errors are scored at {}×{} against a Monte-Carlo reference of each scene's scored light ({}): the visible fraction of the sun's disc, or of a spot light's emitter sphere; GPU times at {}×{}, median of {} frames after {} warm-up frames.",
             config.analysis_width,
             config.analysis_height,
             reference_description(&config.reference),
@@ -358,8 +234,9 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
             config.timing_frames,
             config.warmup_frames
         ),
-        "Shimmer: spread (max − min) of the shadow at fixed world points while the camera moves by sub-texel steps of cascade 0, or turns in place in 0.1° steps.".to_string(),
+        "Shimmer: spread (max − min) of the shadow at fixed world points while the camera moves by sub-texel steps of cascade 0 (of a spot light's map at the camera's target, for a spot-light scene), or turns in place in 0.1° steps.".to_string(),
     ];
+    notes.append(&mut scene_notes);
     notes.extend(overrides.notes());
     if !timestamps {
         notes.push("This adapter has no timestamp queries: GPU times are missing (NaN).".to_string());
@@ -385,6 +262,29 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
         presets,
         notes,
     })
+}
+
+/// What a scene scored, and the presets left out because they do not apply to its light.
+fn scene_light_notes(scene: &str, scores: &SceneScores, presets: &[Preset]) -> Vec<String> {
+    let mut notes = vec![format!(
+        "Scene {scene}: {} ({} points scored; shimmer step {:.1} mm).",
+        scores.light.describe(),
+        scores.points,
+        scores.texel * 1e3
+    )];
+    let skipped: Vec<&str> = presets
+        .iter()
+        .zip(&scores.presets)
+        .filter(|(_, s)| s.is_none())
+        .map(|(p, _)| p.name)
+        .collect();
+    if !skipped.is_empty() {
+        notes.push(format!(
+            "Scene {scene}: not applicable, so not run: {} (cascade blending only; a spot light has one view). Their means are over the other scenes.",
+            skipped.join(", ")
+        ));
+    }
+    notes
 }
 
 fn reference_description(r: &ReferenceSettings) -> String {

@@ -1,16 +1,20 @@
 //! A scene loaded into an ECS world with the shadow systems, plus the handles the benchmark
-//! turns: the sun's settings and the camera's transform.
+//! turns: the scored light's settings (see [`focus`](crate::bench::focus)) and the camera's
+//! transform.
 
 use bevy_app::App;
 use bevy_transform::components::Transform;
 use glam::{Quat, Vec3};
 
 use crate::app::{SpawnError, spawn_scene};
+use crate::bench::focus::{Focus, FocusKind, choose_focus};
 use crate::ecs::assets::{AlphaMode, Images, Materials, Meshes};
 use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::origin::RenderOrigin;
 use crate::ecs::plugin::ShadowPlugin;
+use crate::ecs::shadow_views::ShadowLightBudget;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::reference::{AlphaMask, Caster, ReferenceScene, SunDisc};
@@ -23,6 +27,8 @@ pub struct SceneSession {
     pub app: App,
     base: ShadowSettings,
     camera: Transform,
+    target: Vec3,
+    focus: Option<Focus>,
 }
 
 impl SceneSession {
@@ -36,10 +42,57 @@ impl SceneSession {
             app,
             base: desc.shadows,
             camera: Transform::default(),
+            target: desc.camera.target,
+            focus: None,
         };
         session.camera = session.camera_transform();
         session.app.update();
+        session.focus = choose_focus(session.lights());
+        if let Some(focus) = session.focus.filter(|f| f.kind == FocusKind::Spot) {
+            // NOTE: a spot light's presets start from its own settings. One without a
+            // settings component gets the settings it is drawn with (the defaults at the
+            // budget's spot resolution) now, so that the presets change a component in place
+            // and never move the light to another archetype (which could reorder the lights).
+            let world = session.app.world_mut();
+            let own = world.get::<ShadowSettings>(focus.entity).copied();
+            let base = own.unwrap_or_else(|| ShadowSettings {
+                resolution: world
+                    .get_resource::<ShadowLightBudget>()
+                    .map_or(ShadowLightBudget::default().spot_resolution, |b| b.spot_resolution),
+                ..ShadowSettings::default()
+            });
+            if own.is_none() {
+                world.entity_mut(focus.entity).insert(base);
+                session.app.update();
+            }
+            session.base = base;
+        }
         Ok(session)
+    }
+
+    /// The light the benchmark scores on this scene (see
+    /// [`choose_focus`](crate::bench::focus::choose_focus)), chosen when the session started;
+    /// None when the scene has neither a directional nor a shadowed spot light.
+    pub fn focus(&self) -> Option<Focus> {
+        self.focus
+    }
+
+    /// The focus light's index in the renderer's light list this frame, for
+    /// [`Renderer::set_focus_light`](crate::render::Renderer::set_focus_light) (0 without a
+    /// focus light).
+    pub fn focus_light_index(&self) -> usize {
+        self.focus.and_then(|f| f.light_index(self.lights())).unwrap_or(0)
+    }
+
+    /// The camera's target in the scene file, relative to the render origin (as every
+    /// position the renderer and the reference see).
+    pub fn camera_target(&self) -> Vec3 {
+        self.target
+            - self
+                .app
+                .world()
+                .get_resource::<RenderOrigin>()
+                .map_or(Vec3::ZERO, |o| o.0)
     }
 
     /// Changes the viewport size (the cascades follow the aspect ratio).
@@ -53,11 +106,19 @@ impl SceneSession {
         q.iter(world).next().map(|(_, t)| *t).unwrap_or_default()
     }
 
-    /// Sets the sun's settings to the scene's own, changed by `apply`.
+    /// Sets the scored light's settings to its own from the scene, changed by `apply`: for a
+    /// spot light in focus, that light's settings; otherwise every directional light's (the
+    /// scene's `shadows`, changed).
     pub fn apply_settings(&mut self, apply: fn(&mut ShadowSettings)) {
         let mut settings = self.base;
         apply(&mut settings);
         let world = self.app.world_mut();
+        if let Some(focus) = self.focus.filter(|f| f.kind == FocusKind::Spot) {
+            if let Some(mut s) = world.get_mut::<ShadowSettings>(focus.entity) {
+                *s = settings;
+            }
+            return;
+        }
         let mut q = world.query::<(&DirectionalLight, &mut ShadowSettings)>();
         for (_, mut s) in q.iter_mut(world) {
             *s = settings;
@@ -149,5 +210,85 @@ impl SceneSession {
             })
         });
         ReferenceScene::build(casters)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::settings::{PcssQuality, ShadowMode};
+
+    fn shipped(name: &str) -> SceneDesc {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(name);
+        SceneDesc::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn pcf3(s: &mut ShadowSettings) {
+        s.mode = ShadowMode::Pcf;
+        s.pcf_radius = 3;
+    }
+
+    #[test]
+    fn the_spot_scene_scores_its_spot_light_and_presets_change_only_it() {
+        let mut session = SceneSession::new(&shipped("spot.ron"), 64, 36).unwrap_or_else(|e| panic!("{e}"));
+        let focus = session.focus().expect("a focus light");
+        assert_eq!(focus.kind, FocusKind::Spot);
+        assert!(session.lights().suns.is_empty());
+        assert_eq!(session.focus_light_index(), 0);
+        session.apply_settings(pcf3);
+        session.update();
+        let spot = session.lights().spots[0];
+        assert_eq!((spot.settings.mode, spot.settings.pcf_radius), (ShadowMode::Pcf, 3));
+        // The rest is the spot light's own settings, not the scene's `shadows`.
+        assert_eq!(spot.settings.resolution, 2048);
+        assert_eq!(spot.settings.pcss_quality, PcssQuality::High);
+        assert_eq!(spot.light.radius, 0.25);
+    }
+
+    #[test]
+    fn scenes_with_a_sun_score_it_and_spot_lights_keep_their_settings() {
+        let mut session = SceneSession::new(&shipped("lights.ron"), 64, 36).unwrap_or_else(|e| panic!("{e}"));
+        let focus = session.focus().expect("a focus light");
+        assert_eq!(focus.kind, FocusKind::Sun);
+        assert_eq!(session.focus_light_index(), 0);
+        let before: Vec<ShadowSettings> = session.lights().spots.iter().map(|s| s.settings).collect();
+        session.apply_settings(pcf3);
+        session.update();
+        let lights = session.lights();
+        assert!(lights.suns.iter().all(|s| s.settings.pcf_radius == 3));
+        let after: Vec<ShadowSettings> = lights.spots.iter().map(|s| s.settings).collect();
+        assert_eq!(before, after);
+    }
+
+    #[test]
+    fn a_spot_light_without_settings_keeps_its_map_size_under_presets() {
+        let desc = SceneDesc::from_str(
+            r#"Scene(
+            camera: (position: (0, 8, 8), target: (0, 0, 0), fov: 50, near: 0.1, far: 100),
+            lights: [
+                Spot(position: (3, 5, 0), direction: (0, -1, 0), shadows_enabled: false),
+                Spot(position: (0, 5, 0), direction: (0, -1, 0), radius: 0.1),
+            ],
+            objects: [(shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (0, 0.5, 0))],
+            materials: { "m": () },
+        )"#,
+            "test.ron",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let mut session = SceneSession::new(&desc, 64, 36).unwrap_or_else(|e| panic!("{e}"));
+        let focus = session.focus().expect("the shadowed spot light");
+        let index = session.focus_light_index();
+        assert_eq!(
+            session.lights().spot_at(index as u32).map(|s| s.light.radius),
+            Some(0.1)
+        );
+        session.apply_settings(pcf3);
+        session.update();
+        assert_eq!(session.focus_light_index(), index, "the light list keeps its order");
+        let spot = session.lights().spot_at(index as u32).expect("the focus light");
+        assert_eq!(spot.entity, focus.entity);
+        assert_eq!((spot.settings.pcf_radius, spot.settings.resolution), (3, 1024));
     }
 }

@@ -1,0 +1,204 @@
+//! Scoring one scene: the ray-traced reference of its scored light (see
+//! [`focus`](crate::bench::focus)) at the analysis resolution, then for every preset that
+//! applies to that light its error against the reference and its temporal stability under
+//! sub-texel camera moves and in-place turns.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics, per_cascade};
+use crate::analysis::results::ScoredLight;
+use crate::analysis::shimmer::{Shimmer, shimmer};
+use crate::bench::focus::FocusKind;
+use crate::bench::run::{BenchConfig, BenchError, bar, short};
+use crate::bench::session::SceneSession;
+use crate::reference::ReferencePoint;
+use crate::render::Renderer;
+use crate::render::frame::FrameInputs;
+use crate::render::probe::ProbeGpu;
+use crate::render::target::AnalysisImage;
+use crate::scene::SceneDesc;
+
+/// Renders one analysis frame of the session with the given renderer.
+fn analysis_frame(session: &mut SceneSession, renderer: &mut Renderer) -> AnalysisImage {
+    session.update();
+    renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+    renderer.read_analysis().unwrap_or_default()
+}
+
+/// The points (and the pixels they were seen at) where the shadow was evaluated.
+pub struct Points {
+    /// Pixel index of each point.
+    pub pixels: Vec<usize>,
+    /// The points, for the ray-traced reference.
+    pub reference: Vec<ReferencePoint>,
+    /// The points, for the shadow-probe pass.
+    pub probes: Vec<ProbeGpu>,
+}
+
+/// Every pixel of an analysis frame where the shadow was evaluated, as reference points and
+/// shadow probes.
+pub fn evaluated_points(a: &AnalysisImage) -> Points {
+    evaluated_points_where(a, |_| true)
+}
+
+/// [`evaluated_points`] limited to the pixels `i` for which `keep(i)` holds.
+pub fn evaluated_points_where(a: &AnalysisImage, keep: impl Fn(usize) -> bool) -> Points {
+    let pixels: Vec<usize> = (0..a.shadow.len())
+        .filter(|&i| a.evaluated[i] && a.position[i].is_finite() && a.normal[i].is_finite() && keep(i))
+        .collect();
+    let reference = pixels
+        .iter()
+        .map(|&i| ReferencePoint {
+            position: a.position[i],
+            normal: a.normal[i],
+        })
+        .collect();
+    let probes = pixels
+        .iter()
+        .map(|&i| ProbeGpu::new(a.position[i], a.normal[i], ((i as u32) % a.width, (i as u32) / a.width)))
+        .collect();
+    Points {
+        pixels,
+        reference,
+        probes,
+    }
+}
+
+/// Shadow values at `probes` for each pose of a camera path.
+fn path_values(
+    session: &mut SceneSession,
+    renderer: &mut Renderer,
+    probes: &[ProbeGpu],
+    poses: &[(Vec3, f32)],
+) -> Vec<Vec<f32>> {
+    let values = poses
+        .iter()
+        .map(|&(offset, yaw)| {
+            session.move_camera(offset, yaw);
+            session.update();
+            renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+            renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), probes)
+        })
+        .collect();
+    session.move_camera(Vec3::ZERO, 0.0);
+    values
+}
+
+/// One preset's scores on one scene.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PresetScore {
+    /// Error over every scored point.
+    pub errors: ErrorMetrics,
+    /// Error per cascade (a spot light's view is cascade 0).
+    pub per_cascade: [ErrorMetrics; 4],
+    /// Stability under sub-texel camera moves.
+    pub shimmer_translation: Shimmer,
+    /// Stability under in-place turns.
+    pub shimmer_rotation: Shimmer,
+}
+
+/// Errors and stability of every preset on one scene.
+pub(crate) struct SceneScores {
+    /// The light scored.
+    pub light: ScoredLight,
+    /// Points scored.
+    pub points: usize,
+    /// Step of the translation path, metres.
+    pub texel: f32,
+    /// One entry per configured preset; None where the preset does not apply to the light.
+    pub presets: Vec<Option<PresetScore>>,
+}
+
+/// Scores every preset of `config` that applies to the scene's scored light.
+pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<SceneScores, BenchError> {
+    let name = path.display().to_string();
+    let (w, h) = (config.analysis_width, config.analysis_height);
+    let mut session = SceneSession::new(desc, w, h)?;
+    let mut renderer = Renderer::headless_with_analysis(w, h)?;
+    let focus = session.focus().ok_or_else(|| BenchError::NoLight(name.clone()))?;
+    renderer.set_focus_light(session.focus_light_index());
+    let first = analysis_frame(&mut session, &mut renderer);
+    // NOTE: a spot light's shadow exists only inside its view (the analysis "cascade" 0);
+    // outside it the light is dark and its shadow factor is 1 by definition, so only the
+    // points inside are scored. A sun's points are all scored, as before spot lights.
+    let points = match focus.kind {
+        FocusKind::Sun => evaluated_points(&first),
+        FocusKind::Spot => evaluated_points_where(&first, |i| first.cascade[i] == 0),
+    };
+    let lights = session.lights();
+    let (target, light) = focus
+        .reference(lights)
+        .zip(focus.scored_light(lights))
+        .ok_or_else(|| BenchError::NoLight(name.clone()))?;
+
+    let reference_scene = session.reference_scene();
+    let progress = bar(
+        points.reference.len() as u64,
+        format!("reference {}", short(path)),
+        config.progress,
+    );
+    let reference = target.visibility(&reference_scene, &points.reference, &config.reference, &|n| {
+        progress.set_position(n as u64)
+    });
+    progress.finish_and_clear();
+    let reference_values: Vec<f32> = reference.iter().map(|v| v.value).collect();
+
+    // Stability paths: sub-texel moves of the start camera (within one texel of the scored
+    // light's map: cascade 0, or a spot light's map at the camera's target) and small
+    // in-place turns.
+    let texel = focus.texel(session.lights(), session.camera_target());
+    let start = session.start_camera();
+    let (right, up) = (start.rotation * Vec3::X, start.rotation * Vec3::Y);
+    let steps = config.shimmer_steps.max(2);
+    let translations: Vec<(Vec3, f32)> = (0..steps)
+        .map(|k| {
+            let t = k as f32 / steps as f32 * 0.95 * texel;
+            (right * t + up * (0.37 * t), 0.0)
+        })
+        .collect();
+    let rotations: Vec<(Vec3, f32)> = (0..steps)
+        .map(|k| (Vec3::ZERO, (k as f32 * 0.1).to_radians()))
+        .collect();
+    let stride = points.probes.len().div_ceil(config.max_probes.max(1)).max(1);
+    let followed: Vec<ProbeGpu> = points.probes.iter().step_by(stride).copied().collect();
+
+    let mut scores = SceneScores {
+        light,
+        points: points.pixels.len(),
+        texel,
+        presets: Vec::new(),
+    };
+    let progress = bar(
+        config.presets.len() as u64,
+        format!("presets {}", short(path)),
+        config.progress,
+    );
+    let thresholds = Thresholds::default();
+    for preset in &config.presets {
+        if !preset.applies_to(focus.kind) {
+            scores.presets.push(None);
+            progress.inc(1);
+            continue;
+        }
+        session.apply_settings(preset.apply);
+        let image = analysis_frame(&mut session, &mut renderer);
+        let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
+        let cascade: Vec<u8> = points.pixels.iter().map(|&i| image.cascade[i]).collect();
+        let all = |_: usize| true;
+        let errors = error_metrics(&technique, &reference_values, all, &thresholds);
+        let per_cascade = per_cascade(&technique, &reference_values, &cascade, all, &thresholds);
+        let moved = path_values(&mut session, &mut renderer, &followed, &translations);
+        let turned = path_values(&mut session, &mut renderer, &followed, &rotations);
+        scores.presets.push(Some(PresetScore {
+            errors,
+            per_cascade,
+            shimmer_translation: shimmer(&moved),
+            shimmer_rotation: shimmer(&turned),
+        }));
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    Ok(scores)
+}
