@@ -87,15 +87,17 @@ pub(crate) fn bar(len: u64, message: String, show: bool) -> ProgressBar {
     bar
 }
 
+/// One preset's cost on one scene: GPU times, CPU ms per frame, and the last frame's report.
+type Timing = (GpuTimes, f64, FrameReport);
+
 /// GPU and CPU cost of every preset on one scene at the timing resolution; None for the
 /// presets that `applies` leaves out.
-#[allow(clippy::type_complexity)]
 fn time_scene(
     path: &Path,
     desc: &SceneDesc,
     config: &BenchConfig,
     applies: &[bool],
-) -> Result<Vec<Option<(GpuTimes, f64, FrameReport)>>, BenchError> {
+) -> Result<Vec<Option<Timing>>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
     let mut renderer = Renderer::headless(config.width, config.height)?;
     renderer.set_focus_light(session.focus_light_index());
@@ -280,7 +282,7 @@ fn scene_light_notes(scene: &str, scores: &SceneScores, presets: &[Preset]) -> V
         .collect();
     if !skipped.is_empty() {
         notes.push(format!(
-            "Scene {scene}: not applicable, so not run: {} (cascade blending only; a spot light has one view). Their means are over the other scenes.",
+            "Scene {scene}: not applicable, so not run: {} (cascade blending only; a spot light has one view). Their means are over the other scenes; with none, they are left out.",
             skipped.join(", ")
         ));
     }

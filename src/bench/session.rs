@@ -70,9 +70,9 @@ impl SceneSession {
         Ok(session)
     }
 
-    /// The light the benchmark scores on this scene (see
-    /// [`choose_focus`](crate::bench::focus::choose_focus)), chosen when the session started;
-    /// None when the scene has neither a directional nor a shadowed spot light.
+    /// The light the benchmark scores on this scene (see [`choose_focus`]), chosen when the
+    /// session started; None when the scene has neither a directional nor a shadowed spot
+    /// light.
     pub fn focus(&self) -> Option<Focus> {
         self.focus
     }
