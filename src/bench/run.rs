@@ -1,5 +1,5 @@
-//! The benchmark run: for every scene, the scores of every preset that applies to the
-//! scene's scored light ([`score`](crate::bench::score): error against the ray-traced
+//! The benchmark run: for every scene, the scores of every preset on the scene's scored
+//! light ([`score`](crate::bench::score): error against the ray-traced
 //! reference and temporal stability), then their GPU and CPU cost at the timing resolution.
 
 use std::path::{Path, PathBuf};
@@ -8,7 +8,7 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressStyle};
 use thiserror::Error;
 
-use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult};
+use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 use crate::app::SpawnError;
 use crate::bench::presets::Preset;
 pub use crate::bench::score::{Points, evaluated_points};
@@ -90,14 +90,8 @@ pub(crate) fn bar(len: u64, message: String, show: bool) -> ProgressBar {
 /// One preset's cost on one scene: GPU times, CPU ms per frame, and the last frame's report.
 type Timing = (GpuTimes, f64, FrameReport);
 
-/// GPU and CPU cost of every preset on one scene at the timing resolution; None for the
-/// presets that `applies` leaves out.
-fn time_scene(
-    path: &Path,
-    desc: &SceneDesc,
-    config: &BenchConfig,
-    applies: &[bool],
-) -> Result<Vec<Option<Timing>>, BenchError> {
+/// GPU and CPU cost of every preset on one scene at the timing resolution.
+fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec<Timing>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
     let mut renderer = Renderer::headless(config.width, config.height)?;
     renderer.set_focus_light(session.focus_light_index());
@@ -107,12 +101,7 @@ fn time_scene(
         config.progress,
     );
     let mut out = Vec::new();
-    for (preset, &applies) in config.presets.iter().zip(applies) {
-        if !applies {
-            out.push(None);
-            progress.inc(1);
-            continue;
-        }
+    for preset in &config.presets {
         session.apply_settings(preset.apply);
         let (mut shadow, mut forward, mut total, mut cpu) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut last = FrameReport::default();
@@ -130,7 +119,7 @@ fn time_scene(
                 last = report;
             }
         }
-        out.push(Some((
+        out.push((
             GpuTimes {
                 shadow_ms: median(shadow),
                 forward_ms: median(forward),
@@ -138,7 +127,7 @@ fn time_scene(
             },
             median(cpu),
             last,
-        )));
+        ));
         progress.inc(1);
     }
     progress.finish_and_clear();
@@ -175,9 +164,8 @@ impl SettingsOverrides {
 }
 
 /// Runs the whole benchmark and returns the report (without writing files). Each scene is
-/// scored on its focus light ([`choose_focus`](crate::bench::focus::choose_focus)); a preset
-/// that does not apply to a scene's light is not run there, and one that applies to none of
-/// the scenes is left out of the report.
+/// scored on its focus light ([`choose_focus`](crate::bench::focus::choose_focus)), every
+/// preset on every scene, so each preset's means are over the same scenes.
 pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
     run_bench_with(config, &SettingsOverrides::default())
 }
@@ -202,12 +190,8 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
         let mut desc = SceneDesc::load(path)?;
         overrides.apply(&mut desc);
         let scores = score_scene(path, &desc, config)?;
-        let applies: Vec<bool> = scores.presets.iter().map(Option::is_some).collect();
-        let times = time_scene(path, &desc, config, &applies)?;
-        for ((result, score), time) in presets.iter_mut().zip(&scores.presets).zip(times) {
-            let (Some(score), Some((gpu, cpu_ms, report))) = (score, time) else {
-                continue;
-            };
+        let times = time_scene(path, &desc, config)?;
+        for ((result, score), (gpu, cpu_ms, report)) in presets.iter_mut().zip(&scores.presets).zip(times) {
             result.scenes.push(SceneResult {
                 scene: short(path),
                 gpu,
@@ -221,10 +205,8 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
                 shimmer_rotation: score.shimmer_rotation,
             });
         }
-        scene_notes.extend(scene_light_notes(&short(path), &scores, &config.presets));
+        scene_notes.extend(scene_light_notes(&short(path), &scores));
     }
-    // NOTE: a preset that applies to none of the scenes has nothing to report.
-    presets.retain(|p| !p.scenes.is_empty());
     let mut notes = vec![
         format!(
             "Errors are scored at {}×{} against a Monte-Carlo reference of each scene's scored light ({}): the visible fraction of the sun's disc, or of a spot light's emitter sphere; GPU times at {}×{}, median of {} frames after {} warm-up frames.",
@@ -266,24 +248,18 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
     })
 }
 
-/// What a scene scored, and the presets left out because they do not apply to its light.
-fn scene_light_notes(scene: &str, scores: &SceneScores, presets: &[Preset]) -> Vec<String> {
+/// What a scene scored; for a spot light, that the cascade-blending presets score as their
+/// base presets.
+fn scene_light_notes(scene: &str, scores: &SceneScores) -> Vec<String> {
     let mut notes = vec![format!(
         "Scene {scene}: {} ({} points scored; shimmer step {:.1} mm).",
         scores.light.describe(),
         scores.points,
         scores.texel * 1e3
     )];
-    let skipped: Vec<&str> = presets
-        .iter()
-        .zip(&scores.presets)
-        .filter(|(_, s)| s.is_none())
-        .map(|(p, _)| p.name)
-        .collect();
-    if !skipped.is_empty() {
+    if matches!(scores.light, ScoredLight::Spot { .. }) {
         notes.push(format!(
-            "Scene {scene}: not applicable, so not run: {} (cascade blending only; a spot light has one view). Their means are over the other scenes; with none, they are left out.",
-            skipped.join(", ")
+            "Scene {scene}: a spot light has one view and nothing to blend, so the -no-blend presets render as their base presets there."
         ));
     }
     notes

@@ -107,11 +107,11 @@ pub(crate) struct SceneScores {
     pub points: usize,
     /// Step of the translation path, metres.
     pub texel: f32,
-    /// One entry per configured preset; None where the preset does not apply to the light.
-    pub presets: Vec<Option<PresetScore>>,
+    /// One entry per configured preset.
+    pub presets: Vec<PresetScore>,
 }
 
-/// Scores every preset of `config` that applies to the scene's scored light.
+/// Scores every preset of `config` on the scene's scored light.
 pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<SceneScores, BenchError> {
     let name = path.display().to_string();
     let (w, h) = (config.analysis_width, config.analysis_height);
@@ -177,11 +177,6 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
     );
     let thresholds = Thresholds::default();
     for preset in &config.presets {
-        if !preset.applies_to(focus.kind) {
-            scores.presets.push(None);
-            progress.inc(1);
-            continue;
-        }
         session.apply_settings(preset.apply);
         let image = analysis_frame(&mut session, &mut renderer);
         let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
@@ -191,12 +186,12 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
         let per_cascade = per_cascade(&technique, &reference_values, &cascade, all, &thresholds);
         let moved = path_values(&mut session, &mut renderer, &followed, &translations);
         let turned = path_values(&mut session, &mut renderer, &followed, &rotations);
-        scores.presets.push(Some(PresetScore {
+        scores.presets.push(PresetScore {
             errors,
             per_cascade,
             shimmer_translation: shimmer(&moved),
             shimmer_rotation: shimmer(&turned),
-        }));
+        });
         progress.inc(1);
     }
     progress.finish_and_clear();
