@@ -246,11 +246,16 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         "instances  {} ({} visible)",
         result.instances, result.stats.visible_instances
     );
+    // NOTE: the scene's `shadows` are the sun's; a scene without a sun (spot lights only)
+    // says nothing about cascades.
+    let cascades = if desc.sun.is_some() {
+        format!(", sun {:?} with {}² texels per cascade", s.mode, s.resolution)
+    } else {
+        String::new()
+    };
     println!(
-        "shadows    {:?}, {} shadow views, {}² texels per cascade, {:.1} MiB",
-        s.mode,
+        "shadows    {} shadow views{cascades}, {:.1} MiB",
         result.stats.casters_per_view.len(),
-        s.resolution,
         result.report.shadow_memory as f64 / (1024.0 * 1024.0)
     );
     let casters: Vec<String> = result.stats.casters_per_view.iter().map(|c| c.to_string()).collect();
