@@ -152,13 +152,27 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
         warnings.extend(renderer.take_warnings());
         reports.push(renderer.last_report.clone());
     }
+    // NOTE: timings arrive without the frame loop waiting for them; each frame's report gets
+    // its own timings once every frame has arrived.
+    let mut renderer = app.world_mut().resource_mut::<Renderer>();
+    let first = renderer.frames_rendered() - reports.len() as u64;
+    let mut timings = renderer.wait_for_timings();
+    for (n, report) in reports.iter_mut().enumerate() {
+        let frame = first + n as u64;
+        report.timed_frame = frame;
+        report.passes = timings
+            .iter_mut()
+            .find(|t| t.frame == frame)
+            .map(|t| std::mem::take(&mut t.passes))
+            .unwrap_or_default();
+    }
     let world = app.world();
     let renderer = world.resource::<Renderer>();
     warnings.extend(world.resource::<ShadowDiagnostics>().current.iter().cloned());
     Ok(HeadlessFrame {
         image: renderer.read_image(),
         analysis: renderer.read_analysis(),
-        report: renderer.last_report.clone(),
+        report: reports.last().cloned().unwrap_or_default(),
         stats: world.resource::<ShadowStats>().clone(),
         frames: reports,
         warnings,

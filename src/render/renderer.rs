@@ -17,14 +17,18 @@ use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
-use crate::render::timer::{GpuTimer, PassTiming};
+use crate::render::timer::{FrameTimings, GpuTimer, PassTiming};
 use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
 
 /// What the last frame cost on the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FrameReport {
-    /// Time of each timed pass (empty when the adapter has no timestamp queries).
+    /// Time of each timed pass of the newest frame whose timings have arrived (timings are
+    /// read back without waiting, so they lag a frame or two; empty when the adapter has no
+    /// timestamp queries or none has arrived yet).
     pub passes: Vec<PassTiming>,
+    /// The frame `passes` belong to (see [`Renderer::frames_rendered`]).
+    pub timed_frame: u64,
     /// Draw calls recorded.
     pub draw_calls: u32,
     /// Bytes of shadow-map memory.
@@ -53,6 +57,7 @@ pub struct Renderer {
     shadows: ShadowResources,
     focus_light: usize,
     timer: GpuTimer,
+    frames: u64,
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
     probes: ProbePass,
@@ -107,7 +112,7 @@ impl Renderer {
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
         let scene = SceneGpu::new(&gpu.device, &layouts);
         let shadows = ShadowResources::new(&gpu.device, &layouts);
-        let timer = GpuTimer::new(&gpu.device, &gpu.queue, gpu.timestamps);
+        let timer = GpuTimer::new(&gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
         graph.add_node(Box::new(DepthPass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
@@ -121,6 +126,7 @@ impl Renderer {
             shadows,
             focus_light: 0,
             timer,
+            frames: 0,
             graph,
             target,
             probes,
@@ -192,6 +198,29 @@ impl Renderer {
     /// Size of the render target.
     pub fn size(&self) -> (u32, u32) {
         self.target.as_ref().map_or((0, 0), |t| (t.views.width, t.views.height))
+    }
+
+    /// Frames rendered so far; frame `n` is the `n`-th call (from 0) of
+    /// [`render`](Self::render) or [`render_to`](Self::render_to).
+    pub fn frames_rendered(&self) -> u64 {
+        self.frames
+    }
+
+    /// The per-pass GPU timings that have arrived since the last call, oldest first, without
+    /// waiting (timings of the newest frames may still be in flight).
+    pub fn take_timings(&mut self) -> Vec<FrameTimings> {
+        self.timer.take_completed(&self.gpu.device)
+    }
+
+    /// Waits for the GPU timings of every frame rendered so far and returns those not yet
+    /// taken, oldest first (for headless runs that report every frame).
+    pub fn wait_for_timings(&mut self) -> Vec<FrameTimings> {
+        self.timer.wait(&self.gpu.device)
+    }
+
+    /// Frames rendered without timings because every timing slot was still in flight.
+    pub fn untimed_frames(&self) -> u64 {
+        self.timer.untimed_frames
     }
 
     /// Names of the graph's nodes the last frame recorded, in execution order.
@@ -280,7 +309,7 @@ impl Renderer {
         self.problems.append(problems);
         // NOTE: one timed pass per shadow view, plus the forward pass.
         self.timer
-            .begin_frame(&self.gpu.device, input.shadow_views.views.len() + 1);
+            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 1);
         let mut encoder = self
             .gpu
             .device
@@ -306,8 +335,13 @@ impl Renderer {
         overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
+        self.timer.submitted();
+        self.timer.poll(&self.gpu.device);
+        self.frames += 1;
+        let latest = self.timer.latest();
         self.last_report = FrameReport {
-            passes: self.timer.read(&self.gpu.device),
+            passes: latest.passes.clone(),
+            timed_frame: latest.frame,
             draw_calls,
             shadow_memory: self.shadows.memory_bytes(),
         };

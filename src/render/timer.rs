@@ -1,24 +1,25 @@
-//! GPU pass timings from timestamp queries: each timed pass writes a begin and an end
-//! timestamp; after the frame's submission the pairs are read back and turned into
-//! milliseconds.
+//! GPU pass timings from timestamp queries, read back without waiting: each timed pass writes
+//! a begin and an end timestamp into the current slot of a small ring; after the frame's
+//! submission the slot's readback buffer is mapped asynchronously, and a later frame (or
+//! [`GpuTimer::wait`]) collects it. The frame loop never blocks on the GPU for timings; when
+//! every slot is still in flight, the frame goes untimed and is counted.
 
-use crate::render::readback::read_buffer;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU8, Ordering};
 
-/// Passes reserved before the first frame asks for more.
+/// Slots in the ring: a frame's timings arrive within this many frames.
+const SLOTS: usize = 3;
+/// Arrived timings kept for [`GpuTimer::take_completed`]; older ones are dropped (a caller
+/// that never takes them, like a window, keeps only the newest).
+const KEPT: usize = 256;
+/// Passes reserved in a slot before a frame asks for more.
 const INITIAL_PASSES: u32 = 16;
 
-/// Collects timestamp pairs for named passes of one frame.
-pub struct GpuTimer {
-    query_set: Option<wgpu::QuerySet>,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    /// Pass names of this frame (the first `used`), keeping their allocations.
-    names: Vec<String>,
-    used: usize,
-    capacity: u32,
-    overflowed: bool,
-    period_ns: f32,
-}
+/// Map states of a slot's readback buffer.
+const IDLE: u8 = 0;
+const MAPPING: u8 = 1;
+const MAPPED: u8 = 2;
+const FAILED: u8 = 3;
 
 /// The time one pass took on the GPU.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,126 +30,261 @@ pub struct PassTiming {
     pub ms: f64,
 }
 
-/// The query set and buffers for `passes` timed passes.
-fn create(device: &wgpu::Device, enabled: bool, passes: u32) -> (Option<wgpu::QuerySet>, wgpu::Buffer, wgpu::Buffer) {
-    let size = u64::from(passes * 2) * 8;
-    let query_set = enabled.then(|| {
-        device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pass timestamps"),
-            ty: wgpu::QueryType::Timestamp,
-            count: passes * 2,
-        })
-    });
-    let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("timestamp resolve"),
-        size,
-        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("timestamp readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    (query_set, resolve, readback)
+/// The timed passes of one frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameTimings {
+    /// The frame's number (counted by the renderer from 0).
+    pub frame: u64,
+    /// Its passes, in recording order.
+    pub passes: Vec<PassTiming>,
+}
+
+/// One frame's queries and buffers.
+struct Slot {
+    query_set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    capacity: u32,
+    /// Pass names of the frame in flight (the first `used`), keeping their allocations.
+    names: Vec<String>,
+    used: usize,
+    frame: u64,
+    state: Arc<AtomicU8>,
+    in_flight: bool,
+}
+
+impl Slot {
+    fn new(device: &wgpu::Device, passes: u32) -> Self {
+        let size = u64::from(passes * 2) * 8;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            query_set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: passes * 2,
+            }),
+            resolve: buffer(
+                "timestamp resolve",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: buffer(
+                "timestamp readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            capacity: passes,
+            names: Vec::new(),
+            used: 0,
+            frame: 0,
+            state: Arc::new(AtomicU8::new(IDLE)),
+            in_flight: false,
+        }
+    }
+
+    /// Reads the mapped ticks into timings and frees the slot.
+    fn take(&mut self, period_ns: f32) -> FrameTimings {
+        let bytes = self.used as u64 * 16;
+        let passes = match self.readback.slice(..bytes).get_mapped_range() {
+            Ok(data) => {
+                let tick = |i: usize| u64::from_le_bytes(data[i * 8..i * 8 + 8].try_into().unwrap_or([0; 8]));
+                self.names[..self.used]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, name)| PassTiming {
+                        name: name.clone(),
+                        ms: tick(i * 2 + 1).saturating_sub(tick(i * 2)) as f64 * f64::from(period_ns) / 1e6,
+                    })
+                    .collect()
+            }
+            Err(_) => Vec::new(),
+        };
+        self.readback.unmap();
+        self.in_flight = false;
+        self.state.store(IDLE, Ordering::Release);
+        FrameTimings {
+            frame: self.frame,
+            passes,
+        }
+    }
+}
+
+/// Collects timestamp pairs for named passes, one frame per ring slot.
+pub struct GpuTimer {
+    enabled: bool,
+    period_ns: f32,
+    slots: Vec<Slot>,
+    /// The slot recording this frame, if the frame is timed.
+    current: Option<usize>,
+    next: usize,
+    overflowed: bool,
+    /// Timings read back and not yet taken, oldest first.
+    completed: Vec<FrameTimings>,
+    /// The newest timings read back.
+    latest: FrameTimings,
+    /// Frames left untimed because every slot was still in flight.
+    pub untimed_frames: u64,
 }
 
 impl GpuTimer {
-    /// Creates the query set when `enabled` (the adapter supports timestamps).
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, enabled: bool) -> Self {
-        let (query_set, resolve, readback) = create(device, enabled, INITIAL_PASSES);
+    /// A timer that times passes when `enabled` (the adapter supports timestamps).
+    pub fn new(queue: &wgpu::Queue, enabled: bool) -> Self {
         Self {
-            query_set,
-            resolve,
-            readback,
-            names: Vec::new(),
-            used: 0,
-            capacity: INITIAL_PASSES,
-            overflowed: false,
+            enabled,
             period_ns: queue.get_timestamp_period(),
+            slots: Vec::new(),
+            current: None,
+            next: 0,
+            overflowed: false,
+            completed: Vec::new(),
+            latest: FrameTimings::default(),
+            untimed_frames: 0,
         }
     }
 
     /// True when passes are actually timed.
     pub fn enabled(&self) -> bool {
-        self.query_set.is_some()
+        self.enabled
     }
 
-    /// Forgets last frame's passes and makes room for `passes` timed passes this frame (the
-    /// query set grows; it never shrinks).
-    pub fn begin_frame(&mut self, device: &wgpu::Device, passes: usize) {
-        self.used = 0;
-        let passes = u32::try_from(passes).unwrap_or(u32::MAX / 4);
-        if self.query_set.is_some() && passes > self.capacity {
-            let capacity = passes.next_power_of_two();
-            (self.query_set, self.resolve, self.readback) = create(device, true, capacity);
-            self.capacity = capacity;
+    /// Starts frame `frame` with room for `passes` timed passes: collects what has arrived
+    /// (without waiting) and takes a free slot, growing it if needed. When none is free the
+    /// frame is not timed.
+    pub fn begin_frame(&mut self, device: &wgpu::Device, frame: u64, passes: usize) {
+        self.current = None;
+        if !self.enabled {
+            return;
         }
+        self.collect(device, false);
+        if self.slots.len() < SLOTS {
+            self.slots.push(Slot::new(device, INITIAL_PASSES));
+        }
+        let index = self.next % self.slots.len();
+        if self.slots[index].in_flight {
+            self.untimed_frames += 1;
+            return;
+        }
+        self.next = index + 1;
+        let passes = u32::try_from(passes).unwrap_or(u32::MAX / 4);
+        let slot = &mut self.slots[index];
+        if passes > slot.capacity {
+            *slot = Slot::new(device, passes.next_power_of_two());
+        }
+        slot.used = 0;
+        slot.frame = frame;
+        self.current = Some(index);
     }
 
-    /// Timestamp writes for a pass named `name`, or `None` when timing is off. A pass beyond
-    /// the number reserved by [`begin_frame`](Self::begin_frame) is not timed, and says so in
-    /// the log (once).
+    /// Timestamp writes for a pass named `name`, or `None` when this frame is not timed. A
+    /// pass beyond the number reserved by [`begin_frame`](Self::begin_frame) is not timed,
+    /// and says so in the log (once).
     pub fn pass(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let query_set = self.query_set.as_ref()?;
-        let index = self.used as u32;
-        if index >= self.capacity {
+        let slot = &mut self.slots[self.current?];
+        let index = slot.used as u32;
+        if index >= slot.capacity {
             if !self.overflowed {
                 log::error!(
                     "pass `{name}` is not timed: the frame reserved {} timed passes (a bug in the renderer)",
-                    self.capacity
+                    slot.capacity
                 );
                 self.overflowed = true;
             }
             return None;
         }
-        if self.names.len() <= self.used {
-            self.names.push(String::new());
+        if slot.names.len() <= slot.used {
+            slot.names.push(String::new());
         }
-        self.names[self.used].clear();
-        self.names[self.used].push_str(name);
-        self.used += 1;
+        slot.names[slot.used].clear();
+        slot.names[slot.used].push_str(name);
+        slot.used += 1;
         Some(wgpu::RenderPassTimestampWrites {
-            query_set,
+            query_set: &slot.query_set,
             beginning_of_pass_write_index: Some(index * 2),
             end_of_pass_write_index: Some(index * 2 + 1),
         })
     }
 
-    /// Records the resolve and the copy to the readback buffer; call once, last.
+    /// Records the resolve and the copy to the slot's readback buffer; call once, last.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        if let Some(query_set) = &self.query_set
-            && self.used > 0
-        {
-            let count = self.used as u32 * 2;
-            encoder.resolve_query_set(query_set, 0..count, &self.resolve, 0);
-            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, count as u64 * 8);
+        let Some(slot) = self.current.map(|i| &self.slots[i]) else {
+            return;
+        };
+        if slot.used > 0 {
+            let count = slot.used as u32 * 2;
+            encoder.resolve_query_set(&slot.query_set, 0..count, &slot.resolve, 0);
+            encoder.copy_buffer_to_buffer(&slot.resolve, 0, &slot.readback, 0, u64::from(count) * 8);
         }
     }
 
-    /// Reads the timings back after the frame's submission (waits for the GPU).
-    pub fn read(&self, device: &wgpu::Device) -> Vec<PassTiming> {
-        if self.query_set.is_none() || self.used == 0 {
-            return Vec::new();
-        }
-        let Some(bytes) = read_buffer(device, &self.readback, self.used as u64 * 16) else {
-            return Vec::new();
+    /// After the frame's submission: starts mapping the slot's readback (no waiting).
+    pub fn submitted(&mut self) {
+        let Some(slot) = self.current.take().map(|i| &mut self.slots[i]) else {
+            return;
         };
-        let ticks: Vec<u64> = bytes
-            .chunks_exact(8)
-            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+        if slot.used == 0 {
+            return;
+        }
+        slot.in_flight = true;
+        slot.state.store(MAPPING, Ordering::Release);
+        let state = Arc::clone(&slot.state);
+        slot.readback
+            .slice(..slot.used as u64 * 16)
+            .map_async(wgpu::MapMode::Read, move |result| {
+                state.store(if result.is_ok() { MAPPED } else { FAILED }, Ordering::Release);
+            });
+    }
+
+    /// Reads back every slot whose mapping has finished, polling the device once (or, with
+    /// `wait`, until every frame in flight has arrived).
+    fn collect(&mut self, device: &wgpu::Device, wait: bool) {
+        if !self.slots.iter().any(|s| s.in_flight) {
+            return;
+        }
+        let poll = if wait {
+            wgpu::PollType::wait_indefinitely()
+        } else {
+            wgpu::PollType::Poll
+        };
+        // NOTE: a failed poll leaves the slots in flight; they are looked at again next time.
+        let _ = device.poll(poll);
+        let mut arrived: Vec<usize> = (0..self.slots.len())
+            .filter(|&i| self.slots[i].in_flight && self.slots[i].state.load(Ordering::Acquire) >= MAPPED)
             .collect();
-        self.names[..self.used]
-            .iter()
-            .enumerate()
-            .map(|(i, name)| {
-                let delta = ticks[i * 2 + 1].saturating_sub(ticks[i * 2]);
-                PassTiming {
-                    name: name.clone(),
-                    ms: delta as f64 * self.period_ns as f64 / 1e6,
-                }
-            })
-            .collect()
+        arrived.sort_by_key(|&i| self.slots[i].frame);
+        for i in arrived {
+            let timings = self.slots[i].take(self.period_ns);
+            if self.completed.len() >= KEPT {
+                self.completed.remove(0);
+            }
+            self.latest.clone_from(&timings);
+            self.completed.push(timings);
+        }
+    }
+
+    /// Reads back what has arrived, without waiting.
+    pub fn poll(&mut self, device: &wgpu::Device) {
+        self.collect(device, false);
+    }
+
+    /// The newest timings read back (empty before any has arrived).
+    pub fn latest(&self) -> &FrameTimings {
+        &self.latest
+    }
+
+    /// The timings that have arrived since the last call, oldest first (without waiting).
+    pub fn take_completed(&mut self, device: &wgpu::Device) -> Vec<FrameTimings> {
+        self.collect(device, false);
+        std::mem::take(&mut self.completed)
+    }
+
+    /// Waits for every frame in flight and returns the timings not yet taken, oldest first.
+    pub fn wait(&mut self, device: &wgpu::Device) -> Vec<FrameTimings> {
+        self.collect(device, true);
+        std::mem::take(&mut self.completed)
     }
 }
