@@ -7,7 +7,9 @@
 #import penumbra::mesh::fetch_instance
 
 struct ForwardVertexOutput {
-    @builtin(position) clip_position: vec4<f32>,
+    // @invariant: the depth prepass computes it with the same function, and the lighting
+    // pass must find exactly the depth the prepass wrote.
+    @builtin(position) @invariant clip_position: vec4<f32>,
     @location(0) world_position: vec3<f32>,
     @location(1) world_normal: vec3<f32>,
     @location(2) uv: vec2<f32>,

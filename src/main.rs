@@ -8,8 +8,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
-use penumbra::render::PassTiming;
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
+use penumbra::render::{PassTiming, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
@@ -74,6 +74,10 @@ struct RenderArgs {
     /// greyscale, a `.pfm` path 32-bit float (Portable Float Map).
     #[arg(long)]
     shadow_out: Option<PathBuf>,
+    /// Render without the depth prepass (the lighting pass then writes depth itself and may
+    /// shade a pixel more than once); for comparison.
+    #[arg(long)]
+    no_depth_prepass: bool,
 }
 
 /// Options of `penumbra bench`.
@@ -188,6 +192,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         max_instances,
         frames,
         shadow_out,
+        no_depth_prepass,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -225,6 +230,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         frames,
         tweak: Some(&tweak),
         analysis: shadow_out.is_some(),
+        options: RenderOptions {
+            depth_prepass: !no_depth_prepass,
+        },
     };
     let result = render_scene_with(&desc, &request)?;
     if let (Some(path), Some(analysis)) = (&shadow_out, &result.analysis) {

@@ -33,6 +33,7 @@ fn ink_hatching_follows_the_shadow() {
             frames: 1,
             tweak: Some(&tweak),
             analysis: true,
+            options: Default::default(),
         },
     )
     .expect(INSTALL);

@@ -120,6 +120,7 @@ fn a_scene_with_more_instances_than_a_binding_holds_is_refused_before_spawning()
         frames: 1,
         tweak: None,
         analysis: false,
+        options: Default::default(),
     };
     let err = match render_scene_with(&desc, &request) {
         Ok(_) => panic!("{} instances rendered", desc.instance_count()),

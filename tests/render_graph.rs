@@ -1,7 +1,7 @@
 //! The render graph as a user meets it: built each frame, the shadow node culled when no light
 //! casts a shadow, the camera's depth buffer a pooled transient created once, and a custom
 //! node that declares its reads and writes runs after the passes whose output it reads, while
-//! a node whose output nothing reads is never recorded.
+//! a node whose output nothing reads is never recorded. The depth prepass changes no pixel.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -9,10 +9,11 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use bevy_app::App;
 use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::DirectionalLight;
-use penumbra::render::Renderer;
 use penumbra::render::frame::{FrameContext, FrameInputs};
 use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
+use penumbra::render::{RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
+use penumbra::settings::ShadowSettings;
 
 fn app() -> App {
     let renderer = Renderer::headless(64, 40)
@@ -38,7 +39,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         app.update();
     }
     let r = renderer(&app);
-    assert_eq!(r.graph_order(), ["shadow", "forward"]);
+    assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward"]);
     assert!(r.graph_culled().is_empty());
     // Three frames of one size: the camera depth was created once and reused.
     assert_eq!(r.counters().transient_resources, 1, "{:?}", r.counters());
@@ -50,7 +51,11 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     }
     app.update();
     let r = renderer(&app);
-    assert_eq!(r.graph_order(), ["forward"], "no shadow view, yet the shadow node ran");
+    assert_eq!(
+        r.graph_order(),
+        ["depth prepass", "forward"],
+        "no shadow view, yet the shadow node ran"
+    );
     assert_eq!(r.graph_culled(), ["shadow"]);
     assert_eq!(r.counters().transient_resources, 1);
 }
@@ -140,7 +145,7 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     app.update();
     app.update();
     let r = renderer(&app);
-    assert_eq!(r.graph_order(), ["shadow", "forward", "paint"]);
+    assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward", "paint"]);
     assert_eq!(r.graph_culled(), ["unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
@@ -149,4 +154,44 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     let image = r.read_image();
     let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
     assert_eq!(magenta, 64 * 40, "the custom node did not paint the whole frame last");
+}
+
+/// Renders `scene` at 160×90 with the depth prepass on or off; returns the image and the
+/// graph's order.
+fn render_with_prepass(scene: &str, prepass: bool) -> (image::RgbaImage, Vec<&'static str>) {
+    let gpu = Renderer::headless(160, 90)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = headless_app(gpu);
+    let desc = SceneDesc::load(scene).expect("scene loads");
+    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
+    app.world_mut().resource_mut::<RenderOptions>().depth_prepass = prepass;
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        // Identical frames: no per-frame rotation of the filter taps.
+        s.temporal_rotation = false;
+    }
+    app.update();
+    let r = renderer(&app);
+    (r.read_image(), r.graph_order())
+}
+
+#[test]
+fn the_depth_prepass_changes_no_pixel() {
+    // The garden has alpha-masked, double-sided fern leaves over the ground.
+    for scene in ["assets/scenes/default.ron", "assets/scenes/garden.ron"] {
+        let (with, order) = render_with_prepass(scene, true);
+        assert_eq!(order, ["shadow", "depth prepass", "forward"], "{scene}");
+        let (without, order) = render_with_prepass(scene, false);
+        assert_eq!(order, ["shadow", "forward"], "{scene}");
+        let differing = with.pixels().zip(without.pixels()).filter(|(a, b)| a != b).count();
+        // The frames judged something: most pixels are geometry, not sky.
+        let sky = with.get_pixel(0, 0).0;
+        let drawn = with.pixels().filter(|p| p.0 != sky).count();
+        assert!(drawn > 160 * 90 / 3, "{scene}: only {drawn} pixels of geometry");
+        assert_eq!(
+            differing, 0,
+            "{scene}: {differing} of {drawn} drawn pixels differ with the prepass"
+        );
+    }
 }

@@ -29,6 +29,14 @@ fn caster_shader_validates_with_both_entry_points() {
 }
 
 #[test]
+fn prepass_shader_validates_with_both_entry_points() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library.prepass().unwrap_or_else(|e| panic!("{e}"));
+    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entry_points, ["vs_main", "fs_masked"]);
+}
+
+#[test]
 fn a_user_material_can_import_the_light_contract() {
     let mut library = ShaderLibrary::new().unwrap();
     let material = r#"

@@ -47,6 +47,7 @@ fn every_frame_is_timed_or_counted_and_numbered() {
                 "shadow cascade 1",
                 "shadow cascade 2",
                 "shadow cascade 3",
+                "depth prepass",
                 "forward"
             ],
             "frame {}",
@@ -69,6 +70,7 @@ fn a_headless_render_reports_the_timings_of_each_of_its_frames() {
         frames: 4,
         tweak: None,
         analysis: false,
+        options: Default::default(),
     };
     let result = render_scene_with(&default_scene(), &request).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(result.frames.len(), 4);

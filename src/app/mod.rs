@@ -14,6 +14,7 @@ use crate::ecs::components::ViewportSize;
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::render::gpu_types::InstanceGpu;
+use crate::render::options::RenderOptions;
 use crate::render::target::AnalysisImage;
 use crate::render::{FrameReport, GpuError, LimitError, RenderPlugin, Renderer};
 use crate::scene::{self, SceneDesc};
@@ -95,6 +96,7 @@ pub fn render_scene(
             frames,
             tweak,
             analysis: false,
+            options: RenderOptions::default(),
         },
     )
 }
@@ -111,6 +113,8 @@ pub struct RenderRequest<'a> {
     pub tweak: Option<SettingsOverride<'a>>,
     /// Also record the per-pixel shadow factor, position and normal.
     pub analysis: bool,
+    /// Render-wide switches (depth prepass).
+    pub options: RenderOptions,
 }
 
 /// Renders a scene as requested and returns the last frame.
@@ -139,6 +143,7 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
         })));
     }
     let mut app = headless_app(renderer);
+    app.insert_resource(request.options);
     let instances = spawn_scene(app.world_mut(), &desc)?;
     let mut reports = Vec::new();
     let mut warnings = Vec::new();

@@ -7,8 +7,9 @@ use std::collections::HashMap;
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::draw::{draw_batches, vertex_layout};
 use crate::render::frame::{FrameContext, FrameInputs};
-use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::Layouts;
+use crate::render::prepass::camera_depth;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -22,6 +23,8 @@ struct PipelineKey {
     format: wgpu::TextureFormat,
     /// No back-face culling.
     double_sided: bool,
+    /// Depth comes from the prepass: test `GreaterEqual`, write nothing.
+    depth_prepass: bool,
 }
 
 /// A built pipeline and the shader generation it was built from.
@@ -39,6 +42,8 @@ pub struct ForwardPass {
     pub clear_color: [f64; 3],
     /// This frame's resources, set in `setup`.
     handles: Option<FrameResources>,
+    /// This frame's depth was written by the prepass.
+    depth_prepass: bool,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -84,8 +89,14 @@ fn create_pipeline(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Greater),
+            depth_write_enabled: Some(!key.depth_prepass),
+            // NOTE: after the prepass the nearest surface's depth is in the buffer, written by
+            // the same @invariant vertex stage: it passes `GreaterEqual`, hidden ones fail.
+            depth_compare: Some(if key.depth_prepass {
+                wgpu::CompareFunction::GreaterEqual
+            } else {
+                wgpu::CompareFunction::Greater
+            }),
             stencil: wgpu::StencilState::default(),
             bias: wgpu::DepthBiasState::default(),
         }),
@@ -105,18 +116,6 @@ fn create_pipeline(
     }
 }
 
-/// The camera's depth buffer at the target's size.
-fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
-    TextureDesc {
-        label: "camera depth",
-        width,
-        height,
-        layers: 1,
-        format: DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-    }
-}
-
 impl ForwardPass {
     /// A forward pass clearing to `clear_color` (linear RGB).
     pub fn new(clear_color: [f64; 3]) -> Self {
@@ -124,6 +123,7 @@ impl ForwardPass {
             pipelines: HashMap::new(),
             clear_color,
             handles: None,
+            depth_prepass: false,
         }
     }
 
@@ -177,13 +177,14 @@ impl RenderNode for ForwardPass {
         FORWARD_PASS_NAME
     }
 
-    /// Reads both shadow storages; writes the colour (and analysis) targets and the camera
-    /// depth, which it creates when no earlier node did.
+    /// Reads both shadow storages; writes the colour (and analysis) targets; reads the camera
+    /// depth an earlier node (the prepass) wrote, or creates and writes it.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
+        self.depth_prepass = frame.depth.is_some();
         let depth = match frame.depth {
-            Some(depth) => pass.write(depth),
+            Some(depth) => pass.read(depth),
             None => *frame.depth.insert(pass.create_texture(camera_depth(frame.size))),
         };
         pass.write(frame.color);
@@ -208,6 +209,7 @@ impl RenderNode for ForwardPass {
             return;
         };
         let analysis = analysis_targets.is_some();
+        let depth_prepass = self.depth_prepass;
         let lights = ctx.lights;
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {
@@ -220,6 +222,7 @@ impl RenderNode for ForwardPass {
                     variant,
                     format,
                     double_sided,
+                    depth_prepass,
                 },
             )
         };
@@ -275,9 +278,16 @@ impl RenderNode for ForwardPass {
             color_attachments: &color_attachments[..used],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: resources.view(depth),
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Discard,
+                depth_ops: Some(if depth_prepass {
+                    wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }
+                } else {
+                    wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Discard,
+                    }
                 }),
                 stencil_ops: None,
             }),

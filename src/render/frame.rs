@@ -13,6 +13,7 @@ use crate::ecs::view::ActiveView;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
 use crate::render::layouts::Layouts;
+use crate::render::options::RenderOptions;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::timer::GpuTimer;
@@ -69,6 +70,8 @@ pub struct FrameInputs<'a> {
     pub ambient: &'a AmbientLight,
     /// Frame counter.
     pub frame_index: u32,
+    /// Render-wide switches (the world's [`RenderOptions`], or the defaults).
+    pub options: RenderOptions,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -85,6 +88,7 @@ impl<'a> FrameInputs<'a> {
             lights: world.resource::<FrameLights>(),
             ambient: world.resource::<AmbientLight>(),
             frame_index,
+            options: world.get_resource::<RenderOptions>().copied().unwrap_or_default(),
         }
     }
 }

@@ -8,6 +8,7 @@ use bevy_ecs::world::World;
 
 use crate::ecs::components::ViewportSize;
 use crate::render::frame::FrameInputs;
+use crate::render::options::RenderOptions;
 use crate::render::renderer::Renderer;
 
 /// Adds the render system. Requires [`ShadowPlugin`](crate::ecs::ShadowPlugin) and a
@@ -17,6 +18,7 @@ pub struct RenderPlugin;
 
 impl Plugin for RenderPlugin {
     fn build(&self, app: &mut App) {
+        app.init_resource::<RenderOptions>();
         app.add_systems(Last, render_frame);
     }
 }

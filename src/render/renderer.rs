@@ -12,6 +12,7 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
+use crate::render::prepass::DepthPrepass;
 use crate::render::probe::{ProbeGpu, ProbePass};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
@@ -115,6 +116,7 @@ impl Renderer {
         let timer = GpuTimer::new(&gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
         graph.add_node(Box::new(DepthPass::default()));
+        graph.add_node(Box::new(DepthPrepass::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
         let probes = ProbePass::new(&gpu.device);
@@ -307,9 +309,9 @@ impl Renderer {
             log::error!("{error}");
         }
         self.problems.append(problems);
-        // NOTE: one timed pass per shadow view, plus the forward pass.
+        // NOTE: one timed pass per shadow view, plus the prepass and the forward pass.
         self.timer
-            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 1);
+            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 2);
         let mut encoder = self
             .gpu
             .device

@@ -92,6 +92,10 @@ const CASTER: ModuleSource = ModuleSource {
     file: "caster.wgsl",
     source: include_str!("../../shaders/caster.wgsl"),
 };
+const PREPASS: ModuleSource = ModuleSource {
+    file: "prepass.wgsl",
+    source: include_str!("../../shaders/prepass.wgsl"),
+};
 
 /// Holds the composer with every shared module registered.
 pub struct ShaderLibrary {
@@ -217,6 +221,11 @@ impl ShaderLibrary {
     /// The shadow-caster shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
     pub fn caster(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(CASTER.file, CASTER.source, HashMap::new())
+    }
+
+    /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
+    pub fn prepass(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(PREPASS.file, PREPASS.source, HashMap::new())
     }
 
     /// The shadow-probe compute shader (`main`), with the filter of `variant`.

@@ -17,7 +17,7 @@ use crate::ecs::components::DirectionalLight;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::render::FrameReport;
+use crate::render::{FrameReport, RenderOptions};
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;
 use crate::viewer::fly_camera::FlyCamera;
@@ -95,6 +95,15 @@ impl Inspector {
                 ui.label("no spot light or second sun");
             }
         });
+        if let Some(mut options) = world.get_resource_mut::<RenderOptions>() {
+            let mut prepass = options.depth_prepass;
+            let toggle = ui
+                .checkbox(&mut prepass, "depth prepass")
+                .on_hover_text("write depth first, so the lighting pass shades each pixel once");
+            if toggle.changed() {
+                options.depth_prepass = prepass;
+            }
+        }
         CollapsingHeader::new("Shadow views").default_open(true).show(ui, |ui| {
             stats::shadow_views_ui(
                 ui,
