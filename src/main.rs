@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::render::{PassTiming, RenderOptions};
+use penumbra::render::{DepthPrepass, PassTiming, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
@@ -31,6 +31,13 @@ enum Quality {
     Low,
     Medium,
     High,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Prepass {
+    Auto,
+    On,
+    Off,
 }
 
 /// Options of `penumbra render`.
@@ -74,10 +81,10 @@ struct RenderArgs {
     /// greyscale, a `.pfm` path 32-bit float (Portable Float Map).
     #[arg(long)]
     shadow_out: Option<PathBuf>,
-    /// Render without the depth prepass (the lighting pass then writes depth itself and may
-    /// shade a pixel more than once); for comparison.
-    #[arg(long)]
-    no_depth_prepass: bool,
+    /// Depth prepass: auto (on while the view has fewer triangles than the image has
+    /// pixels), on, or off (the lighting pass then writes depth itself).
+    #[arg(long, value_enum, default_value_t = Prepass::Auto)]
+    depth_prepass: Prepass,
 }
 
 /// Options of `penumbra bench`.
@@ -165,7 +172,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Median time of each pass over the frames after the first (which builds pipelines).
 fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(String, f64)> {
     let steady = if frames.len() > 1 { &frames[1..] } else { frames };
-    let Some(last) = steady.last() else { return Vec::new() };
+    // NOTE: the pass names of the last frame that was timed.
+    let Some(last) = steady.iter().rev().find(|f| !f.is_empty()) else {
+        return Vec::new();
+    };
     last.iter()
         .map(|p| {
             let samples = steady
@@ -192,7 +202,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         max_instances,
         frames,
         shadow_out,
-        no_depth_prepass,
+        depth_prepass,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -231,7 +241,11 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         tweak: Some(&tweak),
         analysis: shadow_out.is_some(),
         options: RenderOptions {
-            depth_prepass: !no_depth_prepass,
+            depth_prepass: match depth_prepass {
+                Prepass::Auto => DepthPrepass::Auto,
+                Prepass::On => DepthPrepass::On,
+                Prepass::Off => DepthPrepass::Off,
+            },
         },
     };
     let result = render_scene_with(&desc, &request)?;

@@ -11,12 +11,17 @@ use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::DirectionalLight;
 use penumbra::render::frame::{FrameContext, FrameInputs};
 use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
-use penumbra::render::{RenderOptions, Renderer};
+use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
 
+/// The default scene at 320×180: more pixels than triangles, so `Auto` runs the prepass.
 fn app() -> App {
-    let renderer = Renderer::headless(64, 40)
+    app_sized(320, 180)
+}
+
+fn app_sized(width: u32, height: u32) -> App {
+    let renderer = Renderer::headless(width, height)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = headless_app(renderer);
     let desc = SceneDesc::load("assets/scenes/default.ron").expect("default scene loads");
@@ -153,12 +158,12 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     assert_eq!(r.counters().transient_resources, 1);
     let image = r.read_image();
     let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
-    assert_eq!(magenta, 64 * 40, "the custom node did not paint the whole frame last");
+    assert_eq!(magenta, 320 * 180, "the custom node did not paint the whole frame last");
 }
 
 /// Renders `scene` at 160×90 with the depth prepass on or off; returns the image and the
 /// graph's order.
-fn render_with_prepass(scene: &str, prepass: bool) -> (image::RgbaImage, Vec<&'static str>) {
+fn render_with_prepass(scene: &str, prepass: DepthPrepass) -> (image::RgbaImage, Vec<&'static str>) {
     let gpu = Renderer::headless(160, 90)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = headless_app(gpu);
@@ -180,9 +185,9 @@ fn render_with_prepass(scene: &str, prepass: bool) -> (image::RgbaImage, Vec<&'s
 fn the_depth_prepass_changes_no_pixel() {
     // The garden has alpha-masked, double-sided fern leaves over the ground.
     for scene in ["assets/scenes/default.ron", "assets/scenes/garden.ron"] {
-        let (with, order) = render_with_prepass(scene, true);
+        let (with, order) = render_with_prepass(scene, DepthPrepass::On);
         assert_eq!(order, ["shadow", "depth prepass", "forward"], "{scene}");
-        let (without, order) = render_with_prepass(scene, false);
+        let (without, order) = render_with_prepass(scene, DepthPrepass::Off);
         assert_eq!(order, ["shadow", "forward"], "{scene}");
         let differing = with.pixels().zip(without.pixels()).filter(|(a, b)| a != b).count();
         // The frames judged something: most pixels are geometry, not sky.
@@ -194,4 +199,17 @@ fn the_depth_prepass_changes_no_pixel() {
             "{scene}: {differing} of {drawn} drawn pixels differ with the prepass"
         );
     }
+}
+
+#[test]
+fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
+    // The default scene has tens of thousands of triangles: more than 64×40 pixels, fewer
+    // than 320×180.
+    let mut small = app_sized(64, 40);
+    small.update();
+    assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
+    assert_eq!(renderer(&small).graph_culled(), ["depth prepass"]);
+    let mut large = app();
+    large.update();
+    assert_eq!(renderer(&large).graph_order(), ["shadow", "depth prepass", "forward"]);
 }

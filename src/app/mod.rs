@@ -155,21 +155,19 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
             return Err(RenderError::Gpu(GpuError::Validation(errors.join("; "))));
         }
         warnings.extend(renderer.take_warnings());
-        reports.push(renderer.last_report.clone());
-    }
-    // NOTE: timings arrive without the frame loop waiting for them; each frame's report gets
-    // its own timings once every frame has arrived.
-    let mut renderer = app.world_mut().resource_mut::<Renderer>();
-    let first = renderer.frames_rendered() - reports.len() as u64;
-    let mut timings = renderer.wait_for_timings();
-    for (n, report) in reports.iter_mut().enumerate() {
-        let frame = first + n as u64;
+        // NOTE: a headless measurement waits for each frame's timings, so every frame is
+        // timed (an interactive frame loop does not wait; its timings arrive a frame or two
+        // later).
+        let frame = renderer.frames_rendered() - 1;
+        let timings = renderer.wait_for_timings();
+        let mut report = renderer.last_report.clone();
         report.timed_frame = frame;
         report.passes = timings
-            .iter_mut()
+            .into_iter()
             .find(|t| t.frame == frame)
-            .map(|t| std::mem::take(&mut t.passes))
+            .map(|t| t.passes)
             .unwrap_or_default();
+        reports.push(report);
     }
     let world = app.world();
     let renderer = world.resource::<Renderer>();

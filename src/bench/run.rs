@@ -105,29 +105,29 @@ fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec
         session.apply_settings(preset.apply);
         let (mut shadow, mut forward, mut total, mut cpu) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut last = FrameReport::default();
-        // Timings of earlier presets still in flight are not this preset's.
-        renderer.wait_for_timings();
-        let first_timed = renderer.frames_rendered() + u64::from(config.warmup_frames);
         for frame in 0..config.warmup_frames + config.timing_frames.max(1) {
             session.update();
+            let number = renderer.frames_rendered();
             let report = renderer
                 .render(&FrameInputs::from_world(session.app.world(), frame))
                 .clone();
+            // NOTE: the benchmark waits for each frame's timings so that every timed frame
+            // counts (a game's frame loop does not wait).
+            let timings = renderer.wait_for_timings();
             if frame >= config.warmup_frames {
                 let stats = session.stats();
                 cpu.push((stats.cascades_cpu + stats.culling_cpu).as_secs_f64() * 1e3);
+                if let Some(t) = timings.iter().find(|t| t.frame == number) {
+                    let report = FrameReport {
+                        passes: t.passes.clone(),
+                        ..FrameReport::default()
+                    };
+                    shadow.push(report.shadow_ms());
+                    forward.push(report.passes.iter().filter(|p| p.name == "forward").map(|p| p.ms).sum());
+                    total.push(report.passes.iter().map(|p| p.ms).sum());
+                }
                 last = report;
             }
-        }
-        // NOTE: the frames were not held up by their timings; they are read back here.
-        for timings in renderer.wait_for_timings().iter().filter(|t| t.frame >= first_timed) {
-            let report = FrameReport {
-                passes: timings.passes.clone(),
-                ..FrameReport::default()
-            };
-            shadow.push(report.shadow_ms());
-            forward.push(report.passes.iter().filter(|p| p.name == "forward").map(|p| p.ms).sum());
-            total.push(report.passes.iter().map(|p| p.ms).sum());
         }
         out.push((
             GpuTimes {

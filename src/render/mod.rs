@@ -26,7 +26,7 @@ pub mod timer;
 pub use context::{GpuContext, GpuError};
 pub use counters::RenderCounters;
 pub use limits::{DeviceLimits, LimitError};
-pub use options::RenderOptions;
+pub use options::{DepthPrepass, RenderOptions};
 pub use plugin::RenderPlugin;
 pub use renderer::{FrameReport, Renderer};
 pub use timer::PassTiming;

@@ -3,18 +3,57 @@
 
 use bevy_ecs::resource::Resource;
 
-/// Render-wide switches; a world without this resource renders with the defaults.
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
-pub struct RenderOptions {
-    /// Write the camera's depth in a prepass before the lighting pass, so each covered pixel
-    /// is shaded once (default on). A forward material with its own vertex stage (instead of
-    /// `penumbra::forward_io::forward_vertex`) must turn it off, or its pixels may not match
-    /// the prepass depth.
-    pub depth_prepass: bool,
+/// Whether the camera's depth is written in a prepass before the lighting pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DepthPrepass {
+    /// On while the camera's view has fewer triangles than the target has pixels
+    /// ([`prepass_pays`]): then the lighting pass's saved shading outweighs drawing the
+    /// geometry twice; past it the view is bound by its vertices and the prepass would double
+    /// that work.
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never: the lighting pass writes depth itself and may shade a pixel more than once.
+    Off,
 }
 
-impl Default for RenderOptions {
-    fn default() -> Self {
-        Self { depth_prepass: true }
+/// Render-wide switches; a world without this resource renders with the defaults.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// The depth prepass (default [`DepthPrepass::Auto`]). A forward material with its own
+    /// vertex stage (instead of `penumbra::forward_io::forward_vertex`) must turn it off, or
+    /// its pixels may not match the prepass depth.
+    pub depth_prepass: DepthPrepass,
+}
+
+/// Whether [`DepthPrepass::Auto`] runs the prepass for a view of `triangles` visible
+/// triangles on a target of `pixels` pixels.
+pub fn prepass_pays(triangles: u64, pixels: u64) -> bool {
+    triangles < pixels
+}
+
+impl DepthPrepass {
+    /// Whether the prepass runs for a view of `triangles` triangles on `pixels` pixels.
+    pub fn runs(self, triangles: impl FnOnce() -> u64, pixels: u64) -> bool {
+        match self {
+            Self::On => true,
+            Self::Off => false,
+            Self::Auto => prepass_pays(triangles(), pixels),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_runs_the_prepass_only_below_one_triangle_per_pixel() {
+        let pixels = 1920 * 1080;
+        assert!(DepthPrepass::Auto.runs(|| 60_000, pixels));
+        assert!(!DepthPrepass::Auto.runs(|| 20_000_000, pixels));
+        assert!(DepthPrepass::On.runs(|| u64::MAX, pixels));
+        assert!(!DepthPrepass::Off.runs(|| 0, pixels));
     }
 }

@@ -2,8 +2,9 @@
 //! before the lighting pass, which then tests `GreaterEqual` against it without writing, so
 //! each covered pixel is shaded once however much geometry overlaps it. It creates the
 //! frame's camera depth (a transient of the graph) that the forward pass and later passes
-//! read. Off ([`RenderOptions::depth_prepass`](crate::render::RenderOptions) false), it
-//! declares nothing and is culled; the forward pass then creates and writes the depth itself.
+//! read. When it does not run ([`RenderOptions::depth_prepass`](crate::render::RenderOptions):
+//! off, or `Auto` on a view of more triangles than pixels), it declares nothing and is culled;
+//! the forward pass then creates and writes the depth itself.
 
 use std::borrow::Cow;
 
@@ -106,6 +107,20 @@ fn create_pipeline(
     })
 }
 
+/// Triangles the camera's view draws this frame (every instance of every batch).
+fn visible_triangles(inputs: &FrameInputs<'_>) -> u64 {
+    let group = &inputs.view_groups.group;
+    group
+        .opaque
+        .iter()
+        .chain(&group.masked)
+        .map(|b| {
+            let indices = inputs.meshes.get(b.mesh).map_or(0, |m| m.indices.len() as u64);
+            indices / 3 * u64::from(b.count)
+        })
+        .sum()
+}
+
 impl RenderNode for DepthPrepass {
     fn name(&self) -> &'static str {
         PREPASS_NAME
@@ -114,7 +129,9 @@ impl RenderNode for DepthPrepass {
     /// Creates the camera depth and writes it (nothing when off).
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.depth = None;
-        if inputs.options.depth_prepass && frame.depth.is_none() {
+        let pixels = u64::from(frame.size.0) * u64::from(frame.size.1);
+        let runs = inputs.options.depth_prepass.runs(|| visible_triangles(inputs), pixels);
+        if runs && frame.depth.is_none() {
             let depth = pass.create_texture(camera_depth(frame.size));
             frame.depth = Some(depth);
             self.depth = Some(depth);

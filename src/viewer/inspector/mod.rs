@@ -17,7 +17,7 @@ use crate::ecs::components::DirectionalLight;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::render::{FrameReport, RenderOptions};
+use crate::render::{DepthPrepass, FrameReport, RenderOptions};
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;
 use crate::viewer::fly_camera::FlyCamera;
@@ -96,12 +96,20 @@ impl Inspector {
             }
         });
         if let Some(mut options) = world.get_resource_mut::<RenderOptions>() {
-            let mut prepass = options.depth_prepass;
-            let toggle = ui
-                .checkbox(&mut prepass, "depth prepass")
-                .on_hover_text("write depth first, so the lighting pass shades each pixel once");
-            if toggle.changed() {
-                options.depth_prepass = prepass;
+            let mut mode = options.depth_prepass;
+            ui.horizontal(|ui| {
+                ui.label("depth prepass")
+                    .on_hover_text("write depth first, so the lighting pass shades each pixel once; auto: while the view has fewer triangles than pixels");
+                for (value, name) in [
+                    (DepthPrepass::Auto, "auto"),
+                    (DepthPrepass::On, "on"),
+                    (DepthPrepass::Off, "off"),
+                ] {
+                    ui.radio_value(&mut mode, value, name);
+                }
+            });
+            if mode != options.depth_prepass {
+                options.depth_prepass = mode;
             }
         }
         CollapsingHeader::new("Shadow views").default_open(true).show(ui, |ui| {
