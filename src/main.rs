@@ -85,6 +85,10 @@ struct RenderArgs {
     /// pixels), on, or off (the lighting pass then writes depth itself).
     #[arg(long, value_enum, default_value_t = Prepass::Auto)]
     depth_prepass: Prepass,
+    /// Draw every shadow map every frame, as when everything moves (by default a shadow map
+    /// whose view and casters did not change is kept).
+    #[arg(long)]
+    no_shadow_cache: bool,
 }
 
 /// Options of `penumbra bench`.
@@ -203,6 +207,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         frames,
         shadow_out,
         depth_prepass,
+        no_shadow_cache,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -246,6 +251,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
                 Prepass::On => DepthPrepass::On,
                 Prepass::Off => DepthPrepass::Off,
             },
+            shadow_cache: !no_shadow_cache,
         },
     };
     let result = render_scene_with(&desc, &request)?;
@@ -288,6 +294,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         draws.join(", ")
     );
     println!("draw calls {}", result.report.draw_calls);
+    let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
+    println!("shadow views drawn per frame [{}]", drawn.join(", "));
     println!(
         "cpu        cascades {:.3} ms, culling {:.3} ms, view culling {:.3} ms (last frame)",
         result.stats.cascades_cpu.as_secs_f64() * 1e3,

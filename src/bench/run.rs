@@ -16,7 +16,7 @@ use crate::bench::score::{SceneScores, score_scene};
 use crate::bench::session::SceneSession;
 use crate::reference::ReferenceSettings;
 use crate::render::frame::FrameInputs;
-use crate::render::{FrameReport, GpuError, Renderer};
+use crate::render::{FrameReport, GpuError, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, SceneError};
 
 /// Anything that stops a benchmark.
@@ -93,6 +93,12 @@ type Timing = (GpuTimes, f64, FrameReport);
 /// GPU and CPU cost of every preset on one scene at the timing resolution.
 fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec<Timing>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
+    // NOTE: every shadow map is drawn every frame, as when the camera or the casters move;
+    // a still frame's cost is measured apart (`penumbra render`).
+    session.app.insert_resource(RenderOptions {
+        shadow_cache: false,
+        ..RenderOptions::default()
+    });
     let mut renderer = Renderer::headless(config.width, config.height)?;
     renderer.set_focus_light(session.focus_light_index());
     let progress = bar(

@@ -1,10 +1,12 @@
-//! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`].
+//! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`]. A
+//! frame whose camera matrix and instance list are those of the last frame keeps its groups.
 //! (Shadow casters are culled per shadow view by
 //! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).)
 
 use std::time::Instant;
 
 use bevy_ecs::system::{Local, Res, ResMut};
+use glam::Mat4;
 
 use crate::ecs::draw_groups::{ViewDrawGroups, push_instance};
 use crate::ecs::instances::RenderInstances;
@@ -20,8 +22,18 @@ pub fn cull_view(
     mut groups: ResMut<ViewDrawGroups>,
     mut stats: ResMut<ShadowStats>,
     mut visible: Local<(Vec<u32>, Vec<u32>)>,
+    mut last: Local<Option<(Mat4, u64)>>,
 ) {
     let start = Instant::now();
+    let key = view
+        .camera
+        .as_ref()
+        .map(|(camera, _)| (camera.clip_from_world(), instances.generation));
+    if key.is_some() && *last == key {
+        stats.view_culling_cpu = start.elapsed();
+        return;
+    }
+    *last = key;
     let groups = &mut *groups;
     groups.group.clear();
     groups.indices.clear();

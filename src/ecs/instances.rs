@@ -7,12 +7,15 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::RemovedComponents;
 use bevy_ecs::query::{Changed, Has, Or, With};
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::{Query, Res, ResMut};
+use bevy_ecs::system::{Local, Query, Res, ResMut};
 use bevy_transform::components::GlobalTransform;
 use glam::{Mat4, Vec3};
 use log::warn;
 
+use std::collections::HashMap;
+
 use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
+use crate::ecs::caster_changes::{CasterChanges, CasterState};
 use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::is_valid_placement;
@@ -104,28 +107,32 @@ pub fn sync_instances(
     meshes: Res<Meshes>,
     materials: Res<Materials>,
     origin: Res<RenderOrigin>,
+    mut changes: ResMut<CasterChanges>,
+    mut casters_before: Local<HashMap<Entity, CasterState>>,
 ) {
     let removed = removed_meshes.read().count() + removed_non_casters.read().count() + removed_receivers.read().count();
-    let dirty = instances.generation == 0
-        || !changed.is_empty()
-        || removed > 0
-        || meshes.is_changed()
-        || materials.is_changed()
-        || instances.origin != origin.0;
-    if !dirty {
+    let everything =
+        instances.generation == 0 || meshes.is_changed() || materials.is_changed() || instances.origin != origin.0;
+    if !everything && changed.is_empty() && removed == 0 {
         return;
     }
-    rebuild(&mut instances, all.iter(), &meshes, &materials, origin.0);
+    let casters = rebuild(&mut instances, all.iter(), &meshes, &materials, origin.0);
+    changes.record(
+        instances.generation,
+        everything,
+        &mut casters_before,
+        casters.into_iter(),
+    );
 }
 
-/// Rebuilds the instance list from scratch.
+/// Rebuilds the instance list from scratch; returns the state of every caster.
 fn rebuild<'a>(
     out: &mut RenderInstances,
     items: impl Iterator<Item = InstanceQueryItem<'a>>,
     meshes: &Meshes,
     materials: &Materials,
     origin: Vec3,
-) {
+) -> Vec<(Entity, CasterState)> {
     let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb)> = Vec::new();
     let mut skipped = 0;
     for (entity, transform, mesh, material, no_cast, no_receive) in items {
@@ -196,6 +203,10 @@ fn rebuild<'a>(
     out.origin = origin;
     out.skipped = skipped;
     out.generation += 1;
+    rows.iter()
+        .filter(|r| r.3)
+        .map(|&(key, entity, _, _, _, bounds)| (entity, CasterState { bounds, key }))
+        .collect()
 }
 
 /// Position of `p` along a 3D Morton (Z-order) curve over `bounds`, 10 bits per axis.

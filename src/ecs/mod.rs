@@ -2,6 +2,7 @@
 //! math each frame.
 
 pub mod assets;
+pub mod caster_changes;
 pub mod components;
 pub mod culling;
 pub mod draw_groups;
@@ -15,6 +16,7 @@ pub mod plugin;
 pub mod shadow_views;
 pub mod stats;
 pub mod view;
+pub mod view_cache;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
 pub use bevy_transform::components::{GlobalTransform, Transform};

@@ -8,6 +8,7 @@ use bevy_ecs::schedule::{IntoScheduleConfigs, SystemSet};
 use bevy_transform::{TransformPlugin, TransformSystems};
 
 use crate::ecs::assets::{Images, Materials, Meshes};
+use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::cull_view;
 use crate::ecs::draw_groups::ViewDrawGroups;
@@ -48,6 +49,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<AmbientLight>()
             .init_resource::<ViewportSize>()
             .init_resource::<RenderInstances>()
+            .init_resource::<CasterChanges>()
             .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()
             .init_resource::<FrameLights>()

@@ -14,14 +14,16 @@ use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Local, Res, ResMut};
 use glam::{Mat3, Mat4, Vec3};
 
+use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::draw_groups::{DrawGroup, push_instance};
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::stats::ShadowStats;
+use crate::ecs::view_cache::{ViewCache, ViewInput};
 use crate::math::chunks::{cull_casters_chunked, cull_spheres_frustum_chunked};
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
-use crate::settings::MAX_CASCADES;
+use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
 /// without its own [`ShadowSettings`](crate::settings::ShadowSettings).
@@ -95,6 +97,10 @@ pub struct ShadowView {
     pub slot: u32,
     /// Side of its shadow map, texels.
     pub resolution: u32,
+    /// Content version: the same while nothing that changes this map changed (its matrix,
+    /// resolution, light settings, or a caster in its cull volume); unique across views, so
+    /// the renderer redraws a layer only when the version it holds differs.
+    pub version: u64,
 }
 
 /// This frame's shadow views and their culled casters: `groups[i]` holds the draws of
@@ -123,23 +129,28 @@ impl ShadowViews {
     }
 }
 
-/// Reused buffers of [`update_shadow_views`].
+/// Reused buffers of [`update_shadow_views`], and what each view held last frame.
 #[derive(Default)]
 pub struct ViewScratch {
     /// Cascade bit mask per caster.
     masks: Vec<u8>,
-    /// Instance indices per view, in draw order.
-    lists: Vec<Vec<u32>>,
     visible: Vec<u32>,
     chunk_scratch: Vec<u32>,
+    /// The light settings of each view of this frame.
+    settings: Vec<ShadowSettings>,
+    versions: Vec<u64>,
+    cache: ViewCache,
 }
 
-/// Lists the shadow views of the shadowed lights and culls every caster into the draw group
-/// of each view it touches: a sun's cascades in one pass over the casters (they are sorted by
-/// draw key, so each list comes out in draw order), a spot light against its frustum.
+/// Lists the shadow views of the shadowed lights, gives each its content version
+/// ([`ViewCache`]), and culls every caster into the draw group of each view it touches — only
+/// for views that moved or whose instance list was rebuilt; the others keep last frame's
+/// group. A sun's cascades are culled in one pass over the casters (sorted by draw key, so
+/// each list comes out in draw order), a spot light against its frustum.
 pub fn update_shadow_views(
     lights: Res<FrameLights>,
     instances: Res<RenderInstances>,
+    changes: Res<CasterChanges>,
     mut out: ResMut<ShadowViews>,
     mut stats: ResMut<ShadowStats>,
     mut scratch: Local<ViewScratch>,
@@ -148,7 +159,7 @@ pub fn update_shadow_views(
     let out = &mut *out;
     let scratch = &mut *scratch;
     out.views.clear();
-    out.indices.clear();
+    scratch.settings.clear();
     let mut cascade_slot = 0;
     for (i, sun) in lights.suns.iter().enumerate() {
         let set = &sun.cascades;
@@ -166,7 +177,9 @@ pub fn update_shadow_views(
                 },
                 slot: cascade_slot,
                 resolution: sun.settings.resolution,
+                version: 0,
             });
+            scratch.settings.push(sun.settings);
             cascade_slot += 1;
         }
     }
@@ -182,46 +195,78 @@ pub fn update_shadow_views(
             cull: CullVolume::Frustum(shadow.frustum),
             slot: spot_slot,
             resolution: spot.settings.resolution,
+            version: 0,
         });
+        scratch.settings.push(spot.settings);
         spot_slot += 1;
     }
-    let n = out.views.len();
-    if out.groups.len() < n {
-        out.groups.resize_with(n, DrawGroup::default);
+    let inputs = out.views.iter().zip(&scratch.settings).map(|(v, settings)| ViewInput {
+        entity: v.entity,
+        kind: v.kind,
+        clip_from_world: v.clip_from_world,
+        resolution: v.resolution,
+        settings,
+        cull: &v.cull,
+    });
+    scratch
+        .cache
+        .plan(inputs, instances.generation, &changes, &mut scratch.versions);
+    for (view, &version) in out.views.iter_mut().zip(&scratch.versions) {
+        view.version = version;
     }
-    out.groups.truncate(n);
-    out.groups.iter_mut().for_each(DrawGroup::clear);
-    if scratch.lists.len() < n {
-        scratch.lists.resize_with(n, Vec::new);
+    let culled = cull_views(&lights, &instances, &out.views, scratch);
+    let entries = &scratch.cache.entries;
+    // NOTE: with every view reused in the same order, last frame's groups stand as they are.
+    if culled || scratch.cache.reordered || out.groups.len() != entries.len() {
+        out.groups.resize_with(entries.len(), DrawGroup::default);
+        out.indices.clear();
+        for (entry, group) in entries.iter().zip(out.groups.iter_mut()) {
+            let offset = out.indices.len() as u32;
+            out.indices.extend_from_slice(&entry.list);
+            // NOTE: field by field, so the vectors keep their allocations.
+            group.opaque.clone_from(&entry.group.opaque);
+            group.masked.clone_from(&entry.group.masked);
+            group
+                .opaque
+                .iter_mut()
+                .chain(group.masked.iter_mut())
+                .for_each(|b| b.first += offset);
+        }
     }
-    scratch.lists.iter_mut().for_each(Vec::clear);
-    cull_views(&lights, &instances, out, scratch);
-    // Concatenate the per-view lists; batch starts move by the list's offset.
     stats.casters_per_view.clear();
     stats.draws_per_view.clear();
-    for (list, group) in scratch.lists.iter().zip(out.groups.iter_mut()) {
-        let offset = out.indices.len() as u32;
-        out.indices.extend_from_slice(list);
-        group
-            .opaque
-            .iter_mut()
-            .chain(group.masked.iter_mut())
-            .for_each(|b| b.first += offset);
-        stats.casters_per_view.push(list.len() as u32);
-        stats.draws_per_view.push(group.draw_count() as u32);
+    for entry in entries {
+        stats.casters_per_view.push(entry.list.len() as u32);
+        stats.draws_per_view.push(entry.group.draw_count() as u32);
     }
     stats.culling_cpu = start.elapsed();
 }
 
-/// Culls the casters of every view into `scratch.lists` and `out.groups`.
-fn cull_views(lights: &FrameLights, instances: &RenderInstances, out: &mut ShadowViews, scratch: &mut ViewScratch) {
+/// Culls the casters of the views whose cache entry asks for it into the entry's list and
+/// group (all cascades of a sun together when any of them needs it); returns whether any
+/// view was culled.
+fn cull_views(
+    lights: &FrameLights,
+    instances: &RenderInstances,
+    views: &[ShadowView],
+    scratch: &mut ViewScratch,
+) -> bool {
+    let entries = &mut scratch.cache.entries;
+    let mut culled = false;
     let mut first = 0;
     for sun in &lights.suns {
         let set = &sun.cascades;
-        if set.count == 0 {
+        let range = first..first + set.count;
+        first += set.count;
+        if set.count == 0 || !entries[range.clone()].iter().any(|e| e.cull) {
             continue;
         }
         debug_assert!(set.count <= MAX_CASCADES);
+        culled = true;
+        for entry in &mut entries[range.clone()] {
+            entry.list.clear();
+            entry.group.clear();
+        }
         scratch.masks.clear();
         scratch.masks.resize(instances.casters.len(), 0);
         cull_casters_chunked(
@@ -235,17 +280,22 @@ fn cull_views(lights: &FrameLights, instances: &RenderInstances, out: &mut Shado
             let key = instances.keys[instance as usize];
             let mut bits = mask;
             while bits != 0 {
-                let v = first + bits.trailing_zeros() as usize;
-                push_instance(&mut out.groups[v], &mut scratch.lists[v], key, instance);
+                let entry = &mut entries[range.start + bits.trailing_zeros() as usize];
+                push_instance(&mut entry.group, &mut entry.list, key, instance);
                 bits &= bits - 1;
             }
         }
-        first += set.count;
     }
-    for v in first..out.views.len() {
-        let CullVolume::Frustum(frustum) = &out.views[v].cull else {
+    for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {
+        let CullVolume::Frustum(frustum) = &view.cull else {
             continue;
         };
+        if !entry.cull {
+            continue;
+        }
+        culled = true;
+        entry.list.clear();
+        entry.group.clear();
         cull_spheres_frustum_chunked(
             frustum,
             &instances.caster_centers,
@@ -257,11 +307,12 @@ fn cull_views(lights: &FrameLights, instances: &RenderInstances, out: &mut Shado
         for &k in &scratch.visible {
             let instance = instances.casters[k as usize];
             push_instance(
-                &mut out.groups[v],
-                &mut scratch.lists[v],
+                &mut entry.group,
+                &mut entry.list,
                 instances.keys[instance as usize],
                 instance,
             );
         }
     }
+    culled
 }

@@ -42,6 +42,10 @@ pub struct FrameContext<'a> {
     pub timer: &'a mut GpuTimer,
     /// Draw calls recorded so far this frame.
     pub draw_calls: u32,
+    /// Shadow views drawn so far this frame (views whose layer already held them are not).
+    pub shadow_views_drawn: u32,
+    /// Draw calls of shadow views so far this frame (also counted in `draw_calls`).
+    pub shadow_draw_calls: u32,
     /// GPU objects created so far.
     pub counters: &'a mut RenderCounters,
     /// The last pipeline build that failed (the previous pipeline was kept).

@@ -19,12 +19,25 @@ pub enum DepthPrepass {
 }
 
 /// Render-wide switches; a world without this resource renders with the defaults.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
     /// The depth prepass (default [`DepthPrepass::Auto`]). A forward material with its own
     /// vertex stage (instead of `penumbra::forward_io::forward_vertex`) must turn it off, or
     /// its pixels may not match the prepass depth.
     pub depth_prepass: DepthPrepass,
+    /// Keep shadow maps whose view and casters did not change instead of drawing them again
+    /// (default on). Off, every view is drawn every frame, as when everything moves: what
+    /// the benchmark times.
+    pub shadow_cache: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            depth_prepass: DepthPrepass::Auto,
+            shadow_cache: true,
+        }
+    }
 }
 
 /// Whether [`DepthPrepass::Auto`] runs the prepass for a view of `triangles` visible

@@ -32,6 +32,10 @@ pub struct FrameReport {
     pub timed_frame: u64,
     /// Draw calls recorded.
     pub draw_calls: u32,
+    /// Shadow views drawn (a view whose layer still holds its content is not).
+    pub shadow_views_drawn: u32,
+    /// Draw calls of the shadow views.
+    pub shadow_draw_calls: u32,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
 }
@@ -327,13 +331,16 @@ impl Renderer {
             lights: input.lights,
             timer: &mut self.timer,
             draw_calls: 0,
+            shadow_views_drawn: 0,
+            shadow_draw_calls: 0,
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
         };
         if input.view.camera.is_some() && drawable {
             self.graph.execute(&mut ctx, &mut encoder);
         }
-        let draw_calls = ctx.draw_calls;
+        let (draw_calls, shadow_views_drawn, shadow_draw_calls) =
+            (ctx.draw_calls, ctx.shadow_views_drawn, ctx.shadow_draw_calls);
         overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
@@ -345,6 +352,8 @@ impl Renderer {
             passes: latest.passes.clone(),
             timed_frame: latest.frame,
             draw_calls,
+            shadow_views_drawn,
+            shadow_draw_calls,
             shadow_memory: self.shadows.memory_bytes(),
         };
         &self.last_report

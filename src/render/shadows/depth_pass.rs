@@ -1,5 +1,8 @@
-//! The depth pass: renders the casters of every shadow view of the frame into its layer of
-//! its kind's storage. Per view: clear the layer to the reverse-Z far value (0), restrict the
+//! The depth pass: renders the casters of every shadow view of the frame whose layer does not
+//! already hold it into its layer of its kind's storage. A layer remembers the content
+//! version ([`ShadowView::version`]) it was last drawn with and the storage allocation it
+//! belongs to; a view whose version is already there is skipped (a still scene draws no
+//! shadow map after its first frame). Per view drawn: clear the layer to the reverse-Z far value (0), restrict the
 //! viewport to the view's resolution, draw the opaque group with the depth-only pipeline (no
 //! fragment stage), then the alpha-masked group with the alpha-test pipeline, both with the
 //! light's slope-scaled depth bias and, where the adapter allows, unclipped depth so casters
@@ -22,6 +25,19 @@ pub struct DepthPass {
     pipelines: CasterPipelines,
     /// Timing names, one per view, reused between frames.
     names: Vec<String>,
+    /// Per storage (cascades, spot lights): the allocation `held` refers to, and the content
+    /// version each layer holds (0: nothing).
+    held: [(u64, Vec<u64>); 2],
+    /// Views whose layer holds them are skipped ([`RenderOptions::shadow_cache`](crate::render::RenderOptions)).
+    cache: bool,
+}
+
+/// Index of a view kind's storage in [`DepthPass::held`].
+fn storage_index(kind: ShadowViewKind) -> usize {
+    match kind {
+        ShadowViewKind::Cascade(_) => 0,
+        ShadowViewKind::Spot => 1,
+    }
 }
 
 /// Writes the timing name of `view` into `name`: `shadow cascade c` for the first sun's
@@ -52,8 +68,10 @@ impl RenderNode for DepthPass {
     }
 
     /// Writes each storage that has a view this frame (the layer views it renders into
-    /// belong to that storage); with no shadow view nothing is written and the node is culled.
+    /// belong to that storage); with no shadow view nothing is written and the node is
+    /// culled. Which views are drawn is decided while recording, when the storage is known.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        self.cache = inputs.options.shadow_cache;
         let views = &inputs.shadow_views.views;
         if views.iter().any(|v| matches!(v.kind, ShadowViewKind::Cascade(_))) {
             pass.write(frame.cascade_maps);
@@ -72,13 +90,28 @@ impl RenderNode for DepthPass {
             self.names.resize_with(views.views.len(), String::new);
         }
         for (v, (view, group)) in views.views.iter().zip(&views.groups).enumerate() {
+            let storage = ctx.shadows.storage(view.kind);
+            // NOTE: a new allocation holds nothing; every layer of it is drawn again.
+            let (id, layers) = &mut self.held[storage_index(view.kind)];
+            if *id != storage.id {
+                *id = storage.id;
+                layers.clear();
+            }
+            let slot = view.slot as usize;
+            if self.cache && layers.get(slot) == Some(&view.version) {
+                continue;
+            }
             let Some(settings) = view_settings(ctx.lights, view) else {
                 continue;
             };
-            let storage = ctx.shadows.storage(view.kind);
-            let Some(target) = storage.layer_views.get(view.slot as usize) else {
+            let Some(target) = storage.layer_views.get(slot) else {
                 continue;
             };
+            if layers.len() <= slot {
+                layers.resize(slot + 1, 0);
+            }
+            layers[slot] = view.version;
+            ctx.shadow_views_drawn += 1;
             let unclipped = ctx.gpu.unclipped_depth;
             let mut built = 0;
             let device = &ctx.gpu.device;
@@ -131,11 +164,13 @@ impl RenderNode for DepthPass {
             pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
             pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
             pass.set_pipeline(&opaque);
-            ctx.draw_calls += draw_batches(&mut pass, ctx.scene, &group.opaque, false);
+            let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false);
             if let Some(masked) = &masked {
                 pass.set_pipeline(masked);
-                ctx.draw_calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
+                calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
             }
+            ctx.draw_calls += calls;
+            ctx.shadow_draw_calls += calls;
         }
     }
 }

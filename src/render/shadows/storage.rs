@@ -4,6 +4,11 @@
 //! its own resolution. The array is owned across frames: it is recreated when the largest
 //! view changes size or more layers are needed, never for fewer.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Numbers every array ever created, so a pass can tell its layers were replaced.
+static CREATED: AtomicU64 = AtomicU64::new(1);
+
 /// Depth format of every shadow map.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -19,6 +24,8 @@ pub struct DepthArray {
     pub side: u32,
     /// True for the 1×1 stand-in bound while the kind has no view.
     pub placeholder: bool,
+    /// Unique number of this allocation: what its layers hold is lost when it changes.
+    pub id: u64,
 }
 
 impl DepthArray {
@@ -61,6 +68,7 @@ impl DepthArray {
             layer_views,
             side,
             placeholder: false,
+            id: CREATED.fetch_add(1, Ordering::Relaxed),
         }
     }
 

@@ -1,0 +1,259 @@
+//! Which shadow views must be drawn again. A view keeps a content `version`; it gets a new
+//! one when its matrix, resolution or light settings change, or when a caster changed inside
+//! its cull volume ([`CasterChanges`]). The renderer skips a view whose layer already holds
+//! that version. A view whose matrix is unchanged and whose instance list was not rebuilt is
+//! not even culled again: its draw group from the last frame is reused.
+
+use bevy_ecs::entity::Entity;
+use glam::Mat4;
+
+use crate::ecs::caster_changes::CasterChanges;
+use crate::ecs::draw_groups::DrawGroup;
+use crate::ecs::shadow_views::{CullVolume, ShadowViewKind};
+use crate::math::aabb::Aabb;
+use crate::settings::ShadowSettings;
+
+/// What one view held when it was last culled.
+#[derive(Debug)]
+pub struct CachedView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// Cascade index or spot.
+    pub kind: ShadowViewKind,
+    clip_from_world: Mat4,
+    resolution: u32,
+    settings: ShadowSettings,
+    /// The instance generation `list` indexes.
+    generation: u64,
+    /// Content version (unique across views).
+    pub version: u64,
+    /// Culled instance indices, in draw order.
+    pub list: Vec<u32>,
+    /// Batches over `list` (starting at 0).
+    pub group: DrawGroup,
+    /// Must be culled this frame.
+    pub cull: bool,
+}
+
+/// The views of the last frame, in order, and the version counter.
+#[derive(Debug, Default)]
+pub struct ViewCache {
+    /// One entry per view of the last frame (then of this frame, after [`ViewCache::plan`]).
+    pub entries: Vec<CachedView>,
+    spare: Vec<CachedView>,
+    next_version: u64,
+    /// The entries' identities changed order or count this frame.
+    pub reordered: bool,
+}
+
+/// What [`ViewCache::plan`] needs to know of one view of this frame.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewInput<'a> {
+    /// The light's entity.
+    pub entity: Entity,
+    /// Cascade index or spot.
+    pub kind: ShadowViewKind,
+    /// Light clip space from world.
+    pub clip_from_world: Mat4,
+    /// Side of its map.
+    pub resolution: u32,
+    /// The light's settings.
+    pub settings: &'a ShadowSettings,
+    /// Its cull volume.
+    pub cull: &'a CullVolume,
+}
+
+/// Whether a change in `region` can alter what `volume` renders. Conservative: a cascade is
+/// touched by a region whose light-space footprint overlaps the box's (anything between the
+/// light and the box casts into it), a spot light by a region touching its frustum.
+pub fn touches(volume: &CullVolume, region: &Aabb) -> bool {
+    if region.is_empty() {
+        return false;
+    }
+    match volume {
+        CullVolume::LightBox {
+            light_rotation,
+            min,
+            max,
+        } => {
+            let light = region
+                .corners()
+                .iter()
+                .fold(Aabb::EMPTY, |b, &c| b.with_point(*light_rotation * c));
+            let overlap = |a0: f32, a1: f32, b0: f32, b1: f32| a0 <= b1 && b0 <= a1;
+            overlap(light.min.x, light.max.x, min.x, max.x) && overlap(light.min.y, light.max.y, min.y, max.y)
+        }
+        CullVolume::Frustum(frustum) => frustum.intersects_aabb(region),
+    }
+}
+
+impl ViewCache {
+    /// Matches this frame's views to last frame's by light and kind, decides which must be
+    /// culled (new, moved, resized, re-set, or the instance list was rebuilt) and which get a
+    /// new content version (all of those except views a rebuild did not touch), and returns
+    /// each view's version in order.
+    pub fn plan<'a>(
+        &mut self,
+        views: impl Iterator<Item = ViewInput<'a>>,
+        generation: u64,
+        changes: &CasterChanges,
+        versions: &mut Vec<u64>,
+    ) {
+        // NOTE: moved, not swapped, so both vectors keep the capacity they grew to.
+        self.spare.append(&mut self.entries);
+        versions.clear();
+        let mut reordered = false;
+        for view in views {
+            let found = self
+                .spare
+                .iter()
+                .position(|e| e.entity == view.entity && e.kind == view.kind);
+            reordered |= found != Some(0);
+            let mut entry = match found {
+                Some(k) => self.spare.remove(k),
+                None => CachedView {
+                    entity: view.entity,
+                    kind: view.kind,
+                    clip_from_world: Mat4::NAN,
+                    resolution: 0,
+                    settings: *view.settings,
+                    generation: u64::MAX,
+                    version: 0,
+                    list: Vec::new(),
+                    group: DrawGroup::default(),
+                    cull: true,
+                },
+            };
+            let same = entry.clip_from_world == view.clip_from_world
+                && entry.resolution == view.resolution
+                && entry.settings == *view.settings;
+            let rebuilt = entry.generation != generation;
+            // NOTE: the changes describe only the rebuild to `generation`; a view last culled
+            // before an earlier rebuild cannot tell what happened in between.
+            let known = changes.generation == generation && entry.generation.wrapping_add(1) == generation;
+            let touched =
+                rebuilt && (!known || changes.everything || changes.regions.iter().any(|r| touches(view.cull, r)));
+            entry.cull = !same || rebuilt;
+            if !same || touched {
+                self.next_version += 1;
+                entry.version = self.next_version;
+            }
+            entry.clip_from_world = view.clip_from_world;
+            entry.resolution = view.resolution;
+            entry.settings = *view.settings;
+            entry.generation = generation;
+            versions.push(entry.version);
+            self.entries.push(entry);
+        }
+        reordered |= !self.spare.is_empty();
+        self.spare.clear();
+        // NOTE: grown now, so the next frame's move allocates nothing.
+        self.spare.reserve(self.entries.len());
+        self.reordered = reordered;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Mat3, Vec3};
+
+    fn unit_box() -> Aabb {
+        Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        }
+    }
+
+    fn cascade_box(x0: f32, x1: f32) -> CullVolume {
+        CullVolume::LightBox {
+            light_rotation: Mat3::IDENTITY,
+            min: Vec3::new(x0, 0.0, -10.0),
+            max: Vec3::new(x1, 10.0, 10.0),
+        }
+    }
+
+    #[test]
+    fn a_cascade_is_touched_by_regions_over_its_footprint_only() {
+        let b = unit_box();
+        assert!(touches(&cascade_box(0.5, 4.0), &b));
+        assert!(!touches(&cascade_box(2.0, 4.0), &b));
+        // Depth along the light does not matter: a caster far towards the light still casts.
+        let far = Aabb {
+            min: Vec3::new(1.0, 1.0, 50.0),
+            max: Vec3::new(2.0, 2.0, 51.0),
+        };
+        assert!(touches(&cascade_box(0.5, 4.0), &far));
+        assert!(!touches(&cascade_box(0.5, 4.0), &Aabb::EMPTY));
+    }
+
+    fn input<'a>(e: u32, m: Mat4, settings: &'a ShadowSettings, cull: &'a CullVolume) -> ViewInput<'a> {
+        ViewInput {
+            entity: Entity::from_raw_u32(e).unwrap(),
+            kind: ShadowViewKind::Cascade(0),
+            clip_from_world: m,
+            resolution: 1024,
+            settings,
+            cull,
+        }
+    }
+
+    #[test]
+    fn versions_change_only_with_what_changes_a_map() {
+        let settings = ShadowSettings::default();
+        let (near, far) = (cascade_box(0.0, 4.0), cascade_box(100.0, 104.0));
+        let mut cache = ViewCache::default();
+        let mut changes = CasterChanges::default();
+        let mut v = Vec::new();
+        let m = Mat4::IDENTITY;
+        let frame = |cache: &mut ViewCache, changes: &CasterChanges, g, m2: Mat4, v: &mut Vec<u64>| {
+            cache.plan(
+                [input(1, m, &settings, &near), input(2, m2, &settings, &far)].into_iter(),
+                g,
+                changes,
+                v,
+            );
+        };
+        changes.generation = 1;
+        changes.everything = true;
+        frame(&mut cache, &changes, 1, m, &mut v);
+        let first = v.clone();
+        assert!(cache.entries.iter().all(|e| e.cull));
+        // Still frame: same versions, nothing culled.
+        frame(&mut cache, &changes, 1, m, &mut v);
+        assert_eq!(v, first);
+        assert!(cache.entries.iter().all(|e| !e.cull) && !cache.reordered);
+        // A caster moves inside the first view: both are culled again (indices changed), only
+        // the first gets a new version.
+        changes.generation = 2;
+        changes.everything = false;
+        changes.regions = vec![unit_box()];
+        frame(&mut cache, &changes, 2, m, &mut v);
+        assert!(cache.entries.iter().all(|e| e.cull));
+        assert_ne!(v[0], first[0]);
+        assert_eq!(v[1], first[1]);
+        // The second view's matrix changes: only it gets a new version.
+        let before = v.clone();
+        frame(&mut cache, &changes, 2, Mat4::from_translation(Vec3::X), &mut v);
+        assert_eq!(v[0], before[0]);
+        assert_ne!(v[1], before[1]);
+        // Its settings change.
+        let before = v.clone();
+        let other = ShadowSettings {
+            slope_bias: 3.0,
+            ..settings
+        };
+        cache.plan(
+            [
+                input(1, m, &other, &near),
+                input(2, Mat4::from_translation(Vec3::X), &settings, &far),
+            ]
+            .into_iter(),
+            2,
+            &changes,
+            &mut v,
+        );
+        assert_ne!(v[0], before[0]);
+        assert_eq!(v[1], before[1]);
+    }
+}
