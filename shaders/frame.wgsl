@@ -5,6 +5,9 @@
 struct FrameUniforms {
     clip_from_world: mat4x4<f32>,
     view_from_world: mat4x4<f32>,
+    // World space from camera clip space (the inverse of clip_from_world), for passes that
+    // reconstruct positions from depth.
+    world_from_clip: mat4x4<f32>,
     camera_position: vec3<f32>,
     exposure: f32,
     ambient: vec3<f32>,

@@ -20,12 +20,12 @@
 #define_import_path penumbra::lights
 
 #import penumbra::frame::frame
-#import penumbra::shadows::bindings::lights
+#import penumbra::shadows::bindings::{lights, resolved_visibility}
 #import penumbra::shadows::cascades::directional_visibility
 #ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_visibility
 #endif
-#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_SPOT}
+#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_SPOT, RESOLVE_NONE}
 
 // Light arriving at a surface point from one light.
 struct Incidence {
@@ -77,8 +77,19 @@ fn light_incidence(light: Light, position: vec3<f32>) -> Incidence {
 }
 
 // The fraction of `light` visible from `surface` (1 lit, 0 shadowed), with whatever shadow
-// technique the light uses; 1 for a light without a shadow.
+// technique the light uses; 1 for a light without a shadow. When the frame resolved the
+// light's visibility before the lighting pass, this reads it at the surface's pixel.
 fn shadow_visibility(light: Light, surface: Surface) -> f32 {
+    if light.resolve_layer != RESOLVE_NONE {
+        let pixel = vec2<i32>(surface.frag_coord);
+        return textureLoad(resolved_visibility, pixel, i32(light.resolve_layer), 0).r;
+    }
+    return filtered_visibility(light, surface);
+}
+
+// The light's shadow filtered at `surface` itself (what the compute resolve writes, and what
+// the lighting pass computes when nothing was resolved).
+fn filtered_visibility(light: Light, surface: Surface) -> f32 {
     if light.kind == LIGHT_DIRECTIONAL {
         return directional_visibility(light, surface);
     }

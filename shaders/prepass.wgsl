@@ -2,8 +2,11 @@
 // the lighting pass so that it shades each covered pixel once. The vertex stage is the one
 // every forward material shares (`penumbra::forward_io`, whose clip position is @invariant),
 // so the lighting pass finds exactly the depth written here. The opaque pipeline has no
-// fragment stage; the masked one discards texels below the material's alpha cutoff.
+// fragment stage; the masked one discards texels below the material's alpha cutoff. When the
+// frame resolves shadows in a compute pass, the `*_normal` stages also write each pixel's
+// normal (facing the camera) and whether it receives shadows, for the resolve.
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -18,12 +21,40 @@ fn vs_main(
     return forward_vertex(instance_index, position, normal, uv);
 }
 
-@fragment
-fn fs_masked(in: ForwardVertexOutput) {
+// Whether the material's alpha test discards this fragment.
+fn alpha_discarded(in: ForwardVertexOutput) -> bool {
     // NOTE: the same sample as the forward shader's alpha test (implicit level of detail), so
     // both passes discard the same texels.
     let alpha = textureSample(base_color_texture, base_color_sampler, in.uv).a * in.base_color.a;
-    if alpha < in.cutoff {
+    return alpha < in.cutoff;
+}
+
+// xyz: the unit normal facing the camera, as the forward shader computes it; w: 1 where the
+// instance receives shadows.
+fn surface_normal(in: ForwardVertexOutput, front_facing: bool) -> vec4<f32> {
+    var normal = normalize(in.world_normal);
+    if !front_facing {
+        normal = -normal;
+    }
+    return vec4<f32>(normal, select(0.0, 1.0, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u));
+}
+
+@fragment
+fn fs_masked(in: ForwardVertexOutput) {
+    if alpha_discarded(in) {
         discard;
     }
+}
+
+@fragment
+fn fs_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    return surface_normal(in, front_facing);
+}
+
+@fragment
+fn fs_masked_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    if alpha_discarded(in) {
+        discard;
+    }
+    return surface_normal(in, front_facing);
 }

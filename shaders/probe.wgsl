@@ -2,7 +2,7 @@
 // same points can be compared across frames while the camera moves (temporal stability). The
 // light is the frame's focus light.
 #import penumbra::frame::frame
-#import penumbra::lights::{get_light, light_count, make_surface, shadow_visibility}
+#import penumbra::lights::{filtered_visibility, get_light, light_count, make_surface}
 
 struct Probe {
     // xyz: world position, w: pixel x the point was seen at (seeds the per-pixel noise).
@@ -28,5 +28,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let view_depth = -(frame.view_from_world * vec4<f32>(p.position.xyz, 1.0)).z;
     let pixel = vec2<f32>(p.position.w, p.normal.w) + 0.5;
     let surface = make_surface(p.position.xyz, p.normal.xyz, view_depth, pixel);
-    results[i] = shadow_visibility(get_light(frame.focus_light), surface);
+    results[i] = filtered_visibility(get_light(frame.focus_light), surface);
 }

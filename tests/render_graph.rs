@@ -45,7 +45,8 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     }
     let r = renderer(&app);
     assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward"]);
-    assert!(r.graph_culled().is_empty());
+    // The compute resolve is off by default.
+    assert_eq!(r.graph_culled(), ["shadow resolve"]);
     // Three frames of one size: the camera depth was created once and reused.
     assert_eq!(r.counters().transient_resources, 1, "{:?}", r.counters());
 
@@ -61,7 +62,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         ["depth prepass", "forward"],
         "no shadow view, yet the shadow node ran"
     );
-    assert_eq!(r.graph_culled(), ["shadow"]);
+    assert_eq!(r.graph_culled(), ["shadow", "shadow resolve"]);
     assert_eq!(r.counters().transient_resources, 1);
 }
 
@@ -151,7 +152,7 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     app.update();
     let r = renderer(&app);
     assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward", "paint"]);
-    assert_eq!(r.graph_culled(), ["unread"]);
+    assert_eq!(r.graph_culled(), ["shadow resolve", "unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
     // The culled node's transient was never allocated: only the camera depth was.
@@ -208,8 +209,81 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     let mut small = app_sized(64, 40);
     small.update();
     assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
-    assert_eq!(renderer(&small).graph_culled(), ["depth prepass"]);
+    assert_eq!(renderer(&small).graph_culled(), ["depth prepass", "shadow resolve"]);
     let mut large = app();
     large.update();
     assert_eq!(renderer(&large).graph_order(), ["shadow", "depth prepass", "forward"]);
+}
+
+/// Renders `scene` at 160×90 with or without the compute resolve (prepass on); returns the
+/// image, the analysis shadow factors and the graph's order.
+fn render_resolved(scene: &str, resolve: bool) -> (image::RgbaImage, Vec<f32>, Vec<&'static str>) {
+    let gpu = Renderer::headless_with_analysis(160, 90)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = headless_app(gpu);
+    let desc = SceneDesc::load(scene).expect("scene loads");
+    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
+    *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
+        depth_prepass: DepthPrepass::On,
+        visibility_resolve: resolve,
+        ..RenderOptions::default()
+    };
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        s.temporal_rotation = false;
+    }
+    app.update();
+    let errors = app.world_mut().resource_mut::<Renderer>().take_errors();
+    assert!(errors.is_empty(), "{scene}: {errors:?}");
+    let r = renderer(&app);
+    let analysis = r.read_analysis().expect("analysis targets");
+    (r.read_image(), analysis.shadow, r.graph_order())
+}
+
+#[test]
+fn the_compute_resolve_matches_the_lighting_pass_filters() {
+    // Suns with PCSS and PCF, alpha-masked ferns, and spot lights.
+    for scene in [
+        "assets/scenes/default.ron",
+        "assets/scenes/garden.ron",
+        "assets/scenes/lights.ron",
+    ] {
+        let (resolved, resolved_shadow, order) = render_resolved(scene, true);
+        assert_eq!(
+            order,
+            ["shadow", "depth prepass", "shadow resolve", "forward"],
+            "{scene}"
+        );
+        let (direct, direct_shadow, order) = render_resolved(scene, false);
+        assert_eq!(order, ["shadow", "depth prepass", "forward"], "{scene}");
+        // The shadow factor of the focus light, pixel by pixel.
+        let judged = direct_shadow.iter().filter(|s| **s < 1.0).count();
+        assert!(judged > 300, "{scene}: only {judged} shadowed pixels");
+        let diffs: Vec<f32> = resolved_shadow
+            .iter()
+            .zip(&direct_shadow)
+            .map(|(a, b)| (a - b).abs())
+            .collect();
+        let mean = diffs.iter().sum::<f32>() / diffs.len() as f32;
+        let off = diffs.iter().filter(|d| **d > 0.1).count();
+        let colour_off = resolved
+            .pixels()
+            .zip(direct.pixels())
+            .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 8))
+            .count();
+        // NOTE: the resolve rebuilds the position from depth, the lighting pass interpolates
+        // it: a tap may land on the other side of a texel edge. Lavapipe gives identical
+        // values; the tolerance is for GPUs whose rounding differs.
+        let pixels = diffs.len();
+        assert!(mean <= 0.002, "{scene}: mean shadow difference {mean}");
+        assert!(
+            off * 200 <= pixels,
+            "{scene}: {off} of {pixels} shadow values differ by > 0.1"
+        );
+        assert!(
+            colour_off * 200 <= pixels,
+            "{scene}: {colour_off} of {pixels} colours differ by > 8/255"
+        );
+    }
 }

@@ -29,11 +29,29 @@ fn caster_shader_validates_with_both_entry_points() {
 }
 
 #[test]
+fn the_resolve_shader_validates_for_every_filter_variant() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let mut composed = 0;
+    for variant in ForwardVariant::all() {
+        if variant.analysis || variant.alpha_mask || variant.debug_cascades {
+            continue;
+        }
+        let module = library
+            .resolve(variant)
+            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["main"], "{}", variant.label());
+        composed += 1;
+    }
+    assert!(composed >= 8, "only {composed} filter variants");
+}
+
+#[test]
 fn prepass_shader_validates_with_both_entry_points() {
     let mut library = ShaderLibrary::new().unwrap();
     let module = library.prepass().unwrap_or_else(|e| panic!("{e}"));
     let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entry_points, ["vs_main", "fs_masked"]);
+    assert_eq!(entry_points, ["vs_main", "fs_masked", "fs_normal", "fs_masked_normal"]);
 }
 
 #[test]

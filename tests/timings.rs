@@ -24,6 +24,7 @@ fn every_frame_is_timed_or_counted_and_numbered() {
     app.insert_resource(RenderOptions {
         depth_prepass: DepthPrepass::On,
         shadow_cache: false,
+        ..RenderOptions::default()
     });
     spawn_scene(app.world_mut(), &default_scene()).expect("default scene spawns");
     const FRAMES: u64 = 8;

@@ -17,3 +17,6 @@
 // Nearest-neighbour sampler for raw depth reads (PCSS blocker search).
 @group(3) @binding(5) var shadow_point: sampler;
 @group(3) @binding(6) var<uniform> poisson_taps: PoissonTaps;
+// Each resolved light's visibility per pixel (layer `Light::resolve_layer`), written by the
+// compute resolve before the lighting pass; a 1×1 stand-in when nothing is resolved.
+@group(3) @binding(7) var resolved_visibility: texture_2d_array<f32>;

@@ -16,6 +16,8 @@ const SHADOW_FILTER_PCSS: u32 = 1u;
 // Capacity of the light and shadow-view lists (uniform arrays: the constant cache makes the
 // per-pixel reads cheap). The renderer reports an error for anything past them.
 const MAX_LIGHTS: u32 = 256u;
+// `Light::resolve_layer` of a light without a resolved visibility layer.
+const RESOLVE_NONE: u32 = 0xffffffffu;
 const MAX_SHADOW_VIEWS: u32 = 256u;
 
 // Flag bits of `Light::flags`.
@@ -52,7 +54,10 @@ struct Light {
     flags: u32,
     // PCF kernel radius, texels.
     pcf_radius: u32,
-    padding_a: u32,
+    // Layer of penumbra::shadows::bindings::resolved_visibility holding this light's
+    // visibility per pixel, computed before the lighting pass; RESOLVE_NONE when the
+    // lighting pass filters the shadow itself.
+    resolve_layer: u32,
     padding_b: u32,
     padding_c: u32,
 }

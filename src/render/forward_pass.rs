@@ -182,6 +182,9 @@ impl RenderNode for ForwardPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
+        if let Some(visibility) = frame.visibility {
+            pass.read(visibility);
+        }
         self.depth_prepass = frame.depth.is_some();
         let depth = match frame.depth {
             Some(depth) => pass.read(depth),
@@ -302,7 +305,14 @@ impl RenderNode for ForwardPass {
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.set_bind_group(0, &ctx.scene.view_group, &[]);
         pass.set_bind_group(1, &ctx.scene.view_instances_group, &[]);
-        pass.set_bind_group(3, &ctx.shadows.group, &[]);
+        // NOTE: a frame that resolved its shadows reads them through the group that binds the
+        // resolved visibility (the lights' resolve layers point into it).
+        let resolved = self.handles.is_some_and(|h| h.visibility.is_some());
+        let shadow_group = match (&ctx.shadows.resolved_group, resolved) {
+            (Some(group), true) => group,
+            _ => &ctx.shadows.group,
+        };
+        pass.set_bind_group(3, shadow_group, &[]);
         let group = &ctx.view_groups.group;
         let mut calls = draw_sided(&mut pass, ctx, &group.opaque, [&pipelines[0], &pipelines[1]]);
         calls += draw_sided(&mut pass, ctx, &group.masked, [&pipelines[2], &pipelines[3]]);

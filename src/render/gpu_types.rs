@@ -72,6 +72,8 @@ pub struct FrameUniformsGpu {
     pub clip_from_world: Mat4,
     /// Camera view space from world space.
     pub view_from_world: Mat4,
+    /// World space from camera clip space.
+    pub world_from_clip: Mat4,
     /// Camera position in world space.
     pub camera_position: Vec3,
     /// Linear exposure multiplier.

@@ -13,7 +13,7 @@ pub struct Layouts {
     /// Forward group 0: the frame uniforms.
     pub view: wgpu::BindGroupLayout,
     /// Group 3: lights and shadow views (uniform arrays), the cascade and spot depth arrays, the
-    /// comparison and point samplers, the Poisson taps.
+    /// comparison and point samplers, the Poisson taps, the resolved visibility.
     pub shadows: wgpu::BindGroupLayout,
     /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
     pub caster_view: wgpu::BindGroupLayout,
@@ -91,6 +91,15 @@ impl Layouts {
                     wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
                 ),
                 entry(6, fc, uniform::<PoissonTapsGpu>(false)),
+                entry(
+                    7,
+                    fc,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
             ],
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -17,6 +17,7 @@ pub mod prepass;
 pub mod probe;
 pub mod readback;
 pub mod renderer;
+pub mod resolve;
 pub mod scene_gpu;
 pub mod shadows;
 pub mod target;

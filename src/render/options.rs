@@ -29,6 +29,10 @@ pub struct RenderOptions {
     /// (default on). Off, every view is drawn every frame, as when everything moves: what
     /// the benchmark times.
     pub shadow_cache: bool,
+    /// Evaluate every shadowed light's filter per pixel in a compute pass after the depth
+    /// prepass, and let the lighting pass read the result (`penumbra::lights::
+    /// shadow_visibility` does it for any material). Only when the prepass runs.
+    pub visibility_resolve: bool,
 }
 
 impl Default for RenderOptions {
@@ -36,6 +40,7 @@ impl Default for RenderOptions {
         Self {
             depth_prepass: DepthPrepass::Auto,
             shadow_cache: true,
+            visibility_resolve: false,
         }
     }
 }

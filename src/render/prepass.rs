@@ -27,17 +27,30 @@ pub fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
         height,
         layers: 1,
         format: DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        // NOTE: sampled by later passes (the compute resolve), not only drawn into.
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
     }
 }
 
-/// The prepass node; its four pipelines (opaque or masked, single- or double-sided) are built
-/// on first use.
+/// Format of the normals the prepass writes for the compute resolve.
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The prepass node; its eight pipelines (opaque or masked, single- or double-sided, with or
+/// without normals) are built on first use.
 #[derive(Default)]
 pub struct DepthPrepass {
-    /// Indexed by `masked as usize * 2 + double_sided as usize`.
-    pipelines: [Option<wgpu::RenderPipeline>; 4],
+    /// Indexed by `normals as usize * 4 + masked as usize * 2 + double_sided as usize`.
+    pipelines: [Option<wgpu::RenderPipeline>; 8],
     depth: Option<TextureId>,
+    normals: Option<TextureId>,
+}
+
+/// What selects a prepass pipeline.
+#[derive(Clone, Copy)]
+struct Key {
+    masked: bool,
+    double_sided: bool,
+    normals: bool,
 }
 
 impl DepthPrepass {
@@ -46,11 +59,10 @@ impl DepthPrepass {
         device: &wgpu::Device,
         layouts: &Layouts,
         library: &mut ShaderLibrary,
-        masked: bool,
-        double_sided: bool,
+        key: Key,
     ) -> &wgpu::RenderPipeline {
-        self.pipelines[masked as usize * 2 + double_sided as usize]
-            .get_or_insert_with(|| create_pipeline(device, layouts, library, masked, double_sided))
+        let index = key.normals as usize * 4 + key.masked as usize * 2 + key.double_sided as usize;
+        self.pipelines[index].get_or_insert_with(|| create_pipeline(device, layouts, library, key))
     }
 }
 
@@ -58,9 +70,13 @@ fn create_pipeline(
     device: &wgpu::Device,
     layouts: &Layouts,
     library: &mut ShaderLibrary,
-    masked: bool,
-    double_sided: bool,
+    key: Key,
 ) -> wgpu::RenderPipeline {
+    let Key {
+        masked,
+        double_sided,
+        normals,
+    } = key;
     let module = library
         .prepass()
         .expect("the shipped prepass shader composes (checked by tests)");
@@ -75,6 +91,7 @@ fn create_pipeline(
         immediate_size: 0,
     });
     let buffers = [Some(vertex_layout())];
+    let targets = [Some(wgpu::ColorTargetState::from(NORMAL_FORMAT))];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(PREPASS_NAME),
         layout: Some(&layout),
@@ -96,19 +113,29 @@ fn create_pipeline(
             bias: wgpu::DepthBiasState::default(),
         }),
         multisample: wgpu::MultisampleState::default(),
-        fragment: masked.then(|| wgpu::FragmentState {
+        fragment: (masked || normals).then(|| wgpu::FragmentState {
             module: &shader,
-            entry_point: Some("fs_masked"),
+            entry_point: Some(match (masked, normals) {
+                (true, false) => "fs_masked",
+                (false, _) => "fs_normal",
+                (true, true) => "fs_masked_normal",
+            }),
             compilation_options: Default::default(),
-            targets: &[],
+            targets: if normals { &targets } else { &[] },
         }),
         multiview_mask: None,
         cache: None,
     })
 }
 
+/// Whether the prepass runs this frame on a target of `size` pixels.
+pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bool {
+    let pixels = u64::from(width) * u64::from(height);
+    inputs.options.depth_prepass.runs(|| visible_triangles(inputs), pixels)
+}
+
 /// Triangles the camera's view draws this frame (every instance of every batch).
-fn visible_triangles(inputs: &FrameInputs<'_>) -> u64 {
+pub fn visible_triangles(inputs: &FrameInputs<'_>) -> u64 {
     let group = &inputs.view_groups.group;
     group
         .opaque
@@ -126,23 +153,47 @@ impl RenderNode for DepthPrepass {
         PREPASS_NAME
     }
 
-    /// Creates the camera depth and writes it (nothing when off).
+    /// Creates the camera depth and writes it (nothing when off); when the frame resolves
+    /// visibility, also the normals the resolve reads.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.depth = None;
-        let pixels = u64::from(frame.size.0) * u64::from(frame.size.1);
-        let runs = inputs.options.depth_prepass.runs(|| visible_triangles(inputs), pixels);
-        if runs && frame.depth.is_none() {
+        self.normals = None;
+        if prepass_runs(inputs, frame.size) && frame.depth.is_none() {
             let depth = pass.create_texture(camera_depth(frame.size));
             frame.depth = Some(depth);
             self.depth = Some(depth);
+            if frame.visibility.is_some() {
+                let (width, height) = frame.size;
+                let normals = pass.create_texture(TextureDesc {
+                    label: "camera normals",
+                    width,
+                    height,
+                    layers: 1,
+                    format: NORMAL_FORMAT,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                });
+                frame.normals = Some(normals);
+                self.normals = Some(normals);
+            }
         }
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         let Some(depth) = self.depth else { return };
+        let normals = self.normals.map(|n| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: resources.view(n),
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(PREPASS_NAME),
-            color_attachments: &[],
+            color_attachments: normals.as_slice(),
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: resources.view(depth),
                 depth_ops: Some(wgpu::Operations {
@@ -171,7 +222,12 @@ impl RenderNode for DepthPrepass {
                     continue;
                 }
                 let device = &ctx.gpu.device;
-                pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, masked, double_sided));
+                let key = Key {
+                    masked,
+                    double_sided,
+                    normals: self.normals.is_some(),
+                };
+                pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
                 ctx.draw_calls += draw_batches(&mut pass, ctx.scene, part, masked);
             }
         }

@@ -12,8 +12,9 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
-use crate::render::prepass::DepthPrepass;
+use crate::render::prepass::{DepthPrepass, prepass_runs};
 use crate::render::probe::{ProbeGpu, ProbePass};
+use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::depth_pass::DepthPass;
@@ -121,6 +122,7 @@ impl Renderer {
         let mut graph = RenderGraph::default();
         graph.add_node(Box::new(DepthPass::default()));
         graph.add_node(Box::new(DepthPrepass::default()));
+        graph.add_node(Box::new(VisibilityResolve::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
         let probes = ProbePass::new(&gpu.device);
@@ -271,6 +273,7 @@ impl Renderer {
             Some((camera, cam)) => FrameUniformsGpu {
                 clip_from_world: camera.clip_from_world(),
                 view_from_world: camera.view_from_world(),
+                world_from_clip: camera.clip_from_world().inverse(),
                 camera_position: camera.position(),
                 exposure: cam.exposure,
                 ambient: input.ambient.color,
@@ -282,6 +285,10 @@ impl Renderer {
             None => FrameUniformsGpu::default(),
         };
         let mut problems = UploadProblems::default();
+        let size = (target.width, target.height);
+        // NOTE: decided before the upload: the lights' resolve layers, the prepass's normals,
+        // the resolve node and the forward pass's shadow group must agree.
+        let resolve = (input.options.visibility_resolve && prepass_runs(input, size)).then_some(size);
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
@@ -291,6 +298,7 @@ impl Renderer {
                     &self.layouts,
                     input.lights,
                     input.shadow_views,
+                    resolve,
                     &mut self.counters,
                     &mut problems,
                 )
@@ -313,9 +321,10 @@ impl Renderer {
             log::error!("{error}");
         }
         self.problems.append(problems);
-        // NOTE: one timed pass per shadow view, plus the prepass and the forward pass.
+        // NOTE: one timed pass per shadow view, plus the prepass, the resolve and the forward
+        // pass.
         self.timer
-            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 2);
+            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 3);
         let mut encoder = self
             .gpu
             .device
@@ -380,6 +389,12 @@ impl Renderer {
             cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
             spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
             depth: None,
+            normals: None,
+            visibility: self
+                .shadows
+                .resolved
+                .as_ref()
+                .map(|v| graph.import_texture("resolved visibility", &v.view)),
         };
         graph.build(&self.gpu.device, &mut frame, input)
     }

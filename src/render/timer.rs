@@ -180,10 +180,10 @@ impl GpuTimer {
         self.current = Some(index);
     }
 
-    /// Timestamp writes for a pass named `name`, or `None` when this frame is not timed. A
-    /// pass beyond the number reserved by [`begin_frame`](Self::begin_frame) is not timed,
-    /// and says so in the log (once).
-    pub fn pass(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    /// Reserves the timestamp pair of a pass named `name`: the query set and the pair's
+    /// index, or `None` when this frame is not timed. A pass beyond the number reserved by
+    /// [`begin_frame`](Self::begin_frame) is not timed, and says so in the log (once).
+    fn reserve(&mut self, name: &str) -> Option<(&wgpu::QuerySet, u32)> {
         let slot = &mut self.slots[self.current?];
         let index = slot.used as u32;
         if index >= slot.capacity {
@@ -202,8 +202,24 @@ impl GpuTimer {
         slot.names[slot.used].clear();
         slot.names[slot.used].push_str(name);
         slot.used += 1;
+        Some((&slot.query_set, index))
+    }
+
+    /// Timestamp writes for a render pass named `name` (see [`reserve`](Self::reserve)).
+    pub fn pass(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let (query_set, index) = self.reserve(name)?;
         Some(wgpu::RenderPassTimestampWrites {
-            query_set: &slot.query_set,
+            query_set,
+            beginning_of_pass_write_index: Some(index * 2),
+            end_of_pass_write_index: Some(index * 2 + 1),
+        })
+    }
+
+    /// Timestamp writes for a compute pass named `name`.
+    pub fn compute_pass(&mut self, name: &str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let (query_set, index) = self.reserve(name)?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set,
             beginning_of_pass_write_index: Some(index * 2),
             end_of_pass_write_index: Some(index * 2 + 1),
         })

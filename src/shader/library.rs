@@ -96,6 +96,10 @@ const PREPASS: ModuleSource = ModuleSource {
     file: "prepass.wgsl",
     source: include_str!("../../shaders/prepass.wgsl"),
 };
+const RESOLVE: ModuleSource = ModuleSource {
+    file: "resolve.wgsl",
+    source: include_str!("../../shaders/resolve.wgsl"),
+};
 
 /// Holds the composer with every shared module registered.
 pub struct ShaderLibrary {
@@ -226,6 +230,11 @@ impl ShaderLibrary {
     /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
     pub fn prepass(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(PREPASS.file, PREPASS.source, HashMap::new())
+    }
+
+    /// The compute visibility resolve (`main`), with the filters of `variant`.
+    pub fn resolve(&mut self, variant: ForwardVariant) -> Result<naga::Module, ShaderError> {
+        self.compose(RESOLVE.file, RESOLVE.source, variant.shader_defs())
     }
 
     /// The shadow-probe compute shader (`main`), with the filter of `variant`.

@@ -66,6 +66,11 @@ pub struct FrameResources {
     pub spot_maps: TextureId,
     /// The camera's depth buffer: a transient created by the first node that needs it.
     pub depth: Option<TextureId>,
+    /// The camera's normals (and receiver flags), written by the prepass when the frame
+    /// resolves visibility.
+    pub normals: Option<TextureId>,
+    /// The resolved visibility (imported), when the frame resolves it.
+    pub visibility: Option<TextureId>,
 }
 
 /// The nodes, the pool of transients, and the last frame's schedule.

@@ -61,8 +61,10 @@ pub struct LightGpu {
     pub flags: u32,
     /// PCF radius, texels.
     pub pcf_radius: u32,
+    /// Layer of the resolved visibility ([`RESOLVE_NONE`]: filtered in the lighting pass).
+    pub resolve_layer: u32,
     /// Padding to the WGSL size.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 /// Mirror of WGSL `ShadowView`.
@@ -179,6 +181,25 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
         }
         light.view_count += 1;
     }
+}
+
+/// `LightGpu::resolve_layer` of a light whose shadow the lighting pass filters itself.
+pub const RESOLVE_NONE: u32 = u32::MAX;
+
+/// Gives each shadowed light (one with shadow views) its own layer of the resolved
+/// visibility, in order, when `resolve`; the others get [`RESOLVE_NONE`]. Returns the number
+/// of layers.
+pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: bool) -> u32 {
+    let mut layers = 0;
+    for light in lights {
+        light.resolve_layer = if resolve && light.view_count > 0 {
+            layers += 1;
+            layers - 1
+        } else {
+            RESOLVE_NONE
+        };
+    }
+    layers
 }
 
 /// The GPU description of `view`, drawn at `view.resolution` texels in the top-left corner of

@@ -9,6 +9,7 @@ pub mod casters;
 pub mod depth_pass;
 pub mod gpu;
 pub mod storage;
+pub mod visibility;
 
 use wgpu::util::DeviceExt;
 
@@ -21,9 +22,10 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
-    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, ShadowViewGpu, pack_lights, pack_view,
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, ShadowViewGpu, assign_resolve_layers, pack_lights, pack_view,
 };
 use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::visibility::VisibilityTarget;
 
 /// Everything the shadow passes and the materials share.
 pub struct ShadowResources {
@@ -35,8 +37,15 @@ pub struct ShadowResources {
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
     poisson_taps: wgpu::Buffer,
-    /// Group 3 of forward materials and the probe pass.
+    /// Group 3 of the probe pass, the compute resolve, and forward materials when nothing is
+    /// resolved (its resolved visibility is the 1×1 stand-in).
     pub group: wgpu::BindGroup,
+    /// Group 3 of forward materials when the frame resolves visibility (see
+    /// [`resolved`](Self::resolved)).
+    pub resolved_group: Option<wgpu::BindGroup>,
+    /// The resolved visibility, while the frame resolves it.
+    pub resolved: Option<VisibilityTarget>,
+    no_visibility: VisibilityTarget,
     /// Group 0 of the caster pipelines; bind view `i` at offset `i * 256`.
     pub caster_group: wgpu::BindGroup,
     light_data: Vec<LightGpu>,
@@ -49,6 +58,7 @@ fn shadow_group(
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 3],
     maps: [&DepthArray; 2],
+    visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, views, taps] = buffers;
     let [cascades, spots] = maps;
@@ -83,6 +93,10 @@ fn shadow_group(
             wgpu::BindGroupEntry {
                 binding: 6,
                 resource: taps.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: wgpu::BindingResource::TextureView(&visibility.view),
             },
         ],
     })
@@ -129,9 +143,19 @@ impl ShadowResources {
         });
         let cascades = DepthArray::placeholder(device, "cascade shadow maps");
         let spots = DepthArray::placeholder(device, "spot shadow maps");
-        let group = shadow_group(device, layouts, [&lights, &views, &poisson_taps], [&cascades, &spots]);
+        let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
+        let group = shadow_group(
+            device,
+            layouts,
+            [&lights, &views, &poisson_taps],
+            [&cascades, &spots],
+            &no_visibility,
+        );
         let caster_group = caster_group(device, layouts, &caster_views.buffer);
         Self {
+            resolved_group: None,
+            resolved: None,
+            no_visibility,
             cascades,
             spots,
             lights,
@@ -154,22 +178,27 @@ impl ShadowResources {
         }
     }
 
-    /// Bytes of shadow-map memory.
+    /// Bytes of shadow-map memory (and of the resolved visibility).
     pub fn memory_bytes(&self) -> u64 {
-        self.cascades.memory_bytes() + self.spots.memory_bytes()
+        self.cascades.memory_bytes()
+            + self.spots.memory_bytes()
+            + self.resolved.as_ref().map_or(0, VisibilityTarget::memory_bytes)
     }
 
     /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
     /// the lights, views and caster matrices, and rebuilds the bind groups whose resources
     /// were replaced; returns true when the shadow group was rebuilt. Data too large for the
     /// device is refused before any upload. Lights past [`MAX_LIGHTS`] and views past
-    /// [`MAX_SHADOW_VIEWS`] are left out with an error in `problems`.
+    /// [`MAX_SHADOW_VIEWS`] are left out with an error in `problems`. With `resolve` (the
+    /// target's size), every shadowed light gets a layer of the resolved visibility.
+    #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         gpu: &GpuContext,
         layouts: &Layouts,
         lights: &FrameLights,
         views: &ShadowViews,
+        resolve: Option<(u32, u32)>,
         counters: &mut RenderCounters,
         problems: &mut UploadProblems,
     ) -> Result<bool, LimitError> {
@@ -208,6 +237,7 @@ impl ShadowResources {
         }
         self.light_data.truncate(MAX_LIGHTS);
         self.view_data.truncate(MAX_SHADOW_VIEWS);
+        let layers = assign_resolve_layers(&mut self.light_data, resolve.is_some());
         gpu.queue
             .write_buffer(&self.lights, 0, bytemuck::cast_slice(&self.light_data));
         gpu.queue
@@ -215,14 +245,30 @@ impl ShadowResources {
         if self.caster_views.write(gpu, bytemuck::cast_slice(&self.caster_data))? {
             self.caster_group = caster_group(device, layouts, &self.caster_views.buffer);
         }
+        let buffers = [&self.lights, &self.views, &self.poisson_taps];
         if rebuild {
-            self.group = shadow_group(
-                device,
-                layouts,
-                [&self.lights, &self.views, &self.poisson_taps],
-                [&self.cascades, &self.spots],
-            );
+            let maps = [&self.cascades, &self.spots];
+            self.group = shadow_group(device, layouts, buffers, maps, &self.no_visibility);
             counters.shadow_groups += 1;
+        }
+        match resolve {
+            Some((width, height)) => {
+                let extent = (width, height, layers.max(1));
+                if self.resolved.as_ref().map(|r| r.extent) != Some(extent) {
+                    self.resolved = Some(VisibilityTarget::new(device, extent));
+                    self.resolved_group = None;
+                }
+                if rebuild || self.resolved_group.is_none() {
+                    let maps = [&self.cascades, &self.spots];
+                    let target = self.resolved.as_ref().unwrap_or(&self.no_visibility);
+                    self.resolved_group = Some(shadow_group(device, layouts, buffers, maps, target));
+                    counters.shadow_groups += 1;
+                }
+            }
+            None => {
+                self.resolved = None;
+                self.resolved_group = None;
+            }
         }
         Ok(rebuild)
     }

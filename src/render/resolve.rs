@@ -1,0 +1,171 @@
+//! The compute visibility resolve: after the depth prepass, one compute pass evaluates every
+//! resolved light's shadow filter per pixel from the prepass's depth and normals and writes
+//! it into the resolved visibility ([`VisibilityTarget`](crate::render::shadows::visibility::VisibilityTarget));
+//! the lighting pass then reads one texel per light instead of filtering. It runs when the
+//! frame resolves ([`RenderOptions::visibility_resolve`](crate::render::RenderOptions) and the
+//! prepass runs); otherwise it declares nothing and is culled.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
+use crate::render::layouts::Layouts;
+use crate::render::shadows::visibility::VISIBILITY_FORMAT;
+use crate::shader::{ForwardVariant, ShaderLibrary};
+
+/// Name of the resolve in GPU timings and the graph.
+pub const RESOLVE_NAME: &str = "shadow resolve";
+
+/// What the resolve reads and writes this frame.
+#[derive(Clone, Copy)]
+struct Handles {
+    depth: TextureId,
+    normals: TextureId,
+}
+
+/// The resolve node: its bind group layout, and one pipeline per filter variant.
+#[derive(Default)]
+pub struct VisibilityResolve {
+    layout: Option<wgpu::BindGroupLayout>,
+    pipelines: HashMap<ForwardVariant, wgpu::ComputePipeline>,
+    handles: Option<Handles>,
+}
+
+fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("shadow resolve"),
+        entries: &[
+            entry(
+                0,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+            ),
+            entry(
+                1,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+            ),
+            entry(
+                2,
+                wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: VISIBILITY_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                },
+            ),
+        ],
+    })
+}
+
+fn create_pipeline(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    library: &mut ShaderLibrary,
+    layout: &wgpu::BindGroupLayout,
+    variant: ForwardVariant,
+) -> wgpu::ComputePipeline {
+    let module = library
+        .resolve(variant)
+        .expect("the shipped resolve shader composes (checked by tests)");
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(RESOLVE_NAME),
+        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(RESOLVE_NAME),
+        bind_group_layouts: &[Some(&layouts.view), Some(layout), None, Some(&layouts.shadows)],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(RESOLVE_NAME),
+        layout: Some(&pipeline_layout),
+        module: &shader,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+impl RenderNode for VisibilityResolve {
+    fn name(&self) -> &'static str {
+        RESOLVE_NAME
+    }
+
+    /// Reads the prepass's depth and normals and both shadow storages; writes the resolved
+    /// visibility. Nothing when the frame does not resolve.
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
+        self.handles = None;
+        let (Some(visibility), Some(depth), Some(normals)) = (frame.visibility, frame.depth, frame.normals) else {
+            return;
+        };
+        pass.read(depth);
+        pass.read(normals);
+        pass.read(frame.cascade_maps);
+        pass.read(frame.spot_maps);
+        pass.write(visibility);
+        self.handles = Some(Handles { depth, normals });
+    }
+
+    fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        let (Some(handles), Some(target)) = (self.handles, ctx.shadows.resolved.as_ref()) else {
+            return;
+        };
+        let device = &ctx.gpu.device;
+        let layout = self.layout.get_or_insert_with(|| create_layout(device));
+        let variant = ForwardVariant {
+            debug_cascades: false,
+            alpha_mask: false,
+            analysis: false,
+            ..ForwardVariant::for_lights(ctx.lights, false)
+        };
+        let pipeline = self
+            .pipelines
+            .entry(variant)
+            .or_insert_with(|| create_pipeline(device, ctx.layouts, ctx.library, layout, variant));
+        // NOTE: the depth and normals are transients of this frame, so the group is made per
+        // frame (three entries).
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(RESOLVE_NAME),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(resources.view(handles.depth)),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(resources.view(handles.normals)),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&target.storage_view),
+                },
+            ],
+        });
+        let (width, height, _) = target.extent;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(RESOLVE_NAME),
+            timestamp_writes: ctx.timer.compute_pass(RESOLVE_NAME),
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &ctx.scene.view_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        // NOTE: the plain shadow group: its resolved visibility is the stand-in, so the pass
+        // never samples the texture it writes.
+        pass.set_bind_group(3, &ctx.shadows.group, &[]);
+        pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+    }
+}

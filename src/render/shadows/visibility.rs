@@ -1,0 +1,56 @@
+//! The resolved visibility: one `R32Float` layer per shadowed light, at the target's size,
+//! written by the compute resolve ([`crate::render::resolve`]) and read by the lighting pass
+//! through `penumbra::lights::shadow_visibility`. Owned across frames; recreated when the
+//! target's size or the number of shadowed lights changes. A 1×1 stand-in is bound while
+//! nothing is resolved (and in the group the resolve itself binds, which cannot sample what
+//! it writes).
+
+/// Format of the resolved visibility (storage-writable in core WebGPU).
+pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The texture, its views, and what it was made for.
+pub struct VisibilityTarget {
+    /// All layers, for sampling in the lighting pass.
+    pub view: wgpu::TextureView,
+    /// All layers, for the resolve's storage writes.
+    pub storage_view: wgpu::TextureView,
+    /// Width, height, layers.
+    pub extent: (u32, u32, u32),
+}
+
+impl VisibilityTarget {
+    /// A `width`×`height` target of `layers` layers (each at least 1).
+    pub fn new(device: &wgpu::Device, (width, height, layers): (u32, u32, u32)) -> Self {
+        let extent = (width.max(1), height.max(1), layers.max(1));
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("resolved visibility"),
+            size: wgpu::Extent3d {
+                width: extent.0,
+                height: extent.1,
+                depth_or_array_layers: extent.2,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: VISIBILITY_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
+        });
+        let array = || wgpu::TextureViewDescriptor {
+            label: Some("resolved visibility"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        };
+        Self {
+            view: texture.create_view(&array()),
+            storage_view: texture.create_view(&array()),
+            extent,
+        }
+    }
+
+    /// Bytes of GPU memory.
+    pub fn memory_bytes(&self) -> u64 {
+        let (w, h, l) = self.extent;
+        u64::from(w) * u64::from(h) * u64::from(l) * 4
+    }
+}
