@@ -89,10 +89,10 @@ struct RenderArgs {
     /// whose view and casters did not change is kept).
     #[arg(long)]
     no_shadow_cache: bool,
-    /// Filter the shadows in a compute pass after the depth prepass, and let the lighting
-    /// pass read the result (needs the prepass).
+    /// Filter the shadows in the lighting pass itself instead of in a compute pass after the
+    /// depth prepass (by default they are resolved in compute whenever the prepass runs).
     #[arg(long)]
-    visibility_resolve: bool,
+    no_visibility_resolve: bool,
 }
 
 /// Options of `penumbra bench`.
@@ -212,7 +212,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         shadow_out,
         depth_prepass,
         no_shadow_cache,
-        visibility_resolve,
+        no_visibility_resolve,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -257,7 +257,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
                 Prepass::Off => DepthPrepass::Off,
             },
             shadow_cache: !no_shadow_cache,
-            visibility_resolve,
+            visibility_resolve: !no_visibility_resolve,
         },
     };
     let result = render_scene_with(&desc, &request)?;

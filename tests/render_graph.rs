@@ -44,11 +44,14 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         app.update();
     }
     let r = renderer(&app);
-    assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward"]);
-    // The compute resolve is off by default.
-    assert_eq!(r.graph_culled(), ["shadow resolve"]);
+    assert_eq!(
+        r.graph_order(),
+        ["shadow", "depth prepass", "shadow resolve", "forward"]
+    );
+    assert!(r.graph_culled().is_empty());
     // Three frames of one size: the camera depth was created once and reused.
-    assert_eq!(r.counters().transient_resources, 1, "{:?}", r.counters());
+    // The camera depth and normals (for the compute resolve), each created once.
+    assert_eq!(r.counters().transient_resources, 2, "{:?}", r.counters());
 
     let world = app.world_mut();
     let mut suns = world.query::<&mut DirectionalLight>();
@@ -63,7 +66,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         "no shadow view, yet the shadow node ran"
     );
     assert_eq!(r.graph_culled(), ["shadow", "shadow resolve"]);
-    assert_eq!(r.counters().transient_resources, 1);
+    assert_eq!(r.counters().transient_resources, 2);
 }
 
 /// Overwrites the colour target with one colour; counts its recordings.
@@ -151,12 +154,15 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     app.update();
     app.update();
     let r = renderer(&app);
-    assert_eq!(r.graph_order(), ["shadow", "depth prepass", "forward", "paint"]);
-    assert_eq!(r.graph_culled(), ["shadow resolve", "unread"]);
+    assert_eq!(
+        r.graph_order(),
+        ["shadow", "depth prepass", "shadow resolve", "forward", "paint"]
+    );
+    assert_eq!(r.graph_culled(), ["unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
-    // The culled node's transient was never allocated: only the camera depth was.
-    assert_eq!(r.counters().transient_resources, 1);
+    // The culled node's transient was never allocated: only the camera depth and normals were.
+    assert_eq!(r.counters().transient_resources, 2);
     let image = r.read_image();
     let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
     assert_eq!(magenta, 320 * 180, "the custom node did not paint the whole frame last");
@@ -170,7 +176,12 @@ fn render_with_prepass(scene: &str, prepass: DepthPrepass) -> (image::RgbaImage,
     let mut app = headless_app(gpu);
     let desc = SceneDesc::load(scene).expect("scene loads");
     spawn_scene(app.world_mut(), &desc).expect("scene spawns");
-    app.world_mut().resource_mut::<RenderOptions>().depth_prepass = prepass;
+    // The prepass alone: shadows filtered in the lighting pass either way.
+    *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
+        depth_prepass: prepass,
+        visibility_resolve: false,
+        ..RenderOptions::default()
+    };
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
@@ -212,7 +223,10 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     assert_eq!(renderer(&small).graph_culled(), ["depth prepass", "shadow resolve"]);
     let mut large = app();
     large.update();
-    assert_eq!(renderer(&large).graph_order(), ["shadow", "depth prepass", "forward"]);
+    assert_eq!(
+        renderer(&large).graph_order(),
+        ["shadow", "depth prepass", "shadow resolve", "forward"]
+    );
 }
 
 /// Renders `scene` at 160×90 with or without the compute resolve (prepass on); returns the

@@ -26,7 +26,7 @@ use crate::math::light_budget::{LightKind, ShadowBudget};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
-/// without its own [`ShadowSettings`](crate::settings::ShadowSettings).
+/// without its own [`ShadowSettings`].
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowLightBudget {
     /// Most shadowed lights per kind (4 suns; the seed's layout: 8 spot lights, 4 point

@@ -12,7 +12,8 @@ pub struct RenderCounters {
     /// Shadow-caster pipelines built (one per distinct key: masked or not, bias, clamp).
     pub caster_pipelines: u32,
     /// Shadow bind groups (lights, views, shadow storage) rebuilt because a buffer or a
-    /// storage texture was replaced.
+    /// storage texture was replaced: the plain group, and while the frame resolves visibility
+    /// the lighting pass's group that also binds the resolved visibility.
     pub shadow_groups: u32,
     /// Transient textures and buffers the render graph's pool created (the camera depth;
     /// again only when the target's size changes).

@@ -31,7 +31,9 @@ pub struct RenderOptions {
     pub shadow_cache: bool,
     /// Evaluate every shadowed light's filter per pixel in a compute pass after the depth
     /// prepass, and let the lighting pass read the result (`penumbra::lights::
-    /// shadow_visibility` does it for any material). Only when the prepass runs.
+    /// shadow_visibility` does it for any material). Only when the prepass runs. Default on:
+    /// on the H100 it takes the boxes scene's PCSS High frame from 5.59 to 2.64 ms (every map
+    /// drawn) — fragment-shader filtering is far slower there than the same work in compute.
     pub visibility_resolve: bool,
 }
 
@@ -40,7 +42,7 @@ impl Default for RenderOptions {
         Self {
             depth_prepass: DepthPrepass::Auto,
             shadow_cache: true,
-            visibility_resolve: false,
+            visibility_resolve: true,
         }
     }
 }

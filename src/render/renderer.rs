@@ -39,6 +39,8 @@ pub struct FrameReport {
     pub shadow_draw_calls: u32,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
+    /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
+    pub resolved_memory: u64,
 }
 
 impl FrameReport {
@@ -288,7 +290,9 @@ impl Renderer {
         let size = (target.width, target.height);
         // NOTE: decided before the upload: the lights' resolve layers, the prepass's normals,
         // the resolve node and the forward pass's shadow group must agree.
-        let resolve = (input.options.visibility_resolve && prepass_runs(input, size)).then_some(size);
+        let resolve =
+            (input.options.visibility_resolve && !input.shadow_views.views.is_empty() && prepass_runs(input, size))
+                .then_some(size);
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
@@ -364,6 +368,7 @@ impl Renderer {
             shadow_views_drawn,
             shadow_draw_calls,
             shadow_memory: self.shadows.memory_bytes(),
+            resolved_memory: self.shadows.resolved_memory_bytes(),
         };
         &self.last_report
     }

@@ -2,8 +2,8 @@
 //! resolved light's shadow filter per pixel from the prepass's depth and normals and writes
 //! it into the resolved visibility ([`VisibilityTarget`](crate::render::shadows::visibility::VisibilityTarget));
 //! the lighting pass then reads one texel per light instead of filtering. It runs when the
-//! frame resolves ([`RenderOptions::visibility_resolve`](crate::render::RenderOptions) and the
-//! prepass runs); otherwise it declares nothing and is culled.
+//! frame resolves ([`RenderOptions::visibility_resolve`](crate::render::RenderOptions), on by
+//! default, and the prepass runs); otherwise it declares nothing and is culled.
 
 use std::borrow::Cow;
 use std::collections::HashMap;

@@ -205,7 +205,8 @@ impl GpuTimer {
         Some((&slot.query_set, index))
     }
 
-    /// Timestamp writes for a render pass named `name` (see [`reserve`](Self::reserve)).
+    /// Timestamp writes for a render pass named `name`, or `None` when this frame is not
+    /// timed (or the pass is beyond those reserved, which is logged once).
     pub fn pass(&mut self, name: &str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         let (query_set, index) = self.reserve(name)?;
         Some(wgpu::RenderPassTimestampWrites {

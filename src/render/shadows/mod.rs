@@ -178,11 +178,14 @@ impl ShadowResources {
         }
     }
 
-    /// Bytes of shadow-map memory (and of the resolved visibility).
+    /// Bytes of shadow-map memory.
     pub fn memory_bytes(&self) -> u64 {
-        self.cascades.memory_bytes()
-            + self.spots.memory_bytes()
-            + self.resolved.as_ref().map_or(0, VisibilityTarget::memory_bytes)
+        self.cascades.memory_bytes() + self.spots.memory_bytes()
+    }
+
+    /// Bytes of the resolved visibility (0 while nothing is resolved).
+    pub fn resolved_memory_bytes(&self) -> u64 {
+        self.resolved.as_ref().map_or(0, VisibilityTarget::memory_bytes)
     }
 
     /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
