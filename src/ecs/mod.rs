@@ -13,6 +13,7 @@ pub mod lights;
 pub mod origin;
 pub mod placement;
 pub mod plugin;
+pub mod receiver_culling;
 pub mod shadow_views;
 pub mod stats;
 pub mod view;

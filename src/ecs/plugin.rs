@@ -15,6 +15,7 @@ use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::frame_lights::{FrameLights, update_frame_lights};
 use crate::ecs::instances::{RenderInstances, sync_instances};
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
+use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
@@ -58,6 +59,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ShadowStats>()
             .init_resource::<ShadowDiagnostics>()
             .init_resource::<ShadowLightBudget>()
+            .init_resource::<ShadowCulling>()
             .configure_sets(
                 PostUpdate,
                 (
@@ -80,6 +82,10 @@ impl Plugin for ShadowPlugin {
                     .chain()
                     .in_set(ShadowSystems::ComputeCascades),
             )
-            .add_systems(PostUpdate, (update_shadow_views, cull_view).in_set(ShadowSystems::Cull));
+            // NOTE: the camera is culled first: cascades cull against its visible receivers.
+            .add_systems(
+                PostUpdate,
+                (cull_view, update_shadow_views).chain().in_set(ShadowSystems::Cull),
+            );
     }
 }

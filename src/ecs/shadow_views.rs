@@ -14,11 +14,14 @@ use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Local, Res, ResMut};
 use glam::{Mat3, Mat4, Vec3};
 
+use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::draw_groups::{DrawGroup, push_instance};
+use crate::ecs::draw_groups::{DrawGroup, ViewDrawGroups, push_instance};
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::receiver_culling::{ReceiverCache, ShadowCulling};
 use crate::ecs::stats::ShadowStats;
+use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::{ViewCache, ViewInput};
 use crate::math::chunks::{cull_casters_chunked, cull_spheres_frustum_chunked};
 use crate::math::frustum::Frustum;
@@ -140,6 +143,7 @@ pub struct ViewScratch {
     settings: Vec<ShadowSettings>,
     versions: Vec<u64>,
     cache: ViewCache,
+    receivers: ReceiverCache,
 }
 
 /// Lists the shadow views of the shadowed lights, gives each its content version
@@ -147,10 +151,15 @@ pub struct ViewScratch {
 /// for views that moved or whose instance list was rebuilt; the others keep last frame's
 /// group. A sun's cascades are culled in one pass over the casters (sorted by draw key, so
 /// each list comes out in draw order), a spot light against its frustum.
+#[allow(clippy::too_many_arguments)]
 pub fn update_shadow_views(
     lights: Res<FrameLights>,
     instances: Res<RenderInstances>,
     changes: Res<CasterChanges>,
+    view: Res<ActiveView>,
+    view_groups: Res<ViewDrawGroups>,
+    meshes: Res<Meshes>,
+    culling: Option<Res<ShadowCulling>>,
     mut out: ResMut<ShadowViews>,
     mut stats: ResMut<ShadowStats>,
     mut scratch: Local<ViewScratch>,
@@ -158,12 +167,17 @@ pub fn update_shadow_views(
     let start = Instant::now();
     let out = &mut *out;
     let scratch = &mut *scratch;
+    let culling = culling.map_or_else(ShadowCulling::default, |c| *c);
+    scratch
+        .receivers
+        .update(&lights, &view, &view_groups, &instances, &meshes, culling);
     out.views.clear();
     scratch.settings.clear();
     let mut cascade_slot = 0;
     for (i, sun) in lights.suns.iter().enumerate() {
         let set = &sun.cascades;
-        for (c, cascade) in set.active().iter().enumerate() {
+        let culled = scratch.receivers.set(i);
+        for (c, (cascade, cull)) in set.active().iter().zip(culled.active()).enumerate() {
             out.views.push(ShadowView {
                 entity: sun.entity,
                 light_kind: LightKind::Directional,
@@ -172,8 +186,8 @@ pub fn update_shadow_views(
                 clip_from_world: cascade.clip_from_world,
                 cull: CullVolume::LightBox {
                     light_rotation: set.light_rotation,
-                    min: cascade.light_min,
-                    max: cascade.light_max,
+                    min: cull.light_min,
+                    max: cull.light_max,
                 },
                 slot: cascade_slot,
                 resolution: sun.settings.resolution,
@@ -254,8 +268,8 @@ fn cull_views(
     let entries = &mut scratch.cache.entries;
     let mut culled = false;
     let mut first = 0;
-    for sun in &lights.suns {
-        let set = &sun.cascades;
+    for i in 0..lights.suns.len() {
+        let set = scratch.receivers.set(i);
         let range = first..first + set.count;
         first += set.count;
         if set.count == 0 || !entries[range.clone()].iter().any(|e| e.cull) {

@@ -21,6 +21,8 @@ pub struct CachedView {
     /// Cascade index or spot.
     pub kind: ShadowViewKind,
     clip_from_world: Mat4,
+    /// What its casters were culled against (a cascade's box follows its receivers).
+    volume: CullVolume,
     resolution: u32,
     settings: ShadowSettings,
     /// The instance generation `list` indexes.
@@ -115,6 +117,7 @@ impl ViewCache {
                     entity: view.entity,
                     kind: view.kind,
                     clip_from_world: Mat4::NAN,
+                    volume: *view.cull,
                     resolution: 0,
                     settings: *view.settings,
                     generation: u64::MAX,
@@ -125,6 +128,7 @@ impl ViewCache {
                 },
             };
             let same = entry.clip_from_world == view.clip_from_world
+                && entry.volume == *view.cull
                 && entry.resolution == view.resolution
                 && entry.settings == *view.settings;
             let rebuilt = entry.generation != generation;
@@ -139,6 +143,7 @@ impl ViewCache {
                 entry.version = self.next_version;
             }
             entry.clip_from_world = view.clip_from_world;
+            entry.volume = *view.cull;
             entry.resolution = view.resolution;
             entry.settings = *view.settings;
             entry.generation = generation;

@@ -18,6 +18,7 @@ pub mod light_space;
 pub mod pcss;
 pub mod poisson;
 pub mod projection;
+pub mod receivers;
 pub mod snapping;
 pub mod splits;
 pub mod spot;
