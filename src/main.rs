@@ -93,6 +93,10 @@ struct RenderArgs {
     /// depth prepass (by default they are resolved in compute whenever the prepass runs).
     #[arg(long)]
     no_visibility_resolve: bool,
+    /// Count the lighting pass's fragment-shader invocations (pipeline statistics) and print
+    /// them per pixel of the image.
+    #[arg(long)]
+    count_fragments: bool,
 }
 
 /// Options of `penumbra bench`.
@@ -213,6 +217,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         depth_prepass,
         no_shadow_cache,
         no_visibility_resolve,
+        count_fragments,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -259,6 +264,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             shadow_cache: !no_shadow_cache,
             visibility_resolve: !no_visibility_resolve,
         },
+        count_fragments,
     };
     let result = render_scene_with(&desc, &request)?;
     if let (Some(path), Some(analysis)) = (&shadow_out, &result.analysis) {
@@ -300,6 +306,13 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         draws.join(", ")
     );
     println!("draw calls {}", result.report.draw_calls);
+    if let Some(n) = result.report.forward_fragments {
+        let pixels = u64::from(width) * u64::from(height);
+        println!(
+            "fragments {n} lighting-pass invocations, {:.3} per pixel of the image",
+            n as f64 / pixels.max(1) as f64
+        );
+    }
     let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
     println!("shadow views drawn per frame [{}]", drawn.join(", "));
     println!(

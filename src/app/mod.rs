@@ -97,6 +97,7 @@ pub fn render_scene(
             tweak,
             analysis: false,
             options: RenderOptions::default(),
+            count_fragments: false,
         },
     )
 }
@@ -115,6 +116,9 @@ pub struct RenderRequest<'a> {
     pub analysis: bool,
     /// Render-wide switches (depth prepass).
     pub options: RenderOptions,
+    /// Count the lighting pass's fragment invocations (`FrameReport::forward_fragments`;
+    /// each frame waits for the count). Ignored where the device cannot count them.
+    pub count_fragments: bool,
 }
 
 /// Renders a scene as requested and returns the last frame.
@@ -142,6 +146,8 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
             max: most,
         })));
     }
+    let mut renderer = renderer;
+    renderer.count_forward_fragments(request.count_fragments);
     let mut app = headless_app(renderer);
     app.insert_resource(request.options);
     let instances = spawn_scene(app.world_mut(), &desc)?;

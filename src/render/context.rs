@@ -73,6 +73,8 @@ pub struct GpuContext {
     pub timestamps: bool,
     /// Depth can be left unclipped (casters in front of the near plane are clamped to it).
     pub unclipped_depth: bool,
+    /// Pipeline-statistics queries are available (fragment invocations can be counted).
+    pub pipeline_statistics: bool,
     /// The limits user data is checked against.
     pub limits: DeviceLimits,
     errors: Arc<Mutex<ErrorSink>>,
@@ -102,7 +104,9 @@ impl GpuContext {
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let adapter_info = adapter.get_info();
         let available = adapter.features();
-        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::DEPTH_CLIP_CONTROL;
+        let wanted = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::DEPTH_CLIP_CONTROL
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY;
         let required_features = available & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -138,6 +142,7 @@ impl GpuContext {
             queue,
             timestamps: required_features.contains(wgpu::Features::TIMESTAMP_QUERY),
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             adapter_info,
         })
     }

@@ -313,9 +313,15 @@ impl RenderNode for ForwardPass {
             _ => &ctx.shadows.group,
         };
         pass.set_bind_group(3, shadow_group, &[]);
+        if let Some(counter) = ctx.fragments {
+            pass.begin_pipeline_statistics_query(&counter.query_set, 0);
+        }
         let group = &ctx.view_groups.group;
         let mut calls = draw_sided(&mut pass, ctx, &group.opaque, [&pipelines[0], &pipelines[1]]);
         calls += draw_sided(&mut pass, ctx, &group.masked, [&pipelines[2], &pipelines[3]]);
+        if ctx.fragments.is_some() {
+            pass.end_pipeline_statistics_query();
+        }
         drop(pass);
         ctx.draw_calls += calls;
     }

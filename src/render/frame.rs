@@ -12,6 +12,7 @@ use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::view::ActiveView;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
+use crate::render::fragment_count::FragmentCounter;
 use crate::render::layouts::Layouts;
 use crate::render::options::RenderOptions;
 use crate::render::scene_gpu::SceneGpu;
@@ -40,6 +41,8 @@ pub struct FrameContext<'a> {
     pub lights: &'a FrameLights,
     /// Timestamp queries.
     pub timer: &'a mut GpuTimer,
+    /// Counts the lighting pass's fragment invocations, when asked for.
+    pub fragments: Option<&'a FragmentCounter>,
     /// Draw calls recorded so far this frame.
     pub draw_calls: u32,
     /// Shadow views drawn so far this frame (views whose layer already held them are not).

@@ -5,6 +5,7 @@ pub mod context;
 pub mod counters;
 pub mod draw;
 pub mod forward_pass;
+pub mod fragment_count;
 pub mod frame;
 pub mod gpu_types;
 pub mod graph;

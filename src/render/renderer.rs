@@ -7,6 +7,7 @@ use image::RgbaImage;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
 use crate::render::forward_pass::ForwardPass;
+use crate::render::fragment_count::FragmentCounter;
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
@@ -41,6 +42,9 @@ pub struct FrameReport {
     pub shadow_memory: u64,
     /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
     pub resolved_memory: u64,
+    /// Fragment-shader invocations of the lighting pass, while counted
+    /// ([`Renderer::count_forward_fragments`]).
+    pub forward_fragments: Option<u64>,
 }
 
 impl FrameReport {
@@ -66,6 +70,7 @@ pub struct Renderer {
     focus_light: usize,
     timer: GpuTimer,
     frames: u64,
+    fragments: Option<FragmentCounter>,
     graph: RenderGraph,
     target: Option<HeadlessTarget>,
     probes: ProbePass,
@@ -137,6 +142,7 @@ impl Renderer {
             focus_light: 0,
             timer,
             frames: 0,
+            fragments: None,
             graph,
             target,
             probes,
@@ -208,6 +214,17 @@ impl Renderer {
     /// Size of the render target.
     pub fn size(&self) -> (u32, u32) {
         self.target.as_ref().map_or((0, 0), |t| (t.views.width, t.views.height))
+    }
+
+    /// Counts the lighting pass's fragment-shader invocations from the next frame on
+    /// ([`FrameReport::forward_fragments`]; each frame then waits for the count) or stops;
+    /// returns false when the device cannot count them.
+    pub fn count_forward_fragments(&mut self, on: bool) -> bool {
+        if !self.gpu.pipeline_statistics {
+            return false;
+        }
+        self.fragments = on.then(|| FragmentCounter::new(&self.gpu.device));
+        true
     }
 
     /// Frames rendered so far; frame `n` is the `n`-th call (from 0) of
@@ -343,6 +360,7 @@ impl Renderer {
             view_groups: input.view_groups,
             lights: input.lights,
             timer: &mut self.timer,
+            fragments: self.fragments.as_ref(),
             draw_calls: 0,
             shadow_views_drawn: 0,
             shadow_draw_calls: 0,
@@ -356,6 +374,9 @@ impl Renderer {
             (ctx.draw_calls, ctx.shadow_views_drawn, ctx.shadow_draw_calls);
         overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
+        if let Some(counter) = &self.fragments {
+            counter.resolve(&mut encoder);
+        }
         self.gpu.queue.submit([encoder.finish()]);
         self.timer.submitted();
         self.timer.poll(&self.gpu.device);
@@ -369,6 +390,7 @@ impl Renderer {
             shadow_draw_calls,
             shadow_memory: self.shadows.memory_bytes(),
             resolved_memory: self.shadows.resolved_memory_bytes(),
+            forward_fragments: self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device)),
         };
         &self.last_report
     }
