@@ -7,6 +7,7 @@
 // normal (facing the camera) and whether it receives shadows, for the resolve.
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
+#import penumbra::normal_packing::pack_normal
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -29,14 +30,14 @@ fn alpha_discarded(in: ForwardVertexOutput) -> bool {
     return alpha < in.cutoff;
 }
 
-// xyz: the unit normal facing the camera, as the forward shader computes it; w: 1 where the
-// instance receives shadows.
-fn surface_normal(in: ForwardVertexOutput, front_facing: bool) -> vec4<f32> {
+// The unit normal facing the camera, as the forward shader computes it, and whether the
+// instance receives shadows, packed (penumbra::normal_packing).
+fn surface_normal(in: ForwardVertexOutput, front_facing: bool) -> u32 {
     var normal = normalize(in.world_normal);
     if !front_facing {
         normal = -normal;
     }
-    return vec4<f32>(normal, select(0.0, 1.0, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u));
+    return pack_normal(normal, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u);
 }
 
 @fragment
@@ -47,12 +48,12 @@ fn fs_masked(in: ForwardVertexOutput) {
 }
 
 @fragment
-fn fs_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+fn fs_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) u32 {
     return surface_normal(in, front_facing);
 }
 
 @fragment
-fn fs_masked_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+fn fs_masked_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) u32 {
     if alpha_discarded(in) {
         discard;
     }

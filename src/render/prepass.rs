@@ -32,8 +32,9 @@ pub fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
     }
 }
 
-/// Format of the normals the prepass writes for the compute resolve.
-pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the normals the prepass writes for the compute resolve (octahedron-packed with
+/// the receiver flag: `penumbra::normal_packing`).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// The prepass node; its eight pipelines (opaque or masked, single- or double-sided, with or
 /// without normals) are built on first use.
@@ -186,6 +187,8 @@ impl RenderNode for DepthPrepass {
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
+                    // NOTE: 0 unpacks to a non-receiving pixel; uncovered pixels are told
+                    // apart by their depth anyway.
                     load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
                     store: wgpu::StoreOp::Store,
                 },

@@ -53,7 +53,7 @@ fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(
                 1,
                 wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    sample_type: wgpu::TextureSampleType::Uint,
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 },

@@ -38,10 +38,14 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 10] = [
+const MODULES: [ModuleSource; 11] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
+    },
+    ModuleSource {
+        file: "normal_packing.wgsl",
+        source: include_str!("../../shaders/normal_packing.wgsl"),
     },
     ModuleSource {
         file: "shadows/types.wgsl",
