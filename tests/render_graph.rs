@@ -168,27 +168,38 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     assert_eq!(magenta, 320 * 180, "the custom node did not paint the whole frame last");
 }
 
-/// Renders `scene` at 160×90 with the depth prepass on or off; returns the image and the
-/// graph's order.
-fn render_with_prepass(scene: &str, prepass: DepthPrepass) -> (image::RgbaImage, Vec<&'static str>) {
-    let gpu = Renderer::headless(160, 90)
+/// `scene` in a headless app at 160×90 (with analysis targets) rendering with `options`, the
+/// filter taps not rotated per frame (identical frames), one frame rendered; asserts the
+/// device reported no error.
+fn render_scene(scene: &str, options: RenderOptions) -> App {
+    let gpu = Renderer::headless_with_analysis(160, 90)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = headless_app(gpu);
     let desc = SceneDesc::load(scene).expect("scene loads");
     spawn_scene(app.world_mut(), &desc).expect("scene spawns");
-    // The prepass alone: shadows filtered in the lighting pass either way.
-    *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
-        depth_prepass: prepass,
-        visibility_resolve: false,
-        ..RenderOptions::default()
-    };
+    *app.world_mut().resource_mut::<RenderOptions>() = options;
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        // Identical frames: no per-frame rotation of the filter taps.
         s.temporal_rotation = false;
     }
     app.update();
+    let errors = app.world_mut().resource_mut::<Renderer>().take_errors();
+    assert!(errors.is_empty(), "{scene}: {errors:?}");
+    app
+}
+
+/// Renders `scene` with the depth prepass on or off (shadows filtered in the lighting pass
+/// either way); returns the image and the graph's order.
+fn render_with_prepass(scene: &str, prepass: DepthPrepass) -> (image::RgbaImage, Vec<&'static str>) {
+    let app = render_scene(
+        scene,
+        RenderOptions {
+            depth_prepass: prepass,
+            visibility_resolve: false,
+            ..RenderOptions::default()
+        },
+    );
     let r = renderer(&app);
     (r.read_image(), r.graph_order())
 }
@@ -229,27 +240,17 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     );
 }
 
-/// Renders `scene` at 160×90 with or without the compute resolve (prepass on); returns the
-/// image, the analysis shadow factors and the graph's order.
+/// Renders `scene` with or without the compute resolve (prepass on); returns the image, the
+/// analysis shadow factors and the graph's order.
 fn render_resolved(scene: &str, resolve: bool) -> (image::RgbaImage, Vec<f32>, Vec<&'static str>) {
-    let gpu = Renderer::headless_with_analysis(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = headless_app(gpu);
-    let desc = SceneDesc::load(scene).expect("scene loads");
-    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
-    *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
-        depth_prepass: DepthPrepass::On,
-        visibility_resolve: resolve,
-        ..RenderOptions::default()
-    };
-    let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.temporal_rotation = false;
-    }
-    app.update();
-    let errors = app.world_mut().resource_mut::<Renderer>().take_errors();
-    assert!(errors.is_empty(), "{scene}: {errors:?}");
+    let app = render_scene(
+        scene,
+        RenderOptions {
+            depth_prepass: DepthPrepass::On,
+            visibility_resolve: resolve,
+            ..RenderOptions::default()
+        },
+    );
     let r = renderer(&app);
     let analysis = r.read_analysis().expect("analysis targets");
     (r.read_image(), analysis.shadow, r.graph_order())

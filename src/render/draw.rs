@@ -18,6 +18,19 @@ pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
+/// Binds what every camera-view mesh pass shares: the mesh buffers, the frame (group 0) and
+/// the camera's instances (group 1). False (nothing bound) while the scene has no mesh.
+pub fn bind_camera_view(pass: &mut wgpu::RenderPass<'_>, scene: &SceneGpu) -> bool {
+    let Some((vertices, indices)) = scene.mesh_buffers() else {
+        return false;
+    };
+    pass.set_vertex_buffer(0, vertices.slice(..));
+    pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+    pass.set_bind_group(0, &scene.view_group, &[]);
+    pass.set_bind_group(1, &scene.view_instances_group, &[]);
+    true
+}
+
 /// Issues one instanced indexed draw per batch, binding each batch's material (group 2) when
 /// `bind_material`; returns the draw calls recorded.
 pub fn draw_batches(

@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
-use crate::render::draw::{draw_batches, vertex_layout};
+use crate::render::draw::{bind_camera_view, draw_batches, vertex_layout};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::Layouts;
@@ -298,13 +298,9 @@ impl RenderNode for ForwardPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
+        if !bind_camera_view(&mut pass, ctx.scene) {
             return;
-        };
-        pass.set_vertex_buffer(0, vertices.slice(..));
-        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.set_bind_group(0, &ctx.scene.view_group, &[]);
-        pass.set_bind_group(1, &ctx.scene.view_instances_group, &[]);
+        }
         // NOTE: a frame that resolved its shadows reads them through the group that binds the
         // resolved visibility (the lights' resolve layers point into it).
         let resolved = self.handles.is_some_and(|h| h.visibility.is_some());

@@ -9,7 +9,7 @@
 use std::borrow::Cow;
 
 use crate::ecs::draw_groups::DrawBatch;
-use crate::render::draw::{draw_batches, vertex_layout};
+use crate::render::draw::{bind_camera_view, draw_batches, vertex_layout};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
@@ -209,13 +209,9 @@ impl RenderNode for DepthPrepass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
+        if !bind_camera_view(&mut pass, ctx.scene) {
             return;
-        };
-        pass.set_vertex_buffer(0, vertices.slice(..));
-        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.set_bind_group(0, &ctx.scene.view_group, &[]);
-        pass.set_bind_group(1, &ctx.scene.view_instances_group, &[]);
+        }
         let group = &ctx.view_groups.group;
         for (masked, batches) in [(false, &group.opaque), (true, &group.masked)] {
             // NOTE: batches are sorted single-sided first (the draw key), as in the forward pass.
