@@ -1,7 +1,7 @@
 //! Per-frame CPU cost of the directional shadow: computing 1–4 cascades and culling 1k, 10k,
 //! 100k and 1M casters against them into a reused mask buffer (`cascades_and_culling`), the
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
-//! camera culling — on a static scene (`shadow_plugin_frame`), and spot-light views with a
+//! camera culling — with the camera still and moving (`shadow_plugin_frame_*`), and spot-light views with a
 //! brute-force cull of 10k casters per light (`spot_views_and_culling`) and as the engine's
 //! system does it (`spot_shadow_view_system`).
 
@@ -11,11 +11,13 @@ use bevy_app::App;
 use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
+use penumbra::ecs::culling::cull_view;
 use penumbra::ecs::frame_lights::update_frame_lights;
 use penumbra::ecs::shadow_views::{ShadowLightBudget, update_shadow_views};
 use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
-    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin, SpotLight, Transform,
+    Camera3d, DirectionalLight, GlobalTransform, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
+    SpotLight, Transform,
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
@@ -151,34 +153,63 @@ fn plugin_app(n: usize, sun: bool) -> App {
     app
 }
 
+/// Moves the app's camera sideways by `step` metres, alternating direction, so every frame's
+/// cascades differ from the last (the moving case: nothing is reused).
+fn nudge_camera(app: &mut App, frame: &mut u32, step: f32) {
+    let world = app.world_mut();
+    let mut cameras = world.query::<(&Camera3d, &mut Transform, &mut GlobalTransform)>();
+    if let Some((_, mut t, mut global)) = cameras.iter_mut(world).next() {
+        let sign = if frame.is_multiple_of(2) { 1.0 } else { -1.0 };
+        t.translation.x += sign * step;
+        // NOTE: set directly too, for schedules that run without transform propagation.
+        *global = GlobalTransform::from(*t);
+    }
+    *frame += 1;
+}
+
 /// The per-frame work the speed target is about, as ECS systems: find the camera, collect the
-/// lights and compute the cascades, then cull every caster per cascade into draw groups (no
-/// camera culling, no rendering).
+/// lights and compute the cascades, then cull the camera view and every caster per cascade
+/// into draw groups (no rendering), with the camera moving every frame.
 fn cascade_and_culling_systems(c: &mut Criterion) {
     let mut group = c.benchmark_group("cascade_and_culling_systems");
     group.sample_size(40);
     for n in [1_000usize, 10_000, 100_000] {
         let mut app = plugin_app(n, true);
         let mut schedule = Schedule::default();
-        schedule.add_systems((update_active_view, update_frame_lights, update_shadow_views).chain());
+        schedule.add_systems((update_active_view, update_frame_lights, cull_view, update_shadow_views).chain());
+        let mut frame = 0;
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter(|| schedule.run(app.world_mut()))
+            b.iter(|| {
+                nudge_camera(&mut app, &mut frame, 0.37);
+                schedule.run(app.world_mut())
+            })
         });
     }
     group.finish();
 }
 
-/// One whole frame of `ShadowPlugin` (sync, cascades, caster culling, camera culling).
+/// One whole frame of `ShadowPlugin` (sync, cascades, camera culling, caster culling): with
+/// the camera still (everything reused) and moving every frame.
 fn shadow_plugin_frame(c: &mut Criterion) {
-    let mut group = c.benchmark_group("shadow_plugin_frame");
-    group.sample_size(30);
-    for n in [1_000usize, 10_000, 100_000] {
-        let mut app = plugin_app(n, true);
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| app.update()));
+    for (name, step) in [("shadow_plugin_frame_still", 0.0), ("shadow_plugin_frame_moving", 0.37)] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(30);
+        for n in [1_000usize, 10_000, 100_000] {
+            let mut app = plugin_app(n, true);
+            let mut frame = 0;
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+                b.iter(|| {
+                    if step > 0.0 {
+                        nudge_camera(&mut app, &mut frame, step);
+                    }
+                    app.update()
+                })
+            });
+        }
+        group.finish();
     }
-    group.finish();
 }
 
 /// Spot lights: the shadow view of each light (`spot_view`) and a brute-force cull of 10k

@@ -82,7 +82,6 @@ impl Plugin for ShadowPlugin {
                     .chain()
                     .in_set(ShadowSystems::ComputeCascades),
             )
-            // NOTE: the camera is culled first: cascades cull against its visible receivers.
             .add_systems(
                 PostUpdate,
                 (cull_view, update_shadow_views).chain().in_set(ShadowSystems::Cull),

@@ -1,23 +1,30 @@
 //! Receiver-bounded caster culling for cascades ([`crate::math::receivers`]): each sun's
-//! cascade boxes, as culling sees them, shrink to the light-space bounds of the visible
-//! shadow receivers of their slice (grown by the filter's reach), so casters whose shadow
-//! cannot land on anything the camera sees are not drawn. Recomputed only when the camera,
-//! the instance list or the sun's cascades change.
+//! cascade boxes, as culling sees them, shrink to the light-space bounds of the receivers in
+//! the camera's frustum and their slice (grown by the filter's reach), so casters whose shadow
+//! cannot land on anything the camera sees are not drawn. Receivers are taken by culling
+//! chunk; recomputed only when the camera, the instance list or the sun's cascades change.
 
 use bevy_ecs::resource::Resource;
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 
 use crate::ecs::assets::Meshes;
-use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::view::ActiveView;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
-use crate::math::frustum::slice_corners;
+use crate::math::chunks::CHUNK;
+use crate::math::frustum::{Frustum, slice_corners};
 use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers};
 use crate::render::gpu_types::INSTANCE_FLAG_RECEIVE_SHADOWS;
 use crate::settings::MAX_CASCADES;
+
+/// A chunk whose sphere is larger than this fraction of the largest slice's half extent is
+/// taken member by member.
+const CHUNK_EXPAND_FRACTION: f32 = 0.25;
+
+/// Marks a receiver id as a chunk index (else it is an instance index).
+const CHUNK_BIT: usize = 1 << (usize::BITS - 1);
 
 /// How far, in shadow texels, a receiver's filter reads around it: the widest PCSS kernel
 /// (32 texels) plus the largest PCF radius and normal offset, rounded up.
@@ -52,6 +59,8 @@ pub struct ReceiverCache {
     sets: Vec<CascadeSet>,
     slices: Vec<Slice>,
     bounds: Vec<Aabb>,
+    /// Receiver spheres of this frame: chunks, or members of expanded chunks.
+    members: Vec<(Vec3, f32, usize)>,
 }
 
 impl ReceiverCache {
@@ -60,7 +69,6 @@ impl ReceiverCache {
         &mut self,
         lights: &FrameLights,
         view: &ActiveView,
-        groups: &ViewDrawGroups,
         instances: &RenderInstances,
         meshes: &Meshes,
         culling: ShadowCulling,
@@ -94,18 +102,51 @@ impl ReceiverCache {
                     });
                 }
                 self.bounds.resize(count, Aabb::EMPTY);
-                let receivers = groups.indices.iter().filter_map(|&k| {
-                    let k = k as usize;
-                    (instances.gpu.get(k)?.flags & INSTANCE_FLAG_RECEIVE_SHADOWS != 0)
-                        .then(|| (instances.centers[k], instances.radii[k], k))
-                });
-                // NOTE: only receivers large against a slice ask for their box.
-                let world_box = |k: usize| {
-                    let mesh = meshes.get(instances.keys[k].mesh);
+                let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
+                // NOTE: receivers are taken chunk by chunk (64 instances, the culling chunks):
+                // a chunk's sphere bounds its members, receivers or not, so the bounds only
+                // grow (still correct) and cost a fiftieth of a pass over instances. A chunk
+                // much larger than its neighbours (it holds a ground plane) is taken member
+                // by member, so the plane's flat box can be clipped to each slice.
+                let largest = self
+                    .slices
+                    .iter()
+                    .map(|s| s.world.half_extents().max_element())
+                    .fold(0.0, f32::max);
+                let expand = CHUNK_EXPAND_FRACTION * largest;
+                self.members.clear();
+                for (k, (&center, &radius)) in instances.chunks.centers.iter().zip(&instances.chunks.radii).enumerate()
+                {
+                    if !frustum.intersects_sphere(center, radius) {
+                        continue;
+                    }
+                    let members = k * CHUNK..((k + 1) * CHUNK).min(instances.centers.len());
+                    // NOTE: a large chunk is split only when one member dominates it (a ground
+                    // plane among small casters); a chunk of small casters spread wide is
+                    // taken whole.
+                    let dominated = || instances.radii[members.clone()].iter().any(|&r| r > 0.5 * radius);
+                    if radius.is_finite() && (radius <= expand || !dominated()) {
+                        self.members.push((center, radius, CHUNK_BIT | k));
+                        continue;
+                    }
+                    for i in members {
+                        let receives = instances.gpu[i].flags & INSTANCE_FLAG_RECEIVE_SHADOWS != 0;
+                        let (c, r) = (instances.centers[i], instances.radii[i]);
+                        if receives && frustum.intersects_sphere(c, r) {
+                            self.members.push((c, r, i));
+                        }
+                    }
+                }
+                let world_box = |id: usize| {
+                    if id & CHUNK_BIT != 0 {
+                        return instances.chunks.boxes[id & !CHUNK_BIT];
+                    }
+                    let mesh = meshes.get(instances.keys[id].mesh);
                     mesh.map_or(Aabb::EMPTY, |m| {
-                        m.bounds().transformed(&instances.gpu[k].world_from_local)
+                        m.bounds().transformed(&instances.gpu[id].world_from_local)
                     })
                 };
+                let receivers = self.members.iter().copied();
                 receiver_bounds(
                     &set.light_rotation,
                     &camera.view_from_world(),

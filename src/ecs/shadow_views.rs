@@ -16,7 +16,7 @@ use glam::{Mat3, Mat4, Vec3};
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::draw_groups::{DrawGroup, ViewDrawGroups, push_instance};
+use crate::ecs::draw_groups::{DrawGroup, push_instance};
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::receiver_culling::{ReceiverCache, ShadowCulling};
@@ -157,7 +157,6 @@ pub fn update_shadow_views(
     instances: Res<RenderInstances>,
     changes: Res<CasterChanges>,
     view: Res<ActiveView>,
-    view_groups: Res<ViewDrawGroups>,
     meshes: Res<Meshes>,
     culling: Option<Res<ShadowCulling>>,
     mut out: ResMut<ShadowViews>,
@@ -168,9 +167,7 @@ pub fn update_shadow_views(
     let out = &mut *out;
     let scratch = &mut *scratch;
     let culling = culling.map_or_else(ShadowCulling::default, |c| *c);
-    scratch
-        .receivers
-        .update(&lights, &view, &view_groups, &instances, &meshes, culling);
+    scratch.receivers.update(&lights, &view, &instances, &meshes, culling);
     out.views.clear();
     scratch.settings.clear();
     let mut cascade_slot = 0;

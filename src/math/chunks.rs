@@ -7,6 +7,7 @@
 
 use glam::Vec3;
 
+use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
@@ -23,6 +24,9 @@ pub struct SphereChunks {
     /// Chunk radii: every member sphere lies inside. Infinite when a member is not finite,
     /// so such chunks are always tested member by member.
     pub radii: Vec<f32>,
+    /// Chunk boxes: the bounds of the member spheres (empty for a chunk with a member that is
+    /// not finite). Tighter than the sphere for flat groups, such as casters on the ground.
+    pub boxes: Vec<Aabb>,
 }
 
 impl SphereChunks {
@@ -34,8 +38,17 @@ impl SphereChunks {
             if !finite {
                 chunks.centers.push(Vec3::ZERO);
                 chunks.radii.push(f32::INFINITY);
+                chunks.boxes.push(Aabb::EMPTY);
                 continue;
             }
+            let bounds = c.iter().zip(r).fold(Aabb::EMPTY, |b, (p, r)| {
+                let r = Vec3::splat(r.max(0.0));
+                b.union(Aabb {
+                    min: *p - r,
+                    max: *p + r,
+                })
+            });
+            chunks.boxes.push(bounds);
             let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
             let center = (lo + hi) * 0.5;
             let reach = c

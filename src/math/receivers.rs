@@ -8,10 +8,6 @@ use glam::{Mat3, Mat4, Vec3};
 
 use crate::math::aabb::Aabb;
 
-/// A receiver larger than this fraction of its slice's box is clipped to the box (a ground
-/// plane would otherwise cover every slice whole).
-const CLIP_FRACTION: f32 = 0.25;
-
 /// One cascade's slice, for [`receiver_bounds`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slice {
@@ -26,8 +22,8 @@ pub struct Slice {
 
 /// Grows each slice's light-space receiver bounds in `out` (one per slice, reset first) by
 /// every receiver `(centre, radius, id)` whose bounding sphere's view depth range meets the
-/// slice's; a receiver larger than [`CLIP_FRACTION`] of the slice box is taken as its world
-/// box (`world_box(id)`: a ground plane is flat, its sphere is not) clipped to the slice box.
+/// slice's: its world box `world_box(id)` (a ground plane is flat, its sphere is not; a group
+/// of receivers on the ground is flat too), clipped to the slice's box, in light space.
 pub fn receiver_bounds(
     light_rotation: &Mat3,
     view_from_world: &Mat4,
@@ -43,31 +39,23 @@ pub fn receiver_bounds(
             continue;
         }
         let depth = -(depth_row.truncate().dot(center) + depth_row.w);
-        let light = *light_rotation * center;
+        let whole = world_box(id);
         for (slice, bound) in slices.iter().zip(out.iter_mut()) {
             if depth + radius < slice.near || depth - radius > slice.far {
                 continue;
             }
-            let half = slice.world.half_extents();
-            let grown = if radius > CLIP_FRACTION * half.max_element() {
-                let whole = world_box(id);
-                let clipped = Aabb {
-                    min: whole.min.max(slice.world.min),
-                    max: whole.max.min(slice.world.max),
-                };
-                clipped
-                    .corners()
-                    .iter()
-                    .fold(Aabb::EMPTY, |b, &c| b.with_point(*light_rotation * c))
-            } else {
-                Aabb {
-                    min: light - Vec3::splat(radius),
-                    max: light + Vec3::splat(radius),
-                }
+            let clipped = Aabb {
+                min: whole.min.max(slice.world.min),
+                max: whole.max.min(slice.world.max),
             };
-            if !grown.is_empty() {
-                *bound = bound.union(grown);
+            if clipped.is_empty() {
+                continue;
             }
+            let light = clipped
+                .corners()
+                .iter()
+                .fold(Aabb::EMPTY, |b, &c| b.with_point(*light_rotation * c));
+            *bound = bound.union(light);
         }
     }
 }
@@ -114,9 +102,13 @@ mod tests {
         };
         let slices = [slice(0.0, 10.0, world), slice(10.0, 50.0, world)];
         let mut out = [Aabb::EMPTY; 2];
-        let receivers = [(Vec3::new(1.0, 0.0, -5.0), 0.5), (Vec3::new(-3.0, 2.0, -30.0), 1.0)];
-        let receivers = receivers.into_iter().enumerate().map(|(i, (c, r))| (c, r, i));
-        receiver_bounds(&Mat3::IDENTITY, &view, &slices, receivers, |_| world, &mut out);
+        let spheres = [(Vec3::new(1.0, 0.0, -5.0), 0.5), (Vec3::new(-3.0, 2.0, -30.0), 1.0)];
+        let boxes = |i: usize| Aabb {
+            min: spheres[i].0 - Vec3::splat(spheres[i].1),
+            max: spheres[i].0 + Vec3::splat(spheres[i].1),
+        };
+        let receivers = spheres.into_iter().enumerate().map(|(i, (c, r))| (c, r, i));
+        receiver_bounds(&Mat3::IDENTITY, &view, &slices, receivers, boxes, &mut out);
         assert_eq!(out[0].min, Vec3::new(0.5, -0.5, -5.5));
         assert_eq!(out[1].max, Vec3::new(-2.0, 3.0, -29.0));
         // A receiver straddling the split counts in both.
@@ -125,7 +117,10 @@ mod tests {
             &view,
             &slices,
             [(Vec3::new(0.0, 0.0, -10.0), 1.0, 0)].into_iter(),
-            |_| world,
+            |_| Aabb {
+                min: Vec3::new(-1.0, -1.0, -11.0),
+                max: Vec3::new(1.0, 1.0, -9.0),
+            },
             &mut out,
         );
         assert!(!out[0].is_empty() && !out[1].is_empty());
