@@ -77,9 +77,12 @@ fn shadow_falls_under_the_caster_and_not_on_open_ground() {
         shadowed < 0.25 * open,
         "ground under the slab should be shadowed: {shadowed} vs lit {open}"
     );
-    assert!(
-        frame.stats.casters_per_view.first().is_some_and(|&c| c >= 1),
-        "the slab is culled into cascade 0"
+    // The ground under the slab lies in cascade 1, which draws it; cascade 0's slice (nearer
+    // the camera) holds no receiver its shadow can reach, so receiver culling leaves it out.
+    assert_eq!(
+        frame.stats.casters_per_view,
+        [0, 1],
+        "the slab is drawn into the cascade its shadow lands in, and only there"
     );
     assert!(frame.warnings.is_empty(), "{:?}", frame.warnings);
 }
