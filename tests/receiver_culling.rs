@@ -2,28 +2,21 @@
 //! culling the cascades draw fewer casters on scenes looking at the horizon, and every image
 //! is identical to the one drawn with every caster of the cascade boxes.
 
+mod common;
+
 use bevy_app::App;
+use common::still_scene;
 use image::RgbaImage;
-use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::ShadowStats;
 use penumbra::ecs::receiver_culling::ShadowCulling;
 use penumbra::render::Renderer;
-use penumbra::scene::SceneDesc;
-use penumbra::settings::ShadowSettings;
 
 /// Renders `scene` at 240×135; returns the image and the casters drawn per shadow view.
 fn render(scene: &str, receivers: bool) -> (RgbaImage, Vec<u32>) {
     let renderer = Renderer::headless(240, 135)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app: App = headless_app(renderer);
+    let mut app: App = still_scene(renderer, scene);
     app.insert_resource(ShadowCulling { receivers });
-    let desc = SceneDesc::load(scene).expect("scene loads");
-    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
-    let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.temporal_rotation = false;
-    }
     app.update();
     let casters = app.world().resource::<ShadowStats>().casters_per_view.clone();
     (app.world().resource::<Renderer>().read_image(), casters)

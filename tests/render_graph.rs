@@ -3,17 +3,19 @@
 //! node that declares its reads and writes runs after the passes whose output it reads, while
 //! a node whose output nothing reads is never recorded. The depth prepass changes no pixel.
 
+mod common;
+
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use bevy_app::App;
+use common::still_scene;
 use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::DirectionalLight;
 use penumbra::render::frame::{FrameContext, FrameInputs};
 use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
-use penumbra::settings::ShadowSettings;
 
 /// The default scene at 320×180: more pixels than triangles, so `Auto` runs the prepass.
 fn app() -> App {
@@ -174,15 +176,8 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
 fn render_scene(scene: &str, options: RenderOptions) -> App {
     let gpu = Renderer::headless_with_analysis(160, 90)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = headless_app(gpu);
-    let desc = SceneDesc::load(scene).expect("scene loads");
-    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
+    let mut app = still_scene(gpu, scene);
     *app.world_mut().resource_mut::<RenderOptions>() = options;
-    let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.temporal_rotation = false;
-    }
     app.update();
     let errors = app.world_mut().resource_mut::<Renderer>().take_errors();
     assert!(errors.is_empty(), "{scene}: {errors:?}");

@@ -3,19 +3,20 @@
 //! draws again exactly the views it touches; and after every change the cached image equals
 //! the image of a renderer that draws every map every frame.
 
+mod common;
+
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
+use common::still_scene;
 use glam::{Quat, Vec3, Vec4};
 use image::RgbaImage;
-use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::{
     Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowViewKind, ShadowViews,
     SpotLight, Transform,
 };
 use penumbra::mesh::cuboid;
 use penumbra::render::{RenderOptions, Renderer};
-use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
 
 /// The same scene in two renderers: with the cache, and drawing every map every frame.
@@ -28,19 +29,12 @@ struct Pair {
 fn app(scene: &str, cache: bool) -> (App, Entity) {
     let renderer = Renderer::headless(160, 90)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = headless_app(renderer);
+    let mut app = still_scene(renderer, scene);
     app.insert_resource(RenderOptions {
         shadow_cache: cache,
         ..RenderOptions::default()
     });
-    let desc = SceneDesc::load(scene).expect("scene loads");
-    spawn_scene(app.world_mut(), &desc).expect("scene spawns");
     let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        // Identical frames: no per-frame rotation of the filter taps.
-        s.temporal_rotation = false;
-    }
     let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::new(0.6, 1.2, 0.6)));
     let material = world.resource_mut::<Materials>().add(Material {
         base_color: Vec4::new(0.9, 0.3, 0.3, 1.0),

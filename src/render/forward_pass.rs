@@ -304,8 +304,8 @@ impl RenderNode for ForwardPass {
         // NOTE: a frame that resolved its shadows reads them through the group that binds the
         // resolved visibility (the lights' resolve layers point into it).
         let resolved = self.handles.is_some_and(|h| h.visibility.is_some());
-        let shadow_group = match (&ctx.shadows.resolved_group, resolved) {
-            (Some(group), true) => group,
+        let shadow_group = match (&ctx.shadows.resolved, resolved) {
+            (Some(r), true) => &r.group,
             _ => &ctx.shadows.group,
         };
         pass.set_bind_group(3, shadow_group, &[]);

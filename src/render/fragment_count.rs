@@ -3,53 +3,36 @@
 //! measurement, off unless asked for ([`Renderer::count_forward_fragments`](crate::render::Renderer::count_forward_fragments));
 //! reading the count waits for the GPU.
 
-use crate::render::readback::read_buffer;
+use crate::render::readback::{QueryReadback, read_buffer};
 
 /// The query and its buffers.
 pub struct FragmentCounter {
     /// One pipeline-statistics query of fragment-shader invocations.
     pub query_set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    buffers: QueryReadback,
 }
 
 impl FragmentCounter {
     /// Creates the query (the device must have `PIPELINE_STATISTICS_QUERY`).
     pub fn new(device: &wgpu::Device) -> Self {
-        let buffer = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: 8,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
         Self {
             query_set: device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("forward fragments"),
                 ty: wgpu::QueryType::PipelineStatistics(wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS),
                 count: 1,
             }),
-            resolve: buffer(
-                "forward fragments resolve",
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            ),
-            readback: buffer(
-                "forward fragments readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
+            buffers: QueryReadback::new(device, "forward fragments", 1),
         }
     }
 
     /// Records the copy of the count to the readback buffer; call after the lighting pass.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.query_set, 0..1, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 8);
+        self.buffers.record(encoder, &self.query_set, 1);
     }
 
     /// The count of the frame just submitted (waits for the GPU).
     pub fn read(&self, device: &wgpu::Device) -> Option<u64> {
-        let bytes = read_buffer(device, &self.readback, 8)?;
+        let bytes = read_buffer(device, &self.buffers.readback, 8)?;
         Some(u64::from_le_bytes(bytes.get(..8)?.try_into().ok()?))
     }
 }

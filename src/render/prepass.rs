@@ -156,10 +156,10 @@ impl RenderNode for DepthPrepass {
 
     /// Creates the camera depth and writes it (nothing when off); when the frame resolves
     /// visibility, also the normals the resolve reads.
-    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         self.depth = None;
         self.normals = None;
-        if prepass_runs(inputs, frame.size) && frame.depth.is_none() {
+        if frame.depth_prepass && frame.depth.is_none() {
             let depth = pass.create_texture(camera_depth(frame.size));
             frame.depth = Some(depth);
             self.depth = Some(depth);

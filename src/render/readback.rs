@@ -1,4 +1,38 @@
-//! Reading GPU buffers back to the CPU: map a buffer range, wait for the GPU, copy it out.
+//! Reading GPU buffers back to the CPU: map a buffer range, wait for the GPU, copy it out;
+//! and the pair of buffers a query set's results travel through ([`QueryReadback`]).
+
+/// A query set's results on their way to the CPU: resolved into one buffer, copied into a
+/// mappable one.
+pub struct QueryReadback {
+    resolve: wgpu::Buffer,
+    /// The mappable copy.
+    pub readback: wgpu::Buffer,
+}
+
+impl QueryReadback {
+    /// Buffers for `queries` 8-byte query results.
+    pub fn new(device: &wgpu::Device, label: &str, queries: u32) -> Self {
+        let buffer = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(queries.max(1)) * 8,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            resolve: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+        }
+    }
+
+    /// Records the resolve of the first `count` queries of `set` and their copy to
+    /// [`readback`](Self::readback).
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, set: &wgpu::QuerySet, count: u32) {
+        encoder.resolve_query_set(set, 0..count, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, u64::from(count) * 8);
+    }
+}
 
 /// Maps `buffer[..size]` for reading, waits for the device, and returns a copy of the bytes
 /// (None if mapping or waiting failed). The buffer is unmapped again.

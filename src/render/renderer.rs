@@ -305,11 +305,11 @@ impl Renderer {
         };
         let mut problems = UploadProblems::default();
         let size = (target.width, target.height);
-        // NOTE: decided before the upload: the lights' resolve layers, the prepass's normals,
-        // the resolve node and the forward pass's shadow group must agree.
+        // NOTE: decided once, before the upload: the prepass, the lights' resolve layers, the
+        // prepass's normals, the resolve node and the forward pass's shadow group must agree.
+        let prepass = prepass_runs(input, size);
         let resolve =
-            (input.options.visibility_resolve && !input.shadow_views.views.is_empty() && prepass_runs(input, size))
-                .then_some(size);
+            (prepass && input.options.visibility_resolve && !input.shadow_views.views.is_empty()).then_some(size);
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
@@ -328,7 +328,7 @@ impl Renderer {
         if let Err(e) = prepared {
             problems.errors.push(format!("the frame is not drawn: {e}"));
         }
-        match self.build_graph(input, target) {
+        match self.build_graph(input, target, prepass) {
             Ok(created) => self.counters.transient_resources += created,
             Err(e) => {
                 drawable = false;
@@ -382,22 +382,27 @@ impl Renderer {
         self.timer.poll(&self.gpu.device);
         self.frames += 1;
         let latest = self.timer.latest();
-        self.last_report = FrameReport {
-            passes: latest.passes.clone(),
-            timed_frame: latest.frame,
-            draw_calls,
-            shadow_views_drawn,
-            shadow_draw_calls,
-            shadow_memory: self.shadows.memory_bytes(),
-            resolved_memory: self.shadows.resolved_memory_bytes(),
-            forward_fragments: self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device)),
-        };
+        let report = &mut self.last_report;
+        // NOTE: `clone_from` keeps the pass list's (and names') allocations from frame to frame.
+        report.passes.clone_from(&latest.passes);
+        report.timed_frame = latest.frame;
+        report.draw_calls = draw_calls;
+        report.shadow_views_drawn = shadow_views_drawn;
+        report.shadow_draw_calls = shadow_draw_calls;
+        report.shadow_memory = self.shadows.memory_bytes();
+        report.resolved_memory = self.shadows.resolved_memory_bytes();
+        report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));
         &self.last_report
     }
 
     /// Declares this frame's graph: imports the target and the shadow storages, lets every
     /// node declare its work, and allocates the transients.
-    fn build_graph(&mut self, input: &FrameInputs<'_>, target: &TargetViews) -> Result<u32, GraphError> {
+    fn build_graph(
+        &mut self,
+        input: &FrameInputs<'_>,
+        target: &TargetViews,
+        depth_prepass: bool,
+    ) -> Result<u32, GraphError> {
         let graph = &mut self.graph;
         graph.begin_frame();
         let color = graph.import_texture("target colour", &target.color);
@@ -415,13 +420,14 @@ impl Renderer {
             analysis,
             cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
             spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
+            depth_prepass,
             depth: None,
             normals: None,
             visibility: self
                 .shadows
                 .resolved
                 .as_ref()
-                .map(|v| graph.import_texture("resolved visibility", &v.view)),
+                .map(|r| graph.import_texture("resolved visibility", &r.target.view)),
         };
         graph.build(&self.gpu.device, &mut frame, input)
     }

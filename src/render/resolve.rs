@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
-use crate::render::layouts::Layouts;
+use crate::render::layouts::{Layouts, entry};
 use crate::render::shadows::visibility::VISIBILITY_FORMAT;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -33,12 +33,7 @@ pub struct VisibilityResolve {
 }
 
 fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    };
+    let entry = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("shadow resolve"),
         entries: &[
@@ -120,7 +115,7 @@ impl RenderNode for VisibilityResolve {
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(handles), Some(target)) = (self.handles, ctx.shadows.resolved.as_ref()) else {
+        let (Some(handles), Some(target)) = (self.handles, ctx.shadows.resolved.as_ref().map(|r| &r.target)) else {
             return;
         };
         let device = &ctx.gpu.device;

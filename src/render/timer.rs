@@ -5,6 +5,8 @@
 //! every slot is still in flight, the frame goes untimed and is counted.
 
 use std::sync::Arc;
+
+use crate::render::readback::QueryReadback;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// Slots in the ring: a frame's timings arrive within this many frames.
@@ -42,8 +44,7 @@ pub struct FrameTimings {
 /// One frame's queries and buffers.
 struct Slot {
     query_set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    buffers: QueryReadback,
     capacity: u32,
     /// Pass names of the frame in flight (the first `used`), keeping their allocations.
     names: Vec<String>,
@@ -55,29 +56,13 @@ struct Slot {
 
 impl Slot {
     fn new(device: &wgpu::Device, passes: u32) -> Self {
-        let size = u64::from(passes * 2) * 8;
-        let buffer = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
         Self {
             query_set: device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass timestamps"),
                 ty: wgpu::QueryType::Timestamp,
                 count: passes * 2,
             }),
-            resolve: buffer(
-                "timestamp resolve",
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            ),
-            readback: buffer(
-                "timestamp readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
+            buffers: QueryReadback::new(device, "pass timestamps", passes * 2),
             capacity: passes,
             names: Vec::new(),
             used: 0,
@@ -90,7 +75,8 @@ impl Slot {
     /// Reads the mapped ticks into timings and frees the slot.
     fn take(&mut self, period_ns: f32) -> FrameTimings {
         let bytes = self.used as u64 * 16;
-        let passes = match self.readback.slice(..bytes).get_mapped_range() {
+        let readback = &self.buffers.readback;
+        let passes = match readback.slice(..bytes).get_mapped_range() {
             Ok(data) => {
                 let tick = |i: usize| u64::from_le_bytes(data[i * 8..i * 8 + 8].try_into().unwrap_or([0; 8]));
                 self.names[..self.used]
@@ -104,7 +90,7 @@ impl Slot {
             }
             Err(_) => Vec::new(),
         };
-        self.readback.unmap();
+        readback.unmap();
         self.in_flight = false;
         self.state.store(IDLE, Ordering::Release);
         FrameTimings {
@@ -233,8 +219,7 @@ impl GpuTimer {
         };
         if slot.used > 0 {
             let count = slot.used as u32 * 2;
-            encoder.resolve_query_set(&slot.query_set, 0..count, &slot.resolve, 0);
-            encoder.copy_buffer_to_buffer(&slot.resolve, 0, &slot.readback, 0, u64::from(count) * 8);
+            slot.buffers.record(encoder, &slot.query_set, count);
         }
     }
 
@@ -249,7 +234,8 @@ impl GpuTimer {
         slot.in_flight = true;
         slot.state.store(MAPPING, Ordering::Release);
         let state = Arc::clone(&slot.state);
-        slot.readback
+        slot.buffers
+            .readback
             .slice(..slot.used as u64 * 16)
             .map_async(wgpu::MapMode::Read, move |result| {
                 state.store(if result.is_ok() { MAPPED } else { FAILED }, Ordering::Release);
@@ -269,11 +255,11 @@ impl GpuTimer {
         };
         // NOTE: a failed poll leaves the slots in flight; they are looked at again next time.
         let _ = device.poll(poll);
-        let mut arrived: Vec<usize> = (0..self.slots.len())
+        // NOTE: oldest arrived slot first, found again each time (three slots; no list).
+        while let Some(i) = (0..self.slots.len())
             .filter(|&i| self.slots[i].in_flight && self.slots[i].state.load(Ordering::Acquire) >= MAPPED)
-            .collect();
-        arrived.sort_by_key(|&i| self.slots[i].frame);
-        for i in arrived {
+            .min_by_key(|&i| self.slots[i].frame)
+        {
             let timings = self.slots[i].take(self.period_ns);
             if self.completed.len() >= KEPT {
                 self.completed.remove(0);

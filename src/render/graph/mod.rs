@@ -64,6 +64,9 @@ pub struct FrameResources {
     pub cascade_maps: TextureId,
     /// The spot lights' depth array (imported).
     pub spot_maps: TextureId,
+    /// The frame writes the camera depth in a prepass (decided once per frame by the
+    /// renderer from [`RenderOptions::depth_prepass`](crate::render::RenderOptions)).
+    pub depth_prepass: bool,
     /// The camera's depth buffer: a transient created by the first node that needs it.
     pub depth: Option<TextureId>,
     /// The camera's normals (and receiver flags), written by the prepass when the frame

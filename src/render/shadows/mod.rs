@@ -40,17 +40,38 @@ pub struct ShadowResources {
     /// Group 3 of the probe pass, the compute resolve, and forward materials when nothing is
     /// resolved (its resolved visibility is the 1×1 stand-in).
     pub group: wgpu::BindGroup,
-    /// Group 3 of forward materials when the frame resolves visibility (see
-    /// [`resolved`](Self::resolved)).
-    pub resolved_group: Option<wgpu::BindGroup>,
-    /// The resolved visibility, while the frame resolves it.
-    pub resolved: Option<VisibilityTarget>,
+    /// The resolved visibility and the group 3 that binds it, while the frame resolves
+    /// visibility.
+    pub resolved: Option<Resolved>,
     no_visibility: VisibilityTarget,
     /// Group 0 of the caster pipelines; bind view `i` at offset `i * 256`.
     pub caster_group: wgpu::BindGroup,
     light_data: Vec<LightGpu>,
     view_data: Vec<ShadowViewGpu>,
     caster_data: Vec<CasterViewGpu>,
+    /// The bytes last uploaded to the lights, views and caster views: a frame that packs
+    /// the same data uploads nothing.
+    uploaded: [Vec<u8>; 3],
+}
+
+/// The resolved visibility and the shadow group (group 3 of forward materials) that binds it.
+pub struct Resolved {
+    /// One layer per shadowed light.
+    pub target: VisibilityTarget,
+    /// The shadow group with `target` at binding 7.
+    pub group: wgpu::BindGroup,
+}
+
+/// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
+/// it wrote.
+fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u8>, data: &[u8]) -> bool {
+    if last.as_slice() == data {
+        return false;
+    }
+    queue.write_buffer(buffer, 0, data);
+    last.clear();
+    last.extend_from_slice(data);
+    true
 }
 
 fn shadow_group(
@@ -153,7 +174,6 @@ impl ShadowResources {
         );
         let caster_group = caster_group(device, layouts, &caster_views.buffer);
         Self {
-            resolved_group: None,
             resolved: None,
             no_visibility,
             cascades,
@@ -167,6 +187,7 @@ impl ShadowResources {
             light_data: Vec::new(),
             view_data: Vec::new(),
             caster_data: Vec::new(),
+            uploaded: Default::default(),
         }
     }
 
@@ -185,7 +206,7 @@ impl ShadowResources {
 
     /// Bytes of the resolved visibility (0 while nothing is resolved).
     pub fn resolved_memory_bytes(&self) -> u64 {
-        self.resolved.as_ref().map_or(0, VisibilityTarget::memory_bytes)
+        self.resolved.as_ref().map_or(0, |r| r.target.memory_bytes())
     }
 
     /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
@@ -241,12 +262,27 @@ impl ShadowResources {
         self.light_data.truncate(MAX_LIGHTS);
         self.view_data.truncate(MAX_SHADOW_VIEWS);
         let layers = assign_resolve_layers(&mut self.light_data, resolve.is_some());
-        gpu.queue
-            .write_buffer(&self.lights, 0, bytemuck::cast_slice(&self.light_data));
-        gpu.queue
-            .write_buffer(&self.views, 0, bytemuck::cast_slice(&self.view_data));
-        if self.caster_views.write(gpu, bytemuck::cast_slice(&self.caster_data))? {
-            self.caster_group = caster_group(device, layouts, &self.caster_views.buffer);
+        let [lights_sent, views_sent, casters_sent] = &mut self.uploaded;
+        write_if_changed(
+            &gpu.queue,
+            &self.lights,
+            lights_sent,
+            bytemuck::cast_slice(&self.light_data),
+        );
+        write_if_changed(
+            &gpu.queue,
+            &self.views,
+            views_sent,
+            bytemuck::cast_slice(&self.view_data),
+        );
+        let casters: &[u8] = bytemuck::cast_slice(&self.caster_data);
+        // NOTE: the grow buffer only grows for more data, which differs from what was sent.
+        if casters_sent.as_slice() != casters {
+            if self.caster_views.write(gpu, casters)? {
+                self.caster_group = caster_group(device, layouts, &self.caster_views.buffer);
+            }
+            casters_sent.clear();
+            casters_sent.extend_from_slice(casters);
         }
         let buffers = [&self.lights, &self.views, &self.poisson_taps];
         if rebuild {
@@ -257,21 +293,19 @@ impl ShadowResources {
         match resolve {
             Some((width, height)) => {
                 let extent = (width, height, layers.max(1));
-                if self.resolved.as_ref().map(|r| r.extent) != Some(extent) {
-                    self.resolved = Some(VisibilityTarget::new(device, extent));
-                    self.resolved_group = None;
-                }
-                if rebuild || self.resolved_group.is_none() {
-                    let maps = [&self.cascades, &self.spots];
-                    let target = self.resolved.as_ref().unwrap_or(&self.no_visibility);
-                    self.resolved_group = Some(shadow_group(device, layouts, buffers, maps, target));
-                    counters.shadow_groups += 1;
-                }
+                let kept = self.resolved.take().filter(|r| r.target.extent == extent);
+                self.resolved = Some(match kept {
+                    Some(resolved) if !rebuild => resolved,
+                    kept => {
+                        let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
+                        let maps = [&self.cascades, &self.spots];
+                        let group = shadow_group(device, layouts, buffers, maps, &target);
+                        counters.shadow_groups += 1;
+                        Resolved { target, group }
+                    }
+                });
             }
-            None => {
-                self.resolved = None;
-                self.resolved_group = None;
-            }
+            None => self.resolved = None,
         }
         Ok(rebuild)
     }
