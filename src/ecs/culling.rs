@@ -37,6 +37,7 @@ pub fn cull_view(
     let groups = &mut *groups;
     groups.group.clear();
     groups.indices.clear();
+    groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
         let (visible, scratch) = &mut *visible;

@@ -81,6 +81,8 @@ pub struct ViewDrawGroups {
     pub group: DrawGroup,
     /// Instance indices referenced by the batches.
     pub indices: Vec<u32>,
+    /// Bumped whenever `group` and `indices` are rebuilt (the renderer uploads them then).
+    pub generation: u64,
 }
 
 #[cfg(test)]

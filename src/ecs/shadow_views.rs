@@ -117,6 +117,8 @@ pub struct ShadowViews {
     pub groups: Vec<DrawGroup>,
     /// Instance indices of every group, concatenated.
     pub indices: Vec<u32>,
+    /// Bumped whenever `groups` and `indices` are rebuilt (the renderer uploads them then).
+    pub generation: u64,
 }
 
 impl ShadowViews {
@@ -231,6 +233,7 @@ pub fn update_shadow_views(
     if culled || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
         out.indices.clear();
+        out.generation += 1;
         for (entry, group) in entries.iter().zip(out.groups.iter_mut()) {
             let offset = out.indices.len() as u32;
             out.indices.extend_from_slice(&entry.list);

@@ -40,10 +40,9 @@ pub struct ForwardPass {
     pipelines: HashMap<PipelineKey, Built>,
     /// Colour the target is cleared to (linear RGB).
     pub clear_color: [f64; 3],
-    /// This frame's resources, set in `setup`.
+    /// This frame's resources, set in `setup`; `depth_prepass` says whether the depth was
+    /// written before this pass (so it is loaded and tested, not written).
     handles: Option<FrameResources>,
-    /// This frame's depth was written by the prepass.
-    depth_prepass: bool,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -123,7 +122,6 @@ impl ForwardPass {
             pipelines: HashMap::new(),
             clear_color,
             handles: None,
-            depth_prepass: false,
         }
     }
 
@@ -185,7 +183,7 @@ impl RenderNode for ForwardPass {
         if let Some(visibility) = frame.visibility {
             pass.read(visibility);
         }
-        self.depth_prepass = frame.depth.is_some();
+        let loaded = frame.depth.is_some();
         let depth = match frame.depth {
             Some(depth) => pass.read(depth),
             None => *frame.depth.insert(pass.create_texture(camera_depth(frame.size))),
@@ -196,6 +194,7 @@ impl RenderNode for ForwardPass {
         }
         self.handles = Some(FrameResources {
             depth: Some(depth),
+            depth_prepass: loaded,
             ..*frame
         });
     }
@@ -206,13 +205,13 @@ impl RenderNode for ForwardPass {
             color_format: format,
             analysis: analysis_targets,
             depth: Some(depth),
+            depth_prepass,
             ..
         }) = self.handles
         else {
             return;
         };
         let analysis = analysis_targets.is_some();
-        let depth_prepass = self.depth_prepass;
         let lights = ctx.lights;
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {

@@ -46,6 +46,8 @@ pub struct SceneGpu {
     mesh_generation: u64,
     material_generation: (u64, u64),
     instance_generation: u64,
+    /// The generations of the shadow and camera draw lists last uploaded.
+    index_generations: (u64, u64),
 }
 
 fn instances_group(
@@ -122,6 +124,7 @@ impl SceneGpu {
             mesh_generation: u64::MAX,
             material_generation: (u64::MAX, u64::MAX),
             instance_generation: 0,
+            index_generations: (u64::MAX, u64::MAX),
         }
     }
 
@@ -155,12 +158,22 @@ impl SceneGpu {
             regroup |= self.instances.write(gpu, instances)?;
             self.instance_generation = input.instances.generation;
         }
-        let shadow_replaced = self
-            .shadow_indices
-            .write(gpu, bytemuck::cast_slice(&input.shadow_views.indices))?;
-        let view_replaced = self
-            .view_indices
-            .write(gpu, bytemuck::cast_slice(&input.view_groups.indices))?;
+        // NOTE: the draw lists are uploaded only when culling rebuilt them (a still frame
+        // reuses them, and they are the largest per-frame upload: one index per drawn instance).
+        let mut shadow_replaced = false;
+        if input.shadow_views.generation != self.index_generations.0 {
+            shadow_replaced = self
+                .shadow_indices
+                .write(gpu, bytemuck::cast_slice(&input.shadow_views.indices))?;
+            self.index_generations.0 = input.shadow_views.generation;
+        }
+        let mut view_replaced = false;
+        if input.view_groups.generation != self.index_generations.1 {
+            view_replaced = self
+                .view_indices
+                .write(gpu, bytemuck::cast_slice(&input.view_groups.indices))?;
+            self.index_generations.1 = input.view_groups.generation;
+        }
         if regroup || shadow_replaced {
             self.shadow_instances_group = instances_group(
                 device,

@@ -107,13 +107,6 @@ impl RenderGraph {
         TextureId(handle)
     }
 
-    /// Imports a buffer that lives outside the graph, for this frame.
-    pub fn import_buffer(&mut self, label: &'static str, buffer: &wgpu::Buffer) -> BufferId {
-        let handle = self.decls.add(label, None);
-        self.resources.set(handle.index, Physical::Buffer(buffer.clone()));
-        BufferId(handle)
-    }
-
     /// Lets every node declare its work, schedules the frame and allocates its transients;
     /// returns how many transient resources had to be created.
     pub fn build(
@@ -144,11 +137,6 @@ impl RenderGraph {
     /// Names of the nodes the last build culled.
     pub fn culled(&self) -> Vec<&'static str> {
         self.schedule.culled.iter().map(|&p| self.names[p as usize]).collect()
-    }
-
-    /// Transient resources held by the pool.
-    pub fn pooled(&self) -> usize {
-        self.pool.len()
     }
 
     /// Records the kept nodes, in order, into one encoder.

@@ -93,16 +93,6 @@ impl TransientPool {
     fn get(&self, (key, ordinal): (PoolKey, u32)) -> Option<&Physical> {
         self.entries.get(&key)?.get(ordinal as usize).map(|e| &e.0)
     }
-
-    /// Resources held, for memory reports.
-    pub fn len(&self) -> usize {
-        self.entries.values().map(Vec::len).sum()
-    }
-
-    /// True when nothing is pooled.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
 }
 
 /// Every resource of the frame, by handle: what a node's `record` reads its handles from.
