@@ -93,6 +93,10 @@ struct RenderArgs {
     /// depth prepass (by default they are resolved in compute whenever the prepass runs).
     #[arg(long)]
     no_visibility_resolve: bool,
+    /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
+    /// or one pass per cascade (`false`).
+    #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
+    single_pass_cascades: bool,
     /// Count the lighting pass's fragment-shader invocations (pipeline statistics) and print
     /// them per pixel of the image.
     #[arg(long)]
@@ -217,6 +221,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         depth_prepass,
         no_shadow_cache,
         no_visibility_resolve,
+        single_pass_cascades,
         count_fragments,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
@@ -263,6 +268,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             },
             shadow_cache: !no_shadow_cache,
             visibility_resolve: !no_visibility_resolve,
+            single_pass_cascades,
         },
         count_fragments,
     };
@@ -305,7 +311,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         casters.join(", "),
         draws.join(", ")
     );
-    println!("draw calls {}", result.report.draw_calls);
+    let report = &result.report;
+    println!("draw calls {} ({} shadow)", report.draw_calls, report.shadow_draw_calls);
     if let Some(n) = result.report.forward_fragments {
         let pixels = u64::from(width) * u64::from(height);
         println!(

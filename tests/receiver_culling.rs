@@ -16,7 +16,10 @@ fn render(scene: &str, receivers: bool) -> (RgbaImage, Vec<u32>) {
     let renderer = Renderer::headless(240, 135)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app: App = still_scene(renderer, scene);
-    app.insert_resource(ShadowCulling { receivers });
+    app.insert_resource(ShadowCulling {
+        receivers,
+        ..Default::default()
+    });
     app.update();
     let casters = app.world().resource::<ShadowStats>().casters_per_view.clone();
     (app.world().resource::<Renderer>().read_image(), casters)

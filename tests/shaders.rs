@@ -21,11 +21,19 @@ fn every_forward_variant_validates() {
 }
 
 #[test]
-fn caster_shader_validates_with_both_entry_points() {
+fn caster_shader_validates_with_both_entry_points_single_and_multiview() {
     let mut library = ShaderLibrary::new().unwrap();
-    let module = library.caster().unwrap_or_else(|e| panic!("{e}"));
-    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entry_points, ["vs_main", "fs_masked"]);
+    for multiview in [false, true] {
+        let module = library.caster(multiview).unwrap_or_else(|e| panic!("{e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["vs_main", "fs_masked"]);
+        let view_index = module.entry_points[0]
+            .function
+            .arguments
+            .iter()
+            .any(|a| a.binding == Some(naga::Binding::BuiltIn(naga::BuiltIn::ViewIndex)));
+        assert_eq!(view_index, multiview, "multiview {multiview}");
+    }
 }
 
 #[test]

@@ -15,6 +15,7 @@ pub mod placement;
 pub mod plugin;
 pub mod receiver_culling;
 pub mod shadow_views;
+pub mod single_pass;
 pub mod stats;
 pub mod view;
 pub mod view_cache;

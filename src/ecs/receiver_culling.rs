@@ -35,11 +35,19 @@ pub const FILTER_REACH_TEXELS: f32 = 48.0;
 pub struct ShadowCulling {
     /// Shrink cascade cull boxes to the visible receivers (default on).
     pub receivers: bool,
+    /// Also list each sun's casters once with the cascades they touch
+    /// ([`ShadowViews::single_pass`](crate::ecs::shadow_views::ShadowViews::single_pass)),
+    /// for rendering all cascades in one multiview pass. The render plugin sets it when the
+    /// renderer draws cascades that way (default off).
+    pub single_pass: bool,
 }
 
 impl Default for ShadowCulling {
     fn default() -> Self {
-        Self { receivers: true }
+        Self {
+            receivers: true,
+            single_pass: false,
+        }
     }
 }
 

@@ -20,6 +20,7 @@ use crate::ecs::draw_groups::{DrawGroup, push_instance};
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::receiver_culling::{ReceiverCache, ShadowCulling};
+use crate::ecs::single_pass::{MAX_PACKED_INSTANCES, SinglePassGroup, SunList};
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::{ViewCache, ViewInput};
@@ -115,6 +116,10 @@ pub struct ShadowViews {
     pub views: Vec<ShadowView>,
     /// The casters of each view, as instanced draws.
     pub groups: Vec<DrawGroup>,
+    /// Each sun's casters listed once for a single-pass draw of its cascades, while
+    /// [`ShadowCulling::single_pass`] is on (else empty); their packed entries follow the
+    /// groups' in `indices`.
+    pub single_pass: Vec<SinglePassGroup>,
     /// Instance indices of every group, concatenated.
     pub indices: Vec<u32>,
     /// Bumped whenever `groups` and `indices` are rebuilt (the renderer uploads them then).
@@ -146,6 +151,10 @@ pub struct ViewScratch {
     versions: Vec<u64>,
     cache: ViewCache,
     receivers: ReceiverCache,
+    /// Per sun: its light entity and single-pass list (while single-pass lists are made).
+    suns: Vec<(Option<Entity>, SunList)>,
+    /// Single-pass lists were made last frame.
+    single_pass: bool,
 }
 
 /// Lists the shadow views of the shadowed lights, gives each its content version
@@ -227,10 +236,13 @@ pub fn update_shadow_views(
     for (view, &version) in out.views.iter_mut().zip(&scratch.versions) {
         view.version = version;
     }
+    let single_pass = culling.single_pass && instances.keys.len() <= MAX_PACKED_INSTANCES;
+    let toggled = single_pass != scratch.single_pass;
+    scratch.single_pass = single_pass;
     let culled = cull_views(&lights, &instances, &out.views, scratch);
     let entries = &scratch.cache.entries;
     // NOTE: with every view reused in the same order, last frame's groups stand as they are.
-    if culled || scratch.cache.reordered || out.groups.len() != entries.len() {
+    if culled || toggled || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
         out.indices.clear();
         out.generation += 1;
@@ -246,6 +258,7 @@ pub fn update_shadow_views(
                 .chain(group.masked.iter_mut())
                 .for_each(|b| b.first += offset);
         }
+        collect_single_pass(&lights, scratch, out);
     }
     stats.casters_per_view.clear();
     stats.draws_per_view.clear();
@@ -254,6 +267,32 @@ pub fn update_shadow_views(
         stats.draws_per_view.push(entry.group.draw_count() as u32);
     }
     stats.culling_cpu = start.elapsed();
+}
+
+/// Appends each sun's single-pass list after the view groups (none while they are off).
+fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, out: &mut ShadowViews) {
+    out.single_pass.clear();
+    if !scratch.single_pass {
+        return;
+    }
+    let mut first_view = 0;
+    for (i, (_, sun)) in scratch.suns.iter().enumerate().take(lights.suns.len()) {
+        let views = scratch.receivers.set(i).count as u32;
+        let offset = out.indices.len() as u32;
+        out.indices.extend_from_slice(&sun.list);
+        let mut group = sun.group.clone();
+        group
+            .opaque
+            .iter_mut()
+            .chain(group.masked.iter_mut())
+            .for_each(|b| b.first += offset);
+        out.single_pass.push(SinglePassGroup {
+            first_view,
+            views,
+            group,
+        });
+        first_view += views;
+    }
 }
 
 /// Culls the casters of the views whose cache entry asks for it into the entry's list and
@@ -268,11 +307,16 @@ fn cull_views(
     let entries = &mut scratch.cache.entries;
     let mut culled = false;
     let mut first = 0;
-    for i in 0..lights.suns.len() {
+    scratch.suns.resize_with(lights.suns.len(), Default::default);
+    for (i, sun) in lights.suns.iter().enumerate() {
         let set = scratch.receivers.set(i);
         let range = first..first + set.count;
         first += set.count;
-        if set.count == 0 || !entries[range.clone()].iter().any(|e| e.cull) {
+        // NOTE: a sun's single-pass list is made when its views are culled; one missing (just
+        // turned on, or the sun at this index changed) has its views culled again.
+        let (owner, list) = &mut scratch.suns[i];
+        let stale = scratch.single_pass && *owner != Some(sun.entity);
+        if set.count == 0 || !(stale || entries[range.clone()].iter().any(|e| e.cull)) {
             continue;
         }
         debug_assert!(set.count <= MAX_CASCADES);
@@ -298,6 +342,12 @@ fn cull_views(
                 push_instance(&mut entry.group, &mut entry.list, key, instance);
                 bits &= bits - 1;
             }
+        }
+        if scratch.single_pass {
+            list.build(&instances.casters, &scratch.masks, &instances.keys);
+            *owner = Some(sun.entity);
+        } else {
+            *owner = None;
         }
     }
     for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {

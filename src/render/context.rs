@@ -75,6 +75,9 @@ pub struct GpuContext {
     pub unclipped_depth: bool,
     /// Pipeline-statistics queries are available (fragment invocations can be counted).
     pub pipeline_statistics: bool,
+    /// Most views one multiview pass may render (0: no `MULTIVIEW`, cascades are drawn one
+    /// pass each).
+    pub multiview_views: u32,
     /// The limits user data is checked against.
     pub limits: DeviceLimits,
     errors: Arc<Mutex<ErrorSink>>,
@@ -106,7 +109,8 @@ impl GpuContext {
         let available = adapter.features();
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::DEPTH_CLIP_CONTROL
-            | wgpu::Features::PIPELINE_STATISTICS_QUERY;
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY
+            | wgpu::Features::MULTIVIEW;
         let required_features = available & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -133,6 +137,11 @@ impl GpuContext {
                 sink.dropped += 1;
             }
         }));
+        let multiview_views = if required_features.contains(wgpu::Features::MULTIVIEW) {
+            device.limits().max_multiview_view_count
+        } else {
+            0
+        };
         Ok(Self {
             limits: DeviceLimits::of(&device),
             errors,
@@ -143,6 +152,7 @@ impl GpuContext {
             timestamps: required_features.contains(wgpu::Features::TIMESTAMP_QUERY),
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
+            multiview_views,
             adapter_info,
         })
     }

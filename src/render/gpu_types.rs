@@ -236,16 +236,27 @@ mod tests {
                 ),
             ],
         );
-        let caster = lib.caster().unwrap();
-        let (_, ty) = caster
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("CasterView"))
-            .unwrap();
-        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
-            panic!()
-        };
-        assert_eq!(members[0].offset as usize, offset_of!(CasterViewGpu, clip_from_world));
+        for multiview in [false, true] {
+            let caster = lib.caster(multiview).unwrap();
+            let struct_members = |name: &str| {
+                let (_, ty) = caster
+                    .types
+                    .iter()
+                    .find(|(_, t)| t.name.as_deref() == Some(name))
+                    .unwrap();
+                match &ty.inner {
+                    naga::TypeInner::Struct { members, span } => (members.clone(), *span),
+                    _ => panic!("{name} is not a struct"),
+                }
+            };
+            let (members, _) = struct_members("CasterView");
+            assert_eq!(members[0].offset as usize, offset_of!(CasterViewGpu, clip_from_world));
+            assert_eq!(members[1].offset as usize, offset_of!(CasterViewGpu, view_bit));
+            if multiview {
+                let (_, span) = struct_members("CasterViewEntry");
+                assert_eq!(span as usize, size_of::<CasterViewGpu>());
+            }
+        }
         assert_eq!(size_of::<CasterViewGpu>(), 256);
     }
 

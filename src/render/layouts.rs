@@ -6,7 +6,9 @@
 use std::num::NonZeroU64;
 
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
-use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, ShadowViewGpu};
+use crate::render::shadows::gpu::{
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu,
+};
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
@@ -17,6 +19,9 @@ pub struct Layouts {
     pub shadows: wgpu::BindGroupLayout,
     /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
     pub caster_view: wgpu::BindGroupLayout,
+    /// Group 0 of the single-pass (multiview) caster pipelines: [`SINGLE_PASS_VIEWS`]
+    /// consecutive caster views, at a dynamic offset.
+    pub caster_views: wgpu::BindGroupLayout,
     /// Group 1: instances and the draw's index list.
     pub instances: wgpu::BindGroupLayout,
     /// Group 2: base-colour texture and sampler.
@@ -107,6 +112,18 @@ impl Layouts {
             label: Some("caster view"),
             entries: &[entry(0, wgpu::ShaderStages::VERTEX, uniform::<CasterViewGpu>(true))],
         });
+        let caster_views = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caster views (single pass)"),
+            entries: &[entry(
+                0,
+                wgpu::ShaderStages::VERTEX,
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: NonZeroU64::new((SINGLE_PASS_VIEWS * size_of::<CasterViewGpu>()) as u64),
+                },
+            )],
+        });
         let instances = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("instances"),
             entries: &[
@@ -156,6 +173,7 @@ impl Layouts {
             view,
             shadows,
             caster_view,
+            caster_views,
             instances,
             material,
             shadow_compare,

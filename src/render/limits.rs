@@ -133,6 +133,8 @@ pub fn requested_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
         max_color_attachment_bytes_per_sample: adapter.max_color_attachment_bytes_per_sample,
         max_buffer_size: adapter.max_buffer_size,
         max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
+        // Single-pass cascades render up to a sun's cascades as the views of one pass.
+        max_multiview_view_count: adapter.max_multiview_view_count,
         ..wgpu::Limits::default().using_resolution(adapter.clone())
     }
 }

@@ -35,6 +35,11 @@ pub struct RenderOptions {
     /// on the H100 it takes the boxes scene's PCSS High frame from 5.59 to 2.64 ms (every map
     /// drawn) — fragment-shader filtering is far slower there than the same work in compute.
     pub visibility_resolve: bool,
+    /// Render the cascades of a sun that must be drawn again in one multiview pass, one
+    /// instanced draw per batch, where the device has `MULTIVIEW` (each cascade in its own
+    /// pass elsewhere, or while off). Each instance is still drawn only into the cascades
+    /// whose casters it is: the vertex stage drops it from the others.
+    pub single_pass_cascades: bool,
 }
 
 impl Default for RenderOptions {
@@ -43,6 +48,7 @@ impl Default for RenderOptions {
             depth_prepass: DepthPrepass::Auto,
             shadow_cache: true,
             visibility_resolve: true,
+            single_pass_cascades: false,
         }
     }
 }

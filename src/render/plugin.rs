@@ -7,6 +7,7 @@ use bevy_ecs::system::Local;
 use bevy_ecs::world::World;
 
 use crate::ecs::components::ViewportSize;
+use crate::ecs::receiver_culling::ShadowCulling;
 use crate::render::frame::FrameInputs;
 use crate::render::options::RenderOptions;
 use crate::render::renderer::Renderer;
@@ -33,6 +34,15 @@ pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
         let (width, height) = renderer.size();
         if *world.resource::<ViewportSize>() != (ViewportSize { width, height }) {
             world.insert_resource(ViewportSize { width, height });
+        }
+        // NOTE: the single-pass lists are made by culling from the next frame on; until
+        // then the cascades are drawn one pass each.
+        let options = world.get_resource::<RenderOptions>().copied().unwrap_or_default();
+        let single_pass = options.single_pass_cascades && renderer.gpu.multiview_views >= 2;
+        if let Some(mut culling) = world.get_resource_mut::<ShadowCulling>()
+            && culling.single_pass != single_pass
+        {
+            culling.single_pass = single_pass;
         }
         renderer.render(&FrameInputs::from_world(world, *frame_index));
     });

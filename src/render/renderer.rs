@@ -448,6 +448,21 @@ impl Renderer {
         self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
     }
 
+    /// Reads layer `layer` of the cascades' (`cascades`) or the spot lights' shadow maps
+    /// back: `side`² reverse-Z depths, row by row (None past the last layer or before any
+    /// shadow map exists). It waits for the GPU; for tests and debugging.
+    pub fn read_shadow_map(&self, cascades: bool, layer: u32) -> Option<Vec<f32>> {
+        let storage = if cascades {
+            &self.shadows.cascades
+        } else {
+            &self.shadows.spots
+        };
+        if storage.placeholder {
+            return None;
+        }
+        storage.read_layer(&self.gpu.device, &self.gpu.queue, layer)
+    }
+
     /// Reads the last rendered image back.
     pub fn read_image(&self) -> RgbaImage {
         match &self.target {

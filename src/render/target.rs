@@ -87,7 +87,18 @@ fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
 /// Copies a 2D texture's first layer to the CPU (waits for the GPU): `texel_bytes` per texel,
 /// rows top to bottom, unpadded. The texture needs `COPY_SRC`.
 pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, texel_bytes: u32) -> Vec<u8> {
-    let (width, height) = (texture.width(), texture.height());
+    read_texture_layer(device, queue, texture.as_image_copy(), texel_bytes)
+}
+
+/// [`read_texture`] of one layer and aspect (`source`: texture, mip 0, origin at the
+/// layer): the rows of that layer, unpadded.
+pub fn read_texture_layer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: wgpu::TexelCopyTextureInfo<'_>,
+    texel_bytes: u32,
+) -> Vec<u8> {
+    let (width, height) = (source.texture.width(), source.texture.height());
     let row = width * texel_bytes;
     let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -100,7 +111,7 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
         label: Some("readback"),
     });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        source,
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout {

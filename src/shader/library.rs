@@ -118,7 +118,7 @@ impl ShaderLibrary {
     /// Registers the shared modules. Fails only if a shipped shader is broken.
     pub fn new() -> Result<Self, ShaderError> {
         let mut library = Self {
-            composer: Composer::default(),
+            composer: Composer::default().with_capabilities(capabilities()),
             forward_override: None,
             forward_generation: 0,
         };
@@ -226,9 +226,15 @@ impl ShaderLibrary {
         FORWARD.source
     }
 
-    /// The shadow-caster shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
-    pub fn caster(&mut self) -> Result<naga::Module, ShaderError> {
-        self.compose(CASTER.file, CASTER.source, HashMap::new())
+    /// The shadow-caster shader (`vs_main` for both pipelines, `fs_masked` for alpha test);
+    /// with `multiview`, the variant that renders several cascades in one pass (it reads
+    /// `@builtin(view_index)`, so only a device with `MULTIVIEW` can build it).
+    pub fn caster(&mut self, multiview: bool) -> Result<naga::Module, ShaderError> {
+        let mut defs = HashMap::new();
+        if multiview {
+            defs.insert("MULTIVIEW".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
+        }
+        self.compose(CASTER.file, CASTER.source, defs)
     }
 
     /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).
@@ -247,9 +253,15 @@ impl ShaderLibrary {
     }
 }
 
+/// What shaders may use: naga's defaults and `@builtin(view_index)` (only the multiview
+/// caster reads it; wgpu refuses that module on a device without `MULTIVIEW`).
+fn capabilities() -> Capabilities {
+    Capabilities::default() | Capabilities::MULTIVIEW
+}
+
 /// Runs naga's validator over a composed module.
 pub fn validate(file: &str, module: &naga::Module) -> Result<naga::valid::ModuleInfo, ShaderError> {
-    Validator::new(ValidationFlags::all(), Capabilities::default())
+    Validator::new(ValidationFlags::all(), capabilities())
         .validate(module)
         .map_err(|e| ShaderError::Validate {
             file: file.to_string(),

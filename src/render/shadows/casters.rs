@@ -1,7 +1,7 @@
 //! The shadow-caster pipelines, cached by everything that changes one: whether the material
-//! is alpha-masked, the slope-scaled depth bias and its clamp, and unclipped depth. Views of
-//! several lights with different biases each get theirs; a key seen before reuses its
-//! pipeline.
+//! is alpha-masked, the slope-scaled depth bias and its clamp, unclipped depth, and the views
+//! of a single-pass (multiview) pass. Views of several lights with different biases each get
+//! theirs; a key seen before reuses its pipeline.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -23,6 +23,8 @@ pub struct CasterKey {
     pub bias_clamp: u32,
     /// Casters in front of the near plane are flattened onto it instead of clipped.
     pub unclipped: bool,
+    /// Views of the multiview pass it draws in (0: one view per pass).
+    pub views: u32,
 }
 
 impl CasterKey {
@@ -34,7 +36,13 @@ impl CasterKey {
             slope_bias: settings.slope_bias.to_bits(),
             bias_clamp: settings.bias_clamp.to_bits(),
             unclipped: settings.depth_clamp && unclipped_supported,
+            views: 0,
         }
+    }
+
+    /// This key for a multiview pass of `views` views.
+    pub fn with_views(self, views: u32) -> Self {
+        Self { views, ..self }
     }
 }
 
@@ -42,7 +50,8 @@ impl CasterKey {
 #[derive(Default)]
 pub struct CasterPipelines {
     pipelines: HashMap<CasterKey, wgpu::RenderPipeline>,
-    shader: Option<wgpu::ShaderModule>,
+    /// The caster shader: one view per pass, and multiview.
+    shaders: [Option<wgpu::ShaderModule>; 2],
 }
 
 impl CasterPipelines {
@@ -55,12 +64,13 @@ impl CasterPipelines {
         key: CasterKey,
         built: &mut u32,
     ) -> &wgpu::RenderPipeline {
-        let shader = self.shader.get_or_insert_with(|| {
+        let multiview = key.views > 0;
+        let shader = self.shaders[usize::from(multiview)].get_or_insert_with(|| {
             let module = library
-                .caster()
+                .caster(multiview)
                 .expect("the shipped caster shader composes (checked by tests)");
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("caster"),
+                label: Some(if multiview { "caster (multiview)" } else { "caster" }),
                 source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
             })
         });
@@ -77,20 +87,21 @@ fn create_pipeline(
     shader: &wgpu::ShaderModule,
     key: CasterKey,
 ) -> wgpu::RenderPipeline {
+    let views = if key.views > 0 {
+        &layouts.caster_views
+    } else {
+        &layouts.caster_view
+    };
     let layout = if key.masked {
         device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("shadow masked"),
-            bind_group_layouts: &[
-                Some(&layouts.caster_view),
-                Some(&layouts.instances),
-                Some(&layouts.material),
-            ],
+            bind_group_layouts: &[Some(views), Some(&layouts.instances), Some(&layouts.material)],
             immediate_size: 0,
         })
     } else {
         device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("shadow opaque"),
-            bind_group_layouts: &[Some(&layouts.caster_view), Some(&layouts.instances)],
+            bind_group_layouts: &[Some(views), Some(&layouts.instances)],
             immediate_size: 0,
         })
     };
@@ -138,7 +149,7 @@ fn create_pipeline(
         depth_stencil: Some(depth_stencil),
         multisample: wgpu::MultisampleState::default(),
         fragment,
-        multiview_mask: None,
+        multiview_mask: std::num::NonZeroU32::new((1 << key.views) - 1),
         cache: None,
     })
 }

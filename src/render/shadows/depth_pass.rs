@@ -7,9 +7,16 @@
 //! fragment stage), then the alpha-masked group with the alpha-test pipeline, both with the
 //! light's slope-scaled depth bias and, where the adapter allows, unclipped depth so casters
 //! in front of the near plane are flattened onto it.
+//!
+//! With single-pass cascades, the cascades of a sun that must be drawn go through one
+//! multiview pass per run of consecutive layers: the sun's casters listed once
+//! ([`ShadowViews::single_pass`](crate::ecs::ShadowViews::single_pass)), one instanced draw per
+//! batch, each instance dropped in the vertex stage from the cascades it does not touch.
 
 use std::fmt::Write;
+use std::num::NonZeroU32;
 
+use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::{ShadowView, ShadowViewKind};
 use crate::render::draw::draw_batches;
@@ -17,7 +24,8 @@ use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::gpu::CasterViewGpu;
-use crate::settings::ShadowSettings;
+use crate::render::shadows::storage::DepthArray;
+use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// The shadow-map node.
 #[derive(Default)]
@@ -30,6 +38,12 @@ pub struct DepthPass {
     held: [(u64, Vec<u64>); 2],
     /// Views whose layer holds them are skipped ([`RenderOptions::shadow_cache`](crate::render::RenderOptions)).
     cache: bool,
+    /// A sun's cascades are drawn in one multiview pass where the device allows
+    /// ([`RenderOptions::single_pass_cascades`](crate::render::RenderOptions)).
+    single_pass: bool,
+    /// Views of consecutive cascade layers made for multiview passes: (storage id, first
+    /// layer, layers, view).
+    ranges: Vec<(u64, u32, u32, wgpu::TextureView)>,
 }
 
 /// Index of a view kind's storage in [`DepthPass::held`].
@@ -72,6 +86,7 @@ impl RenderNode for DepthPass {
     /// culled. Which views are drawn is decided while recording, when the storage is known.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
+        self.single_pass = inputs.options.single_pass_cascades;
         let views = &inputs.shadow_views.views;
         if views.iter().any(|v| matches!(v.kind, ShadowViewKind::Cascade(_))) {
             pass.write(frame.cascade_maps);
@@ -82,95 +97,194 @@ impl RenderNode for DepthPass {
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
-        let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
+        if ctx.scene.mesh_buffers().is_none() {
             return;
-        };
+        }
         let views = ctx.shadow_views;
         if self.names.len() < views.views.len() {
             self.names.resize_with(views.views.len(), String::new);
         }
-        for (v, (view, group)) in views.views.iter().zip(&views.groups).enumerate() {
-            let storage = ctx.shadows.storage(view.kind);
-            // NOTE: a new allocation holds nothing; every layer of it is drawn again.
-            let (id, layers) = &mut self.held[storage_index(view.kind)];
-            if *id != storage.id {
-                *id = storage.id;
-                layers.clear();
-            }
-            let slot = view.slot as usize;
-            if self.cache && layers.get(slot) == Some(&view.version) {
-                continue;
-            }
-            let Some(settings) = view_settings(ctx.lights, view) else {
-                continue;
-            };
-            let Some(target) = storage.layer_views.get(slot) else {
+        let most = (ctx.gpu.multiview_views as usize).min(MAX_CASCADES);
+        let single_pass = self.single_pass && most >= 2;
+        let mut v = 0;
+        while v < views.views.len() {
+            let run_group = views
+                .single_pass
+                .iter()
+                .find(|g| single_pass && g.first_view as usize == v && g.views >= 2);
+            let Some(run_group) = run_group else {
+                if self.claim(ctx, v) {
+                    self.draw(ctx, encoder, v, 1, &views.groups[v]);
+                }
+                v += 1;
                 continue;
             };
-            if layers.len() <= slot {
-                layers.resize(slot + 1, 0);
+            // NOTE: the cascades to draw are taken in runs of consecutive layers, each run one
+            // multiview pass (a lone cascade gets its own pass and list).
+            let count = run_group.views as usize;
+            let mut redraw = [false; MAX_CASCADES];
+            for (c, redraw) in redraw.iter_mut().enumerate().take(count) {
+                *redraw = self.claim(ctx, v + c);
             }
-            layers[slot] = view.version;
-            ctx.shadow_views_drawn += 1;
-            let unclipped = ctx.gpu.unclipped_depth;
-            let mut built = 0;
-            let device = &ctx.gpu.device;
-            let opaque = self
-                .pipelines
-                .get(
-                    device,
-                    ctx.layouts,
-                    ctx.library,
-                    CasterKey::new(settings, false, unclipped),
-                    &mut built,
-                )
-                .clone();
-            let masked = (!group.masked.is_empty()).then(|| {
-                self.pipelines
-                    .get(
-                        device,
-                        ctx.layouts,
-                        ctx.library,
-                        CasterKey::new(settings, true, unclipped),
-                        &mut built,
-                    )
-                    .clone()
-            });
-            ctx.counters.caster_pipelines += built;
-            view_name(ctx.lights, view, &mut self.names[v]);
-            let name = self.names[v].as_str();
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(name),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: target,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: ctx.timer.pass(name),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if view.resolution < storage.side {
-                let side = view.resolution as f32;
-                pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);
+            let mut c = 0;
+            while c < count {
+                let end = (c..count)
+                    .take(most)
+                    .find(|&e| !redraw[e])
+                    .unwrap_or(count.min(c + most));
+                match end - c {
+                    0 => c += 1,
+                    1 => {
+                        self.draw(ctx, encoder, v + c, 1, &views.groups[v + c]);
+                        c = end;
+                    }
+                    n => {
+                        self.draw(ctx, encoder, v + c, n, &run_group.group);
+                        c = end;
+                    }
+                }
             }
-            pass.set_vertex_buffer(0, vertices.slice(..));
-            pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-            let offset = (v * size_of::<CasterViewGpu>()) as u32;
-            pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
-            pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
-            pass.set_pipeline(&opaque);
-            let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false);
-            if let Some(masked) = &masked {
-                pass.set_pipeline(masked);
-                calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
-            }
-            ctx.draw_calls += calls;
-            ctx.shadow_draw_calls += calls;
+            v += count;
         }
     }
+}
+
+impl DepthPass {
+    /// Whether view `v` must be drawn (its layer does not hold its content version, or the
+    /// cache is off); marks the layer as holding it.
+    fn claim(&mut self, ctx: &FrameContext<'_>, v: usize) -> bool {
+        let view = &ctx.shadow_views.views[v];
+        let storage = ctx.shadows.storage(view.kind);
+        // NOTE: a new allocation holds nothing; every layer of it is drawn again.
+        let (id, layers) = &mut self.held[storage_index(view.kind)];
+        if *id != storage.id {
+            *id = storage.id;
+            layers.clear();
+        }
+        let slot = view.slot as usize;
+        if self.cache && layers.get(slot) == Some(&view.version) {
+            return false;
+        }
+        if slot >= storage.layer_views.len() || view_settings(ctx.lights, view).is_none() {
+            return false;
+        }
+        if layers.len() <= slot {
+            layers.resize(slot + 1, 0);
+        }
+        layers[slot] = view.version;
+        true
+    }
+
+    /// The view of `count` layers from `first` of the cascade storage, made on first use.
+    fn layer_range(&mut self, storage: &DepthArray, first: u32, count: u32) -> wgpu::TextureView {
+        self.ranges.retain(|r| r.0 == storage.id);
+        if let Some(r) = self.ranges.iter().find(|r| (r.1, r.2) == (first, count)) {
+            return r.3.clone();
+        }
+        let view = storage.texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("cascade run"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            base_array_layer: first,
+            array_layer_count: Some(count),
+            ..Default::default()
+        });
+        self.ranges.push((storage.id, first, count, view.clone()));
+        view
+    }
+
+    /// Draws views `first..first + count` (one light's, in consecutive layers) from `group`:
+    /// one view per pass when `count` is 1, else one multiview pass over a packed
+    /// single-pass list.
+    fn draw(
+        &mut self,
+        ctx: &mut FrameContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        first: usize,
+        count: usize,
+        group: &DrawGroup,
+    ) {
+        let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
+            return;
+        };
+        let view = &ctx.shadow_views.views[first];
+        let Some(settings) = view_settings(ctx.lights, view) else {
+            return;
+        };
+        let views = if count > 1 { count as u32 } else { 0 };
+        let unclipped = ctx.gpu.unclipped_depth;
+        let mut built = 0;
+        let mut pipeline = |masked| {
+            let key = CasterKey::new(settings, masked, unclipped).with_views(views);
+            self.pipelines
+                .get(&ctx.gpu.device, ctx.layouts, ctx.library, key, &mut built)
+                .clone()
+        };
+        let opaque = pipeline(false);
+        let masked = (!group.masked.is_empty()).then(|| pipeline(true));
+        ctx.counters.caster_pipelines += built;
+        ctx.shadow_views_drawn += count as u32;
+        let storage = ctx.shadows.storage(view.kind);
+        let target = if count > 1 {
+            self.layer_range(storage, view.slot, count as u32)
+        } else {
+            storage.layer_views[view.slot as usize].clone()
+        };
+        let name = &mut self.names[first];
+        match view.kind {
+            ShadowViewKind::Cascade(c) if count > 1 => run_name(view.light, c, count, name),
+            _ => view_name(ctx.lights, view, name),
+        }
+        let name = self.names[first].as_str();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: ctx.timer.pass(name),
+            occlusion_query_set: None,
+            multiview_mask: NonZeroU32::new((1 << views) - 1),
+        });
+        if view.resolution < storage.side {
+            let side = view.resolution as f32;
+            pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);
+        }
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        let offset = (first * size_of::<CasterViewGpu>()) as u32;
+        let views_group = if count > 1 {
+            &ctx.shadows.caster_run_group
+        } else {
+            &ctx.shadows.caster_group
+        };
+        pass.set_bind_group(0, views_group, &[offset]);
+        pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
+        pass.set_pipeline(&opaque);
+        let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false);
+        if let Some(masked) = &masked {
+            pass.set_pipeline(masked);
+            calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
+        }
+        ctx.draw_calls += calls;
+        ctx.shadow_draw_calls += calls;
+    }
+}
+
+/// Writes the timing name of a single-pass run of `count` cascades from cascade `first` of
+/// light `light`: `shadow cascades 0-3` for the first sun, `shadow sun k cascades a-b` for
+/// the others.
+fn run_name(light: u32, first: u32, count: usize, name: &mut String) {
+    name.clear();
+    let last = first as usize + count - 1;
+    // NOTE: writing to a String cannot fail.
+    let _ = if light == 0 {
+        write!(name, "shadow cascades {first}-{last}")
+    } else {
+        write!(name, "shadow sun {light} cascades {first}-{last}")
+    };
 }

@@ -94,9 +94,25 @@ pub struct ShadowViewGpu {
 pub struct CasterViewGpu {
     /// Light clip space from world.
     pub clip_from_world: Mat4,
-    /// Padding to 256 bytes.
-    pub _pad: [Vec4; 12],
+    /// The view's bit in a single-pass entry's cascade mask (`1 << cascade`; 0 for other views).
+    pub view_bit: u32,
+    /// Padding to 256 bytes (the dynamic-offset alignment).
+    pub _pad: [u32; 47],
 }
+
+impl CasterViewGpu {
+    /// The entry of a view with `clip_from_world` and single-pass bit `view_bit`.
+    pub fn new(clip_from_world: Mat4, view_bit: u32) -> Self {
+        Self {
+            clip_from_world,
+            view_bit,
+            _pad: [0; 47],
+        }
+    }
+}
+
+/// Views one single-pass (multiview) caster binding covers: a sun's cascades.
+pub const SINGLE_PASS_VIEWS: usize = crate::settings::MAX_CASCADES;
 
 /// The filter and flag bits a light's settings select.
 fn filter_and_flags(settings: &ShadowSettings) -> (u32, u32) {

@@ -22,7 +22,8 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
-    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, ShadowViewGpu, assign_resolve_layers, pack_lights, pack_view,
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers,
+    pack_lights, pack_view,
 };
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::visibility::VisibilityTarget;
@@ -46,6 +47,9 @@ pub struct ShadowResources {
     no_visibility: VisibilityTarget,
     /// Group 0 of the caster pipelines; bind view `i` at offset `i * 256`.
     pub caster_group: wgpu::BindGroup,
+    /// Group 0 of the single-pass caster pipelines: views `i..i + SINGLE_PASS_VIEWS` at
+    /// offset `i * 256` (the list is padded so every view can start a run).
+    pub caster_run_group: wgpu::BindGroup,
     light_data: Vec<LightGpu>,
     view_data: Vec<ShadowViewGpu>,
     caster_data: Vec<CasterViewGpu>,
@@ -123,19 +127,26 @@ fn shadow_group(
     })
 }
 
-fn caster_group(device: &wgpu::Device, layouts: &Layouts, buffer: &wgpu::Buffer) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("caster views"),
-        layout: &layouts.caster_view,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer,
-                offset: 0,
-                size: wgpu::BufferSize::new(size_of::<CasterViewGpu>() as u64),
-            }),
-        }],
-    })
+/// The caster groups of one view and of a single-pass run of views over `buffer`.
+fn caster_groups(device: &wgpu::Device, layouts: &Layouts, buffer: &wgpu::Buffer) -> [wgpu::BindGroup; 2] {
+    let group = |label, layout, views: usize| {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new((views * size_of::<CasterViewGpu>()) as u64),
+                }),
+            }],
+        })
+    };
+    [
+        group("caster views", &layouts.caster_view, 1),
+        group("caster views (single pass)", &layouts.caster_views, SINGLE_PASS_VIEWS),
+    ]
 }
 
 impl ShadowResources {
@@ -172,7 +183,7 @@ impl ShadowResources {
             [&cascades, &spots],
             &no_visibility,
         );
-        let caster_group = caster_group(device, layouts, &caster_views.buffer);
+        let [caster_group, caster_run_group] = caster_groups(device, layouts, &caster_views.buffer);
         Self {
             resolved: None,
             no_visibility,
@@ -184,6 +195,7 @@ impl ShadowResources {
             poisson_taps,
             group,
             caster_group,
+            caster_run_group,
             light_data: Vec::new(),
             view_data: Vec::new(),
             caster_data: Vec::new(),
@@ -244,11 +256,16 @@ impl ShadowResources {
         for view in &views.views {
             let side = self.storage(view.kind).side;
             self.view_data.push(pack_view(lights, view, side));
-            self.caster_data.push(CasterViewGpu {
-                clip_from_world: view.clip_from_world,
-                _pad: [glam::Vec4::ZERO; 12],
-            });
+            let view_bit = match view.kind {
+                ShadowViewKind::Cascade(c) => 1 << c,
+                ShadowViewKind::Spot => 0,
+            };
+            self.caster_data
+                .push(CasterViewGpu::new(view.clip_from_world, view_bit));
         }
+        // NOTE: a single-pass binding starting at the last view still lies inside the buffer.
+        let padded = self.caster_data.len() + SINGLE_PASS_VIEWS - 1;
+        self.caster_data.resize(padded, CasterViewGpu::new(glam::Mat4::ZERO, 0));
         for (what, len, max) in [
             ("lights", self.light_data.len(), MAX_LIGHTS),
             ("shadow views", self.view_data.len(), MAX_SHADOW_VIEWS),
@@ -279,7 +296,7 @@ impl ShadowResources {
         // NOTE: the grow buffer only grows for more data, which differs from what was sent.
         if casters_sent.as_slice() != casters {
             if self.caster_views.write(gpu, casters)? {
-                self.caster_group = caster_group(device, layouts, &self.caster_views.buffer);
+                [self.caster_group, self.caster_run_group] = caster_groups(device, layouts, &self.caster_views.buffer);
             }
             casters_sent.clear();
             casters_sent.extend_from_slice(casters);

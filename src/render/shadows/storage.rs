@@ -6,6 +6,8 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::render::target::read_texture_layer;
+
 /// Numbers every array ever created, so a pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
 
@@ -43,7 +45,9 @@ impl DepthArray {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
@@ -89,6 +93,27 @@ impl DepthArray {
     /// or there are too few layers. A kind with no views keeps what it has.
     pub fn needs(&self, side: u32, layers: u32) -> bool {
         layers > 0 && (self.placeholder || self.side != side || self.layers() < layers)
+    }
+
+    /// Copies layer `layer` to the CPU (row by row, `side`² reverse-Z depths; None past the
+    /// last layer). For tests and debugging: it waits for the GPU.
+    pub fn read_layer(&self, device: &wgpu::Device, queue: &wgpu::Queue, layer: u32) -> Option<Vec<f32>> {
+        if layer >= self.layers() {
+            return None;
+        }
+        let source = wgpu::TexelCopyTextureInfo {
+            texture: &self.texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            aspect: wgpu::TextureAspect::DepthOnly,
+        };
+        let bytes = read_texture_layer(device, queue, source, 4);
+        Some(
+            bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect(),
+        )
     }
 
     /// Bytes of GPU memory the array occupies (0 for the stand-in).

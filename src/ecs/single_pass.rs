@@ -1,0 +1,99 @@
+//! Single-pass cascade lists: each sun's casters listed once, with the cascades each one
+//! touches packed into the high bits of its index entry, so a multiview pass can draw every
+//! cascade of the sun with one instanced draw per batch and drop, in the vertex stage, the
+//! instances outside the view being rasterised (`shaders/caster.wgsl`, `MULTIVIEW`).
+
+use crate::ecs::draw_groups::{DrawGroup, push_instance};
+use crate::ecs::instances::DrawKey;
+
+/// Bits of an index entry below the cascade mask: the instance index.
+pub const CASCADE_MASK_SHIFT: u32 = 28;
+
+/// Instances past this index cannot be packed; a scene with more gets no single-pass lists
+/// and renders each cascade in its own pass.
+pub const MAX_PACKED_INSTANCES: usize = 1 << CASCADE_MASK_SHIFT;
+
+/// The entry of `instance` drawn into the cascades of `mask` (bit `c`: cascade `c`).
+pub fn pack_entry(instance: u32, mask: u8) -> u32 {
+    debug_assert!((instance as usize) < MAX_PACKED_INSTANCES);
+    instance | u32::from(mask) << CASCADE_MASK_SHIFT
+}
+
+/// The instance and cascade mask of an entry made by [`pack_entry`].
+pub fn unpack_entry(entry: u32) -> (u32, u8) {
+    (
+        entry & (MAX_PACKED_INSTANCES as u32 - 1),
+        (entry >> CASCADE_MASK_SHIFT) as u8,
+    )
+}
+
+/// One sun's casters for a single-pass draw of its cascades.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SinglePassGroup {
+    /// Index of the sun's first cascade in [`ShadowViews::views`](crate::ecs::shadow_views::ShadowViews::views);
+    /// its cascades follow in order.
+    pub first_view: u32,
+    /// Number of cascades.
+    pub views: u32,
+    /// Every caster of any of the cascades, once, as instanced draws over packed entries.
+    pub group: DrawGroup,
+}
+
+/// A sun's list as culling keeps it between frames.
+#[derive(Debug, Default)]
+pub struct SunList {
+    /// Packed entries, in draw order.
+    pub list: Vec<u32>,
+    /// Batches over `list` (starting at 0).
+    pub group: DrawGroup,
+}
+
+impl SunList {
+    /// Rebuilds the list from each caster's cascade mask (casters sorted by draw key, so
+    /// the batches come out in draw order); `keys` gives each instance's draw key.
+    pub fn build(&mut self, casters: &[u32], masks: &[u8], keys: &[DrawKey]) {
+        self.list.clear();
+        self.group.clear();
+        for (&instance, &mask) in casters.iter().zip(masks) {
+            if mask != 0 {
+                let key = keys[instance as usize];
+                push_instance(&mut self.group, &mut self.list, key, pack_entry(instance, mask));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ecs::assets::{MaterialHandle, MeshHandle};
+
+    #[test]
+    fn entries_round_trip_the_largest_instance_and_every_mask() {
+        for instance in [0, 1, 12_345, MAX_PACKED_INSTANCES as u32 - 1] {
+            for mask in 0..16u8 {
+                assert_eq!(unpack_entry(pack_entry(instance, mask)), (instance, mask));
+            }
+        }
+    }
+
+    #[test]
+    fn a_sun_list_holds_each_caster_once_with_its_cascades() {
+        let key = |mesh| DrawKey {
+            mesh: MeshHandle(mesh),
+            material: MaterialHandle(0),
+            masked: false,
+            double_sided: false,
+        };
+        let keys = [key(0), key(0), key(1), key(1)];
+        let mut sun = SunList::default();
+        sun.build(&[0, 1, 2, 3], &[0b0011, 0, 0b0100, 0b1000], &keys);
+        assert_eq!(
+            sun.list.iter().map(|&e| unpack_entry(e)).collect::<Vec<_>>(),
+            [(0, 0b0011), (2, 0b0100), (3, 0b1000)]
+        );
+        let counts: Vec<(u32, u32)> = sun.group.opaque.iter().map(|b| (b.first, b.count)).collect();
+        assert_eq!(counts, [(0, 1), (1, 2)]);
+        assert!(sun.group.masked.is_empty());
+    }
+}
