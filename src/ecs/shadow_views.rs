@@ -24,7 +24,7 @@ use crate::ecs::single_pass::{MAX_PACKED_INSTANCES, SinglePassGroup, SunList};
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::{ViewCache, ViewInput};
-use crate::math::chunks::{cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
@@ -334,13 +334,18 @@ fn cull_views(
             &instances.caster_chunks,
             &mut scratch.masks,
         );
-        for (&instance, &mask) in instances.casters.iter().zip(scratch.masks.iter()) {
-            let key = instances.keys[instance as usize];
-            let mut bits = mask;
-            while bits != 0 {
-                let entry = &mut entries[range.start + bits.trailing_zeros() as usize];
-                push_instance(&mut entry.group, &mut entry.list, key, instance);
-                bits &= bits - 1;
+        // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
+        // with one test per culling chunk.
+        let casters = instances.casters.chunks(CHUNK).zip(scratch.masks.chunks(CHUNK));
+        for (casters, masks) in casters.filter(|(_, masks)| masks.iter().any(|&m| m != 0)) {
+            for (&instance, &mask) in casters.iter().zip(masks) {
+                let mut bits = mask;
+                while bits != 0 {
+                    let key = instances.keys[instance as usize];
+                    let entry = &mut entries[range.start + bits.trailing_zeros() as usize];
+                    push_instance(&mut entry.group, &mut entry.list, key, instance);
+                    bits &= bits - 1;
+                }
             }
         }
         if scratch.single_pass {
