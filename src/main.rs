@@ -9,7 +9,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::render::{DepthPrepass, PassTiming, RenderOptions};
+use penumbra::render::timer::median_passes;
+use penumbra::render::{DepthPrepass, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
@@ -177,33 +178,6 @@ fn side() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Median time of each pass over the frames after the first (which builds pipelines).
-fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(String, f64)> {
-    let steady = if frames.len() > 1 { &frames[1..] } else { frames };
-    // NOTE: the pass names of the last frame that was timed.
-    let Some(last) = steady.iter().rev().find(|f| !f.is_empty()) else {
-        return Vec::new();
-    };
-    last.iter()
-        .map(|p| {
-            let samples = steady
-                .iter()
-                .filter_map(|f| f.iter().find(|q| q.name == p.name))
-                .map(|q| q.ms)
-                .collect();
-            (p.name.clone(), median(samples))
-        })
-        .collect()
-}
-
 fn render(args: RenderArgs) -> Result<(), RenderError> {
     let RenderArgs {
         scene,
@@ -312,7 +286,12 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         draws.join(", ")
     );
     let report = &result.report;
-    println!("draw calls {} ({} shadow)", report.draw_calls, report.shadow_draw_calls);
+    println!(
+        "draw calls {} ({} shadow), shadow texels cleared {:.2} M (last frame)",
+        report.draw_calls,
+        report.shadow_draw_calls,
+        report.shadow_cleared_texels as f64 / 1e6
+    );
     if let Some(n) = result.report.forward_fragments {
         let pixels = u64::from(width) * u64::from(height);
         println!(
@@ -328,7 +307,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         result.stats.culling_cpu.as_secs_f64() * 1e3,
         result.stats.view_culling_cpu.as_secs_f64() * 1e3
     );
-    let passes: Vec<Vec<PassTiming>> = result.frames.iter().map(|f| f.passes.clone()).collect();
+    let passes: Vec<Vec<_>> = result.frames.iter().map(|f| f.passes.clone()).collect();
     let medians = median_passes(&passes);
     if medians.is_empty() {
         println!("gpu        (the adapter has no timestamp queries)");

@@ -37,6 +37,14 @@ fn caster_shader_validates_with_both_entry_points_single_and_multiview() {
 }
 
 #[test]
+fn the_shadow_clear_shader_validates() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library.shadow_clear().unwrap_or_else(|e| panic!("{e}"));
+    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entry_points, ["vs_main"]);
+}
+
+#[test]
 fn the_resolve_shader_validates_for_every_filter_variant() {
     let mut library = ShaderLibrary::new().unwrap();
     let mut composed = 0;

@@ -17,7 +17,7 @@ use penumbra::ecs::{
 };
 use penumbra::mesh::cuboid;
 use penumbra::render::{RenderOptions, Renderer};
-use penumbra::settings::ShadowSettings;
+use penumbra::settings::{CascadeFit, ShadowSettings};
 
 /// The same scene in two renderers: with the cache, and drawing every map every frame.
 struct Pair {
@@ -216,4 +216,35 @@ fn every_change_draws_again_exactly_the_views_it_touches() {
         "a spot view changed: {followed:?}"
     );
     pair.same_image("the camera moved");
+}
+
+#[test]
+fn a_camera_turn_that_moves_no_stable_cascade_draws_nothing() {
+    // Stable cascades do not change when the camera turns in place, while the
+    // receiver-bounded cull boxes follow its view. The casters found are the same, so no map
+    // is drawn; tight cascades follow the view and are drawn again.
+    for (fit, redrawn) in [(CascadeFit::Stable, false), (CascadeFit::Tight, true)] {
+        let mut pair = Pair::new("assets/scenes/default.ron");
+        pair.frame(|world, _| {
+            let mut suns = world.query::<(&DirectionalLight, &mut ShadowSettings)>();
+            for (_, mut s) in suns.iter_mut(world) {
+                s.fit = fit;
+            }
+        });
+        pair.frame(|_, _| {});
+        assert_eq!(pair.drawn(), 0, "{fit:?}: still");
+        let volumes = |pair: &Pair| -> Vec<_> {
+            let views = pair.cached.world().resource::<ShadowViews>();
+            views.views.iter().map(|v| v.cull).collect()
+        };
+        let before = volumes(&pair);
+        pair.frame(|world, _| {
+            let mut cameras = world.query::<(&Camera3d, &mut Transform)>();
+            let (_, mut t) = cameras.iter_mut(world).next().expect("a camera");
+            t.rotation = Quat::from_rotation_y(0.002) * t.rotation;
+        });
+        assert_ne!(before, volumes(&pair), "{fit:?}: the cull boxes follow the view");
+        assert_eq!(pair.drawn() > 0, redrawn, "{fit:?}: drawn {}", pair.drawn());
+        pair.same_image("a small camera turn");
+    }
 }

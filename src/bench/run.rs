@@ -16,6 +16,7 @@ use crate::bench::score::{SceneScores, score_scene};
 use crate::bench::session::SceneSession;
 use crate::reference::ReferenceSettings;
 use crate::render::frame::FrameInputs;
+use crate::render::timer::median;
 use crate::render::{FrameReport, GpuError, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, SceneError};
 
@@ -64,14 +65,6 @@ pub struct BenchConfig {
     pub max_probes: usize,
     /// Show progress bars.
     pub progress: bool,
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 pub(crate) fn bar(len: u64, message: String, show: bool) -> ProgressBar {
@@ -327,13 +320,6 @@ fn date_from_days(days: i64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn median_of_odd_and_even_lengths() {
-        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 3.0);
-        assert!(median(Vec::new()).is_nan());
-    }
 
     #[test]
     fn dates_from_day_counts() {

@@ -56,6 +56,8 @@ pub struct RenderInstances {
     pub caster_centers: Vec<Vec3>,
     /// Bounding-sphere radii of the casters (parallel to `casters`).
     pub caster_radii: Vec<f32>,
+    /// World bounds of each caster (relative to the render origin), parallel to `casters`.
+    pub caster_boxes: Vec<Aabb>,
     /// Number of leading casters with opaque materials; the rest are masked.
     pub opaque_casters: usize,
     /// Chunk spheres of the casters (for chunked cascade culling).
@@ -167,6 +169,7 @@ fn rebuild<'a>(
     out.casters.clear();
     out.caster_centers.clear();
     out.caster_radii.clear();
+    out.caster_boxes.clear();
     out.caster_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
     for (i, (key, _, world_from_local, cast, receive, bounds)) in rows.iter().enumerate() {
@@ -188,6 +191,7 @@ fn rebuild<'a>(
             out.casters.push(i as u32);
             out.caster_centers.push(center);
             out.caster_radii.push(radius);
+            out.caster_boxes.push(*bounds);
             out.caster_bounds = out.caster_bounds.union(*bounds);
             if !key.masked {
                 out.opaque_casters += 1;

@@ -6,6 +6,7 @@ pub mod caster_changes;
 pub mod components;
 pub mod culling;
 pub mod draw_groups;
+pub mod footprints;
 pub mod frame_lights;
 pub mod instances;
 pub mod light_checks;

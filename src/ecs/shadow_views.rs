@@ -17,14 +17,16 @@ use glam::{Mat3, Mat4, Vec3};
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::draw_groups::{DrawGroup, push_instance};
+use crate::ecs::footprints::chunk_footprint;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::receiver_culling::{ReceiverCache, ShadowCulling};
 use crate::ecs::single_pass::{MAX_PACKED_INSTANCES, SinglePassGroup, SunList};
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
-use crate::ecs::view_cache::{ViewCache, ViewInput};
+use crate::ecs::view_cache::{CachedView, ViewCache, ViewInput};
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::math::footprint::TileMask;
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
@@ -101,6 +103,9 @@ pub struct ShadowView {
     pub slot: u32,
     /// Side of its shadow map, texels.
     pub resolution: u32,
+    /// The tiles of its map its casters can write ([`crate::ecs::footprints`]): what a
+    /// redraw of the layer must clear first.
+    pub footprint: TileMask,
     /// Content version: the same while nothing that changes this map changed (its matrix,
     /// resolution, light settings, or a caster in its cull volume); unique across views, so
     /// the renderer redraws a layer only when the version it holds differs.
@@ -199,6 +204,7 @@ pub fn update_shadow_views(
                 },
                 slot: cascade_slot,
                 resolution: sun.settings.resolution,
+                footprint: TileMask::EMPTY,
                 version: 0,
             });
             scratch.settings.push(sun.settings);
@@ -217,6 +223,7 @@ pub fn update_shadow_views(
             cull: CullVolume::Frustum(shadow.frustum),
             slot: spot_slot,
             resolution: spot.settings.resolution,
+            footprint: TileMask::EMPTY,
             version: 0,
         });
         scratch.settings.push(spot.settings);
@@ -241,6 +248,10 @@ pub fn update_shadow_views(
     scratch.single_pass = single_pass;
     let culled = cull_views(&lights, &instances, &out.views, scratch);
     let entries = &scratch.cache.entries;
+    for (view, entry) in out.views.iter_mut().zip(entries) {
+        view.footprint = entry.footprint;
+        view.version = entry.version;
+    }
     // NOTE: with every view reused in the same order, last frame's groups stand as they are.
     if culled || toggled || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
@@ -322,8 +333,7 @@ fn cull_views(
         debug_assert!(set.count <= MAX_CASCADES);
         culled = true;
         for entry in &mut entries[range.clone()] {
-            entry.list.clear();
-            entry.group.clear();
+            start_cull(entry);
         }
         scratch.masks.clear();
         scratch.masks.resize(instances.casters.len(), 0);
@@ -337,7 +347,22 @@ fn cull_views(
         // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
         // with one test per culling chunk.
         let casters = instances.casters.chunks(CHUNK).zip(scratch.masks.chunks(CHUNK));
-        for (casters, masks) in casters.filter(|(_, masks)| masks.iter().any(|&m| m != 0)) {
+        for (k, (casters, masks)) in casters.enumerate() {
+            let any = masks.iter().fold(0, |a, &m| a | m);
+            if any == 0 {
+                continue;
+            }
+            let mut bits = any;
+            while bits != 0 {
+                let c = bits.trailing_zeros();
+                let v = range.start + c as usize;
+                let members = (0..masks.len())
+                    .filter(|&j| masks[j] & 1 << c != 0)
+                    .map(|j| k * CHUNK + j);
+                let tiles = chunk_footprint(&views[v].clip_from_world, instances, k, members);
+                entries[v].footprint = entries[v].footprint.union(tiles);
+                bits &= bits - 1;
+            }
             for (&instance, &mask) in casters.iter().zip(masks) {
                 let mut bits = mask;
                 while bits != 0 {
@@ -347,6 +372,9 @@ fn cull_views(
                     bits &= bits - 1;
                 }
             }
+        }
+        for entry in &mut entries[range.clone()] {
+            end_cull(entry);
         }
         if scratch.single_pass {
             list.build(&instances.casters, &scratch.masks, &instances.keys);
@@ -363,8 +391,7 @@ fn cull_views(
             continue;
         }
         culled = true;
-        entry.list.clear();
-        entry.group.clear();
+        start_cull(entry);
         cull_spheres_frustum_chunked(
             frustum,
             &instances.caster_centers,
@@ -373,6 +400,16 @@ fn cull_views(
             &mut scratch.visible,
             &mut scratch.chunk_scratch,
         );
+        // NOTE: visible casters come in ascending order, so a chunk's members are a run.
+        for run in scratch
+            .visible
+            .chunk_by(|a, b| *a as usize / CHUNK == *b as usize / CHUNK)
+        {
+            let chunk = run[0] as usize / CHUNK;
+            let members = run.iter().map(|&k| k as usize);
+            let tiles = chunk_footprint(&view.clip_from_world, instances, chunk, members);
+            entry.footprint = entry.footprint.union(tiles);
+        }
         for &k in &scratch.visible {
             let instance = instances.casters[k as usize];
             push_instance(
@@ -382,6 +419,25 @@ fn cull_views(
                 instance,
             );
         }
+        end_cull(entry);
     }
     culled
+}
+
+/// Empties a view's list and group for culling, keeping the last list to compare.
+fn start_cull(entry: &mut CachedView) {
+    std::mem::swap(&mut entry.list, &mut entry.previous);
+    entry.list.clear();
+    entry.group.clear();
+    entry.footprint = TileMask::EMPTY;
+}
+
+/// After culling: a view that may keep its version ([`CachedView::keep`]) keeps it when it
+/// found exactly the casters of its last culling (its map would be drawn the same).
+fn end_cull(entry: &mut CachedView) {
+    if let Some(version) = entry.keep
+        && entry.list == entry.previous
+    {
+        entry.version = version;
+    }
 }

@@ -11,6 +11,7 @@ use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::shadow_views::{CullVolume, ShadowViewKind};
 use crate::math::aabb::Aabb;
+use crate::math::footprint::TileMask;
 use crate::settings::ShadowSettings;
 
 /// What one view held when it was last culled.
@@ -31,8 +32,16 @@ pub struct CachedView {
     pub version: u64,
     /// Culled instance indices, in draw order.
     pub list: Vec<u32>,
+    /// The list of the last culling, while a new one is made (see `keep`).
+    pub previous: Vec<u32>,
+    /// The version to go back to if this frame's culling finds exactly the last casters:
+    /// set when only the cull volume changed (a cascade's box following the receivers as
+    /// the camera moves) and no caster in it changed, so the same list draws the same map.
+    pub keep: Option<u64>,
     /// Batches over `list` (starting at 0).
     pub group: DrawGroup,
+    /// The tiles of its map its casters can write.
+    pub footprint: TileMask,
     /// Must be culled this frame.
     pub cull: bool,
 }
@@ -123,14 +132,17 @@ impl ViewCache {
                     generation: u64::MAX,
                     version: 0,
                     list: Vec::new(),
+                    previous: Vec::new(),
+                    keep: None,
                     group: DrawGroup::default(),
+                    footprint: TileMask::EMPTY,
                     cull: true,
                 },
             };
-            let same = entry.clip_from_world == view.clip_from_world
-                && entry.volume == *view.cull
+            let drawn_alike = entry.clip_from_world == view.clip_from_world
                 && entry.resolution == view.resolution
                 && entry.settings == *view.settings;
+            let same = drawn_alike && entry.volume == *view.cull;
             let rebuilt = entry.generation != generation;
             // NOTE: the changes describe only the rebuild to `generation`; a view last culled
             // before an earlier rebuild cannot tell what happened in between.
@@ -138,6 +150,7 @@ impl ViewCache {
             let touched =
                 rebuilt && (!known || changes.everything || changes.regions.iter().any(|r| touches(view.cull, r)));
             entry.cull = !same || rebuilt;
+            entry.keep = (drawn_alike && !touched && entry.version != 0).then_some(entry.version);
             if !same || touched {
                 self.next_version += 1;
                 entry.version = self.next_version;

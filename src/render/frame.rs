@@ -49,6 +49,8 @@ pub struct FrameContext<'a> {
     pub shadow_views_drawn: u32,
     /// Draw calls of shadow views so far this frame (also counted in `draw_calls`).
     pub shadow_draw_calls: u32,
+    /// Shadow-map texels cleared so far this frame.
+    pub shadow_cleared_texels: u64,
     /// GPU objects created so far.
     pub counters: &'a mut RenderCounters,
     /// The last pipeline build that failed (the previous pipeline was kept).

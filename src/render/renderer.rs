@@ -38,6 +38,9 @@ pub struct FrameReport {
     pub shadow_views_drawn: u32,
     /// Draw calls of the shadow views.
     pub shadow_draw_calls: u32,
+    /// Shadow-map texels cleared before drawing: a redrawn layer clears only the rectangle
+    /// its last draw wrote (a whole layer when that is not known or most of it).
+    pub shadow_cleared_texels: u64,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
     /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
@@ -364,14 +367,19 @@ impl Renderer {
             draw_calls: 0,
             shadow_views_drawn: 0,
             shadow_draw_calls: 0,
+            shadow_cleared_texels: 0,
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
         };
         if input.view.camera.is_some() && drawable {
             self.graph.execute(&mut ctx, &mut encoder);
         }
-        let (draw_calls, shadow_views_drawn, shadow_draw_calls) =
-            (ctx.draw_calls, ctx.shadow_views_drawn, ctx.shadow_draw_calls);
+        let (draw_calls, shadow_views_drawn, shadow_draw_calls, shadow_cleared_texels) = (
+            ctx.draw_calls,
+            ctx.shadow_views_drawn,
+            ctx.shadow_draw_calls,
+            ctx.shadow_cleared_texels,
+        );
         overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
         if let Some(counter) = &self.fragments {
@@ -389,6 +397,7 @@ impl Renderer {
         report.draw_calls = draw_calls;
         report.shadow_views_drawn = shadow_views_drawn;
         report.shadow_draw_calls = shadow_draw_calls;
+        report.shadow_cleared_texels = shadow_cleared_texels;
         report.shadow_memory = self.shadows.memory_bytes();
         report.resolved_memory = self.shadows.resolved_memory_bytes();
         report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));

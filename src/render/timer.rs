@@ -291,3 +291,56 @@ impl GpuTimer {
         std::mem::take(&mut self.completed)
     }
 }
+
+/// The median of `v` (the upper middle value of an even count; NaN when empty).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The median time of each pass over the frames after the first (which builds pipelines),
+/// for the passes of the last timed frame, in its order.
+pub fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(String, f64)> {
+    let steady = if frames.len() > 1 { &frames[1..] } else { frames };
+    let Some(last) = steady.iter().rev().find(|f| !f.is_empty()) else {
+        return Vec::new();
+    };
+    last.iter()
+        .map(|p| {
+            let samples = steady
+                .iter()
+                .filter_map(|f| f.iter().find(|q| q.name == p.name))
+                .map(|q| q.ms)
+                .collect();
+            (p.name.clone(), median(samples))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_lengths() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 3.0);
+        assert!(median(Vec::new()).is_nan());
+    }
+
+    #[test]
+    fn pass_medians_skip_the_first_frame() {
+        let pass = |ms| {
+            vec![PassTiming {
+                name: "shadow".into(),
+                ms,
+            }]
+        };
+        let frames = [pass(9.0), pass(1.0), pass(3.0), pass(2.0)];
+        assert_eq!(median_passes(&frames), [("shadow".to_string(), 2.0)]);
+        assert!(median_passes(&[]).is_empty());
+    }
+}

@@ -100,6 +100,10 @@ const PREPASS: ModuleSource = ModuleSource {
     file: "prepass.wgsl",
     source: include_str!("../../shaders/prepass.wgsl"),
 };
+const SHADOW_CLEAR: ModuleSource = ModuleSource {
+    file: "shadow_clear.wgsl",
+    source: include_str!("../../shaders/shadow_clear.wgsl"),
+};
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
     source: include_str!("../../shaders/resolve.wgsl"),
@@ -235,6 +239,11 @@ impl ShaderLibrary {
             defs.insert("MULTIVIEW".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
         }
         self.compose(CASTER.file, CASTER.source, defs)
+    }
+
+    /// The partial shadow-layer clear (`vs_main`, no fragment stage).
+    pub fn shadow_clear(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(SHADOW_CLEAR.file, SHADOW_CLEAR.source, HashMap::new())
     }
 
     /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).

@@ -6,6 +6,7 @@
 //! ([`depth_pass`]) renders every view.
 
 pub mod casters;
+pub mod clear;
 pub mod depth_pass;
 pub mod gpu;
 pub mod storage;
