@@ -4,6 +4,7 @@
 //! only then replaces the old one, so a bad edit never leaves a half-spawned world.
 
 use std::collections::HashMap;
+use std::f32::consts::PI;
 use std::path::Path;
 
 use bevy_ecs::bundle::{Bundle, NoBundleEffect};
@@ -19,6 +20,7 @@ use crate::app::lights::{LightPlan, light_plans, spawn_lights};
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
+use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
 use crate::gltf;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
@@ -101,6 +103,8 @@ pub struct PreparedScene {
     /// Materials; `base_color_texture` holds an index into `images`.
     materials: Vec<Material>,
     meshes: Vec<MeshData>,
+    /// Shadow LODs: (mesh, [(coarser mesh, relative error)]), indices into `meshes`.
+    shadow_lods: Vec<(usize, Vec<(usize, f32)>)>,
     entities: Vec<EntityPlan>,
 }
 
@@ -142,6 +146,7 @@ impl PreparedScene {
             images: Vec::new(),
             materials: Vec::new(),
             meshes: Vec::new(),
+            shadow_lods: Vec::new(),
             entities: Vec::new(),
         };
         scene.add_materials(desc, io)?;
@@ -267,12 +272,29 @@ impl PreparedScene {
         Ok(self.images.len() - 1)
     }
 
+    /// A sphere (32 × 16 quads) with two shadow LODs (16 × 8 and 8 × 4).
+    fn build_sphere(&mut self, radius: f32) -> Vec<MeshPart> {
+        self.meshes.push(sphere(radius, 32, 16));
+        let full = self.meshes.len() - 1;
+        let mut levels = Vec::new();
+        for (segments, rings) in [(16, 8), (8, 4)] {
+            self.meshes.push(sphere(radius, segments, rings));
+            levels.push((self.meshes.len() - 1, sphere_error(segments, rings)));
+        }
+        self.shadow_lods.push((full, levels));
+        vec![MeshPart {
+            mesh: full,
+            material: None,
+            object_from_mesh: Mat4::IDENTITY,
+        }]
+    }
+
     /// Builds a primitive shape: one mesh with the object's material.
     fn build_primitive(&mut self, shape: &Shape) -> Vec<MeshPart> {
         let mesh = match shape {
             Shape::Plane { size } => plane(*size),
             Shape::Cuboid { size } => cuboid(*size),
-            Shape::Sphere { radius } => sphere(*radius, 32, 16),
+            Shape::Sphere { radius } => return self.build_sphere(*radius),
             // NOTE: models are keyed and built by `add_model`; an empty part list is never drawn.
             Shape::Gltf { .. } => return Vec::new(),
         };
@@ -359,6 +381,15 @@ impl PreparedScene {
             let mut store = world.resource_mut::<Meshes>();
             self.meshes.into_iter().map(|m| store.add(m)).collect()
         };
+        if let Some(mut lods) = world.get_resource_mut::<ShadowLods>() {
+            for (mesh, levels) in &self.shadow_lods {
+                let levels = levels.iter().map(|&(m, relative_error)| ShadowLod {
+                    mesh: meshes[m],
+                    relative_error,
+                });
+                lods.set(meshes[*mesh], levels.collect());
+            }
+        }
         // NOTE: one batch per combination of shadow flags, so every entity is spawned straight
         // into its final archetype.
         let mut spawned = 0;
@@ -386,6 +417,13 @@ impl PreparedScene {
     }
 }
 
+/// How far a UV sphere of `segments` × `rings` quads lies inside the true sphere at most
+/// (at a quad's centre), relative to the radius.
+fn sphere_error(segments: u32, rings: u32) -> f32 {
+    let (around, along) = (PI / segments as f32, PI / (2 * rings) as f32);
+    1.0 - around.cos() * along.cos()
+}
+
 /// Spawns every bundle of `bundles` and returns how many there were.
 fn spawn_all<B: Bundle<Effect: NoBundleEffect>>(world: &mut World, bundles: impl Iterator<Item = B>) -> usize {
     world.spawn_batch(bundles).count()
@@ -408,6 +446,9 @@ pub fn despawn_scene(world: &mut World) {
         world.despawn(entity);
     }
     world.resource_mut::<Meshes>().clear();
+    if let Some(mut lods) = world.get_resource_mut::<ShadowLods>() {
+        lods.clear();
+    }
     world.resource_mut::<Materials>().clear();
     world.resource_mut::<Images>().clear();
 }

@@ -19,6 +19,7 @@ use crate::ecs::caster_changes::{CasterChanges, CasterState};
 use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::is_valid_placement;
+use crate::ecs::shadow_lods::ShadowLods;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
@@ -58,6 +59,9 @@ pub struct RenderInstances {
     pub caster_radii: Vec<f32>,
     /// World bounds of each caster (relative to the render origin), parallel to `casters`.
     pub caster_boxes: Vec<Aabb>,
+    /// Per mesh handle: the largest bounding radius of its casters (0 for none), which
+    /// picks its shadow LOD ([`ShadowLods`]).
+    pub mesh_caster_radius: Vec<f32>,
     /// Number of leading casters with opaque materials; the rest are masked.
     pub opaque_casters: usize,
     /// Chunk spheres of the casters (for chunked cascade culling).
@@ -101,13 +105,17 @@ pub fn sync_instances(
     mut removed_receivers: RemovedComponents<NotShadowReceiver>,
     meshes: Res<Meshes>,
     materials: Res<Materials>,
+    lods: Option<Res<ShadowLods>>,
     origin: Res<RenderOrigin>,
     mut changes: ResMut<CasterChanges>,
     mut casters_before: Local<HashMap<Entity, CasterState>>,
 ) {
     let removed = removed_meshes.read().count() + removed_non_casters.read().count() + removed_receivers.read().count();
-    let everything =
-        instances.generation == 0 || meshes.is_changed() || materials.is_changed() || instances.origin != origin.0;
+    let everything = instances.generation == 0
+        || meshes.is_changed()
+        || materials.is_changed()
+        || lods.is_some_and(|l| l.is_changed())
+        || instances.origin != origin.0;
     let changed = || {
         !moved.is_empty() || !meshes_changed.is_empty() || !materials_changed.is_empty() || !flags_changed.is_empty()
     };
@@ -170,6 +178,7 @@ fn rebuild<'a>(
     out.caster_centers.clear();
     out.caster_radii.clear();
     out.caster_boxes.clear();
+    out.mesh_caster_radius.clear();
     out.caster_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
     for (i, (key, _, world_from_local, cast, receive, bounds)) in rows.iter().enumerate() {
@@ -192,6 +201,11 @@ fn rebuild<'a>(
             out.caster_centers.push(center);
             out.caster_radii.push(radius);
             out.caster_boxes.push(*bounds);
+            let m = key.mesh.0 as usize;
+            if out.mesh_caster_radius.len() <= m {
+                out.mesh_caster_radius.resize(m + 1, 0.0);
+            }
+            out.mesh_caster_radius[m] = out.mesh_caster_radius[m].max(radius);
             out.caster_bounds = out.caster_bounds.union(*bounds);
             if !key.masked {
                 out.opaque_casters += 1;

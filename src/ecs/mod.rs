@@ -15,11 +15,13 @@ pub mod origin;
 pub mod placement;
 pub mod plugin;
 pub mod receiver_culling;
+pub mod shadow_lods;
 pub mod shadow_views;
 pub mod single_pass;
 pub mod stats;
 pub mod view;
 pub mod view_cache;
+pub mod view_culling;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
 pub use bevy_transform::components::{GlobalTransform, Transform};

@@ -16,6 +16,7 @@ use crate::ecs::frame_lights::{FrameLights, update_frame_lights};
 use crate::ecs::instances::{RenderInstances, sync_instances};
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::receiver_culling::ShadowCulling;
+use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, update_active_view};
@@ -60,6 +61,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ShadowDiagnostics>()
             .init_resource::<ShadowLightBudget>()
             .init_resource::<ShadowCulling>()
+            .init_resource::<ShadowLods>()
             .configure_sets(
                 PostUpdate,
                 (

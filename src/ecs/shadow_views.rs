@@ -16,20 +16,19 @@ use glam::{Mat3, Mat4, Vec3};
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::draw_groups::{DrawGroup, push_instance};
-use crate::ecs::footprints::chunk_footprint;
+use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
-use crate::ecs::receiver_culling::{ReceiverCache, ShadowCulling};
-use crate::ecs::single_pass::{MAX_PACKED_INSTANCES, SinglePassGroup, SunList};
+use crate::ecs::receiver_culling::ShadowCulling;
+use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::single_pass::{MAX_PACKED_INSTANCES, SinglePassGroup};
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
-use crate::ecs::view_cache::{CachedView, ViewCache, ViewInput};
-use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::ecs::view_cache::ViewInput;
+use crate::ecs::view_culling::{ViewScratch, collect_single_pass, cull_views};
 use crate::math::footprint::TileMask;
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
-use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
 /// without its own [`ShadowSettings`].
@@ -144,24 +143,6 @@ impl ShadowViews {
     }
 }
 
-/// Reused buffers of [`update_shadow_views`], and what each view held last frame.
-#[derive(Default)]
-pub struct ViewScratch {
-    /// Cascade bit mask per caster.
-    masks: Vec<u8>,
-    visible: Vec<u32>,
-    chunk_scratch: Vec<u32>,
-    /// The light settings of each view of this frame.
-    settings: Vec<ShadowSettings>,
-    versions: Vec<u64>,
-    cache: ViewCache,
-    receivers: ReceiverCache,
-    /// Per sun: its light entity and single-pass list (while single-pass lists are made).
-    suns: Vec<(Option<Entity>, SunList)>,
-    /// Single-pass lists were made last frame.
-    single_pass: bool,
-}
-
 /// Lists the shadow views of the shadowed lights, gives each its content version
 /// ([`ViewCache`]), and culls every caster into the draw group of each view it touches — only
 /// for views that moved or whose instance list was rebuilt; the others keep last frame's
@@ -175,6 +156,7 @@ pub fn update_shadow_views(
     view: Res<ActiveView>,
     meshes: Res<Meshes>,
     culling: Option<Res<ShadowCulling>>,
+    lods: Option<Res<ShadowLods>>,
     mut out: ResMut<ShadowViews>,
     mut stats: ResMut<ShadowStats>,
     mut scratch: Local<ViewScratch>,
@@ -246,7 +228,9 @@ pub fn update_shadow_views(
     let single_pass = culling.single_pass && instances.keys.len() <= MAX_PACKED_INSTANCES;
     let toggled = single_pass != scratch.single_pass;
     scratch.single_pass = single_pass;
-    let culled = cull_views(&lights, &instances, &out.views, scratch);
+    let no_lods = ShadowLods::default();
+    let lods = lods.as_deref().unwrap_or(&no_lods);
+    let culled = cull_views(&lights, &instances, lods, &out.views, scratch);
     let entries = &scratch.cache.entries;
     for (view, entry) in out.views.iter_mut().zip(entries) {
         view.footprint = entry.footprint;
@@ -278,166 +262,4 @@ pub fn update_shadow_views(
         stats.draws_per_view.push(entry.group.draw_count() as u32);
     }
     stats.culling_cpu = start.elapsed();
-}
-
-/// Appends each sun's single-pass list after the view groups (none while they are off).
-fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, out: &mut ShadowViews) {
-    out.single_pass.clear();
-    if !scratch.single_pass {
-        return;
-    }
-    let mut first_view = 0;
-    for (i, (_, sun)) in scratch.suns.iter().enumerate().take(lights.suns.len()) {
-        let views = scratch.receivers.set(i).count as u32;
-        let offset = out.indices.len() as u32;
-        out.indices.extend_from_slice(&sun.list);
-        let mut group = sun.group.clone();
-        group
-            .opaque
-            .iter_mut()
-            .chain(group.masked.iter_mut())
-            .for_each(|b| b.first += offset);
-        out.single_pass.push(SinglePassGroup {
-            first_view,
-            views,
-            group,
-        });
-        first_view += views;
-    }
-}
-
-/// Culls the casters of the views whose cache entry asks for it into the entry's list and
-/// group (all cascades of a sun together when any of them needs it); returns whether any
-/// view was culled.
-fn cull_views(
-    lights: &FrameLights,
-    instances: &RenderInstances,
-    views: &[ShadowView],
-    scratch: &mut ViewScratch,
-) -> bool {
-    let entries = &mut scratch.cache.entries;
-    let mut culled = false;
-    let mut first = 0;
-    scratch.suns.resize_with(lights.suns.len(), Default::default);
-    for (i, sun) in lights.suns.iter().enumerate() {
-        let set = scratch.receivers.set(i);
-        let range = first..first + set.count;
-        first += set.count;
-        // NOTE: a sun's single-pass list is made when its views are culled; one missing (just
-        // turned on, or the sun at this index changed) has its views culled again.
-        let (owner, list) = &mut scratch.suns[i];
-        let stale = scratch.single_pass && *owner != Some(sun.entity);
-        if set.count == 0 || !(stale || entries[range.clone()].iter().any(|e| e.cull)) {
-            continue;
-        }
-        debug_assert!(set.count <= MAX_CASCADES);
-        culled = true;
-        for entry in &mut entries[range.clone()] {
-            start_cull(entry);
-        }
-        scratch.masks.clear();
-        scratch.masks.resize(instances.casters.len(), 0);
-        cull_casters_chunked(
-            set,
-            &instances.caster_centers,
-            &instances.caster_radii,
-            &instances.caster_chunks,
-            &mut scratch.masks,
-        );
-        // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
-        // with one test per culling chunk.
-        let casters = instances.casters.chunks(CHUNK).zip(scratch.masks.chunks(CHUNK));
-        for (k, (casters, masks)) in casters.enumerate() {
-            let any = masks.iter().fold(0, |a, &m| a | m);
-            if any == 0 {
-                continue;
-            }
-            let mut bits = any;
-            while bits != 0 {
-                let c = bits.trailing_zeros();
-                let v = range.start + c as usize;
-                let members = (0..masks.len())
-                    .filter(|&j| masks[j] & 1 << c != 0)
-                    .map(|j| k * CHUNK + j);
-                let tiles = chunk_footprint(&views[v].clip_from_world, instances, k, members);
-                entries[v].footprint = entries[v].footprint.union(tiles);
-                bits &= bits - 1;
-            }
-            for (&instance, &mask) in casters.iter().zip(masks) {
-                let mut bits = mask;
-                while bits != 0 {
-                    let key = instances.keys[instance as usize];
-                    let entry = &mut entries[range.start + bits.trailing_zeros() as usize];
-                    push_instance(&mut entry.group, &mut entry.list, key, instance);
-                    bits &= bits - 1;
-                }
-            }
-        }
-        for entry in &mut entries[range.clone()] {
-            end_cull(entry);
-        }
-        if scratch.single_pass {
-            list.build(&instances.casters, &scratch.masks, &instances.keys);
-            *owner = Some(sun.entity);
-        } else {
-            *owner = None;
-        }
-    }
-    for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {
-        let CullVolume::Frustum(frustum) = &view.cull else {
-            continue;
-        };
-        if !entry.cull {
-            continue;
-        }
-        culled = true;
-        start_cull(entry);
-        cull_spheres_frustum_chunked(
-            frustum,
-            &instances.caster_centers,
-            &instances.caster_radii,
-            &instances.caster_chunks,
-            &mut scratch.visible,
-            &mut scratch.chunk_scratch,
-        );
-        // NOTE: visible casters come in ascending order, so a chunk's members are a run.
-        for run in scratch
-            .visible
-            .chunk_by(|a, b| *a as usize / CHUNK == *b as usize / CHUNK)
-        {
-            let chunk = run[0] as usize / CHUNK;
-            let members = run.iter().map(|&k| k as usize);
-            let tiles = chunk_footprint(&view.clip_from_world, instances, chunk, members);
-            entry.footprint = entry.footprint.union(tiles);
-        }
-        for &k in &scratch.visible {
-            let instance = instances.casters[k as usize];
-            push_instance(
-                &mut entry.group,
-                &mut entry.list,
-                instances.keys[instance as usize],
-                instance,
-            );
-        }
-        end_cull(entry);
-    }
-    culled
-}
-
-/// Empties a view's list and group for culling, keeping the last list to compare.
-fn start_cull(entry: &mut CachedView) {
-    std::mem::swap(&mut entry.list, &mut entry.previous);
-    entry.list.clear();
-    entry.group.clear();
-    entry.footprint = TileMask::EMPTY;
-}
-
-/// After culling: a view that may keep its version ([`CachedView::keep`]) keeps it when it
-/// found exactly the casters of its last culling (its map would be drawn the same).
-fn end_cull(entry: &mut CachedView) {
-    if let Some(version) = entry.keep
-        && entry.list == entry.previous
-    {
-        entry.version = version;
-    }
 }

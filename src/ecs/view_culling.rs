@@ -1,0 +1,237 @@
+//! Culling casters into the draw groups of the shadow views that need it
+//! ([`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views)): a sun's cascades
+//! in one pass over the casters (with each cascade's footprint and shadow LODs), a spot light
+//! against its frustum; and each sun's single-pass list.
+
+use bevy_ecs::entity::Entity;
+
+use crate::ecs::assets::MeshHandle;
+use crate::ecs::draw_groups::push_instance;
+use crate::ecs::footprints::chunk_footprint;
+use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::instances::{DrawKey, RenderInstances};
+use crate::ecs::receiver_culling::ReceiverCache;
+use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::shadow_views::{CullVolume, ShadowView, ShadowViews};
+use crate::ecs::single_pass::{SinglePassGroup, SunList};
+use crate::ecs::view_cache::{CachedView, ViewCache};
+use crate::math::cascades::Cascade;
+use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::math::footprint::TileMask;
+use crate::settings::{MAX_CASCADES, ShadowSettings};
+
+/// Reused buffers of [`update_shadow_views`], and what each view held last frame.
+#[derive(Default)]
+pub struct ViewScratch {
+    /// Cascade bit mask per caster.
+    pub(crate) masks: Vec<u8>,
+    pub(crate) visible: Vec<u32>,
+    pub(crate) chunk_scratch: Vec<u32>,
+    /// The light settings of each view of this frame.
+    pub(crate) settings: Vec<ShadowSettings>,
+    pub(crate) versions: Vec<u64>,
+    pub(crate) cache: ViewCache,
+    pub(crate) receivers: ReceiverCache,
+    /// Per sun: its light entity and single-pass list (while single-pass lists are made).
+    pub(crate) suns: Vec<(Option<Entity>, SunList)>,
+    /// Single-pass lists were made last frame.
+    pub(crate) single_pass: bool,
+    /// Per mesh handle, the mesh each cascade of the sun being culled draws.
+    pub(crate) lods: Vec<[MeshHandle; MAX_CASCADES]>,
+}
+
+/// Appends each sun's single-pass list after the view groups (none while they are off).
+pub(crate) fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, out: &mut ShadowViews) {
+    out.single_pass.clear();
+    if !scratch.single_pass {
+        return;
+    }
+    let mut first_view = 0;
+    for (i, (_, sun)) in scratch.suns.iter().enumerate().take(lights.suns.len()) {
+        let views = scratch.receivers.set(i).count as u32;
+        let offset = out.indices.len() as u32;
+        out.indices.extend_from_slice(&sun.list);
+        let mut group = sun.group.clone();
+        group
+            .opaque
+            .iter_mut()
+            .chain(group.masked.iter_mut())
+            .for_each(|b| b.first += offset);
+        out.single_pass.push(SinglePassGroup {
+            first_view,
+            views,
+            group,
+        });
+        first_view += views;
+    }
+}
+
+/// Culls the casters of the views whose cache entry asks for it into the entry's list and
+/// group (all cascades of a sun together when any of them needs it); returns whether any
+/// view was culled.
+pub(crate) fn cull_views(
+    lights: &FrameLights,
+    instances: &RenderInstances,
+    lods: &ShadowLods,
+    views: &[ShadowView],
+    scratch: &mut ViewScratch,
+) -> bool {
+    let entries = &mut scratch.cache.entries;
+    let mut culled = false;
+    let mut first = 0;
+    scratch.suns.resize_with(lights.suns.len(), Default::default);
+    for (i, sun) in lights.suns.iter().enumerate() {
+        let set = scratch.receivers.set(i);
+        let range = first..first + set.count;
+        first += set.count;
+        // NOTE: a sun's single-pass list is made when its views are culled; one missing (just
+        // turned on, or the sun at this index changed) has its views culled again.
+        let (owner, list) = &mut scratch.suns[i];
+        let stale = scratch.single_pass && *owner != Some(sun.entity);
+        if set.count == 0 || !(stale || entries[range.clone()].iter().any(|e| e.cull)) {
+            continue;
+        }
+        debug_assert!(set.count <= MAX_CASCADES);
+        culled = true;
+        for entry in &mut entries[range.clone()] {
+            start_cull(entry);
+        }
+        lod_table(lods, instances, sun.cascades.active(), &mut scratch.lods);
+        let table = &scratch.lods;
+        scratch.masks.clear();
+        scratch.masks.resize(instances.casters.len(), 0);
+        cull_casters_chunked(
+            set,
+            &instances.caster_centers,
+            &instances.caster_radii,
+            &instances.caster_chunks,
+            &mut scratch.masks,
+        );
+        // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
+        // with one test per culling chunk.
+        let casters = instances.casters.chunks(CHUNK).zip(scratch.masks.chunks(CHUNK));
+        for (k, (casters, masks)) in casters.enumerate() {
+            let any = masks.iter().fold(0, |a, &m| a | m);
+            if any == 0 {
+                continue;
+            }
+            let mut bits = any;
+            while bits != 0 {
+                let c = bits.trailing_zeros();
+                let v = range.start + c as usize;
+                let members = (0..masks.len())
+                    .filter(|&j| masks[j] & 1 << c != 0)
+                    .map(|j| k * CHUNK + j);
+                let tiles = chunk_footprint(&views[v].clip_from_world, instances, k, members);
+                entries[v].footprint = entries[v].footprint.union(tiles);
+                bits &= bits - 1;
+            }
+            for (&instance, &mask) in casters.iter().zip(masks) {
+                let mut bits = mask;
+                while bits != 0 {
+                    let c = bits.trailing_zeros() as usize;
+                    let key = lod_key(table, instances.keys[instance as usize], c);
+                    let entry = &mut entries[range.start + c];
+                    push_instance(&mut entry.group, &mut entry.list, key, instance);
+                    bits &= bits - 1;
+                }
+            }
+        }
+        for entry in &mut entries[range.clone()] {
+            end_cull(entry);
+        }
+        if scratch.single_pass {
+            list.build(&instances.casters, &scratch.masks, &instances.keys);
+            *owner = Some(sun.entity);
+        } else {
+            *owner = None;
+        }
+    }
+    for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {
+        let CullVolume::Frustum(frustum) = &view.cull else {
+            continue;
+        };
+        if !entry.cull {
+            continue;
+        }
+        culled = true;
+        start_cull(entry);
+        cull_spheres_frustum_chunked(
+            frustum,
+            &instances.caster_centers,
+            &instances.caster_radii,
+            &instances.caster_chunks,
+            &mut scratch.visible,
+            &mut scratch.chunk_scratch,
+        );
+        // NOTE: visible casters come in ascending order, so a chunk's members are a run.
+        for run in scratch
+            .visible
+            .chunk_by(|a, b| *a as usize / CHUNK == *b as usize / CHUNK)
+        {
+            let chunk = run[0] as usize / CHUNK;
+            let members = run.iter().map(|&k| k as usize);
+            let tiles = chunk_footprint(&view.clip_from_world, instances, chunk, members);
+            entry.footprint = entry.footprint.union(tiles);
+        }
+        for &k in &scratch.visible {
+            let instance = instances.casters[k as usize];
+            push_instance(
+                &mut entry.group,
+                &mut entry.list,
+                instances.keys[instance as usize],
+                instance,
+            );
+        }
+        end_cull(entry);
+    }
+    culled
+}
+
+/// Fills `table` with the mesh each mesh is drawn with into each of `cascades` (its shadow
+/// LOD for the cascade's texel size and its largest caster); empty when no mesh has levels.
+fn lod_table(
+    lods: &ShadowLods,
+    instances: &RenderInstances,
+    cascades: &[Cascade],
+    table: &mut Vec<[MeshHandle; MAX_CASCADES]>,
+) {
+    table.clear();
+    if lods.is_empty() {
+        return;
+    }
+    for (m, &radius) in instances.mesh_caster_radius.iter().enumerate() {
+        let mesh = MeshHandle(m as u32);
+        let mut row = [mesh; MAX_CASCADES];
+        for (slot, cascade) in row.iter_mut().zip(cascades) {
+            *slot = lods.pick(mesh, radius, cascade.texel_world_size);
+        }
+        table.push(row);
+    }
+}
+
+/// `key` with the mesh cascade `c` draws (from [`lod_table`]'s table).
+fn lod_key(table: &[[MeshHandle; MAX_CASCADES]], key: DrawKey, c: usize) -> DrawKey {
+    match table.get(key.mesh.0 as usize) {
+        Some(row) => DrawKey { mesh: row[c], ..key },
+        None => key,
+    }
+}
+
+/// Empties a view's list and group for culling, keeping the last list to compare.
+fn start_cull(entry: &mut CachedView) {
+    std::mem::swap(&mut entry.list, &mut entry.previous);
+    entry.list.clear();
+    entry.group.clear();
+    entry.footprint = TileMask::EMPTY;
+}
+
+/// After culling: a view that may keep its version ([`CachedView::keep`]) keeps it when it
+/// found exactly the casters of its last culling (its map would be drawn the same).
+fn end_cull(entry: &mut CachedView) {
+    if let Some(version) = entry.keep
+        && entry.list == entry.previous
+    {
+        entry.version = version;
+    }
+}
