@@ -15,7 +15,7 @@ use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::prepass::{DepthPrepass, prepass_runs};
 use crate::render::probe::{ProbeGpu, ProbePass};
-use crate::render::resolve::VisibilityResolve;
+use crate::render::resolve::{RESOLVE_NAME, VisibilityResolve};
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::depth_pass::DepthPass;
@@ -51,11 +51,12 @@ pub struct FrameReport {
 }
 
 impl FrameReport {
-    /// Sum of the shadow-map passes (every view of every light), in milliseconds.
+    /// Sum of the shadow-map passes (every view of every light), in milliseconds; the
+    /// visibility resolve, which filters, is not one of them.
     pub fn shadow_ms(&self) -> f64 {
         self.passes
             .iter()
-            .filter(|p| p.name.starts_with("shadow"))
+            .filter(|p| p.name.starts_with("shadow") && p.name != RESOLVE_NAME)
             .map(|p| p.ms)
             .sum()
     }
@@ -478,5 +479,28 @@ impl Renderer {
             Some(target) => target.read(&self.gpu.device, &self.gpu.queue),
             None => RgbaImage::new(1, 1),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_ms_sums_the_shadow_maps_and_not_the_resolve() {
+        let pass = |name: &str, ms| PassTiming {
+            name: name.to_owned(),
+            ms,
+        };
+        let report = FrameReport {
+            passes: vec![
+                pass("shadow cascade 0", 1.0),
+                pass("shadow spot 0", 0.5),
+                pass(RESOLVE_NAME, 4.0),
+                pass("forward", 8.0),
+            ],
+            ..Default::default()
+        };
+        assert_eq!(report.shadow_ms(), 1.5);
     }
 }
