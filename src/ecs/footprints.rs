@@ -4,34 +4,43 @@
 //! chunk whose bounds cover much of it (a small scene whose few casters share one chunk spread
 //! over the whole scene) counts by the bounds of each member in the view.
 
-use glam::Mat4;
-
 use crate::ecs::instances::RenderInstances;
 use crate::math::aabb::Aabb;
-use crate::math::footprint::{TileMask, clip_footprint};
+use crate::math::footprint::{ClipProjector, TILES, TileMask};
 
 /// Clip area (of 4) above which a chunk is taken member by member.
 const REFINE_AREA: f32 = 0.25;
 
-/// The tiles the casters `members` (indices into the caster arrays, all in culling chunk
-/// `chunk`) can write under `clip_from_world`. Every tile for a chunk whose bounds are
+/// Adds to `tiles` those the casters `members` (indices into the caster arrays, all in
+/// culling chunk `chunk`) can write under `projector`. Every tile for a chunk whose bounds are
 /// unknown (one with a member that is not finite).
-pub fn chunk_footprint(
-    clip_from_world: &Mat4,
+pub fn add_chunk_footprint(
+    tiles: &mut TileMask,
+    projector: &ClipProjector,
     instances: &RenderInstances,
     chunk: usize,
     members: impl Iterator<Item = usize>,
-) -> TileMask {
+) {
+    // NOTE: a layer written over half its tiles is cleared whole anyway, so past that point
+    // the footprint is the whole map and the remaining chunks cost nothing.
+    if *tiles == TileMask::FULL {
+        return;
+    }
     let bounds = instances.caster_chunks.boxes.get(chunk).copied().unwrap_or(Aabb::EMPTY);
     if bounds.is_empty() {
-        return TileMask::FULL;
+        *tiles = TileMask::FULL;
+        return;
     }
-    let rect = clip_footprint(clip_from_world, &bounds);
-    if rect.area() <= REFINE_AREA {
-        return TileMask::from_rect(&rect);
+    let rect = projector.rect(&bounds);
+    if rect.area() > REFINE_AREA {
+        for k in members {
+            let member = instances.caster_boxes.get(k).copied().unwrap_or(bounds);
+            tiles.add_rect(&projector.rect(&member));
+        }
+    } else {
+        tiles.add_rect(&rect);
     }
-    members.fold(TileMask::EMPTY, |tiles, k| {
-        let member = instances.caster_boxes.get(k).copied().unwrap_or(bounds);
-        tiles.union(TileMask::from_rect(&clip_footprint(clip_from_world, &member)))
-    })
+    if tiles.count() * 2 >= TILES * TILES {
+        *tiles = TileMask::FULL;
+    }
 }

@@ -7,7 +7,7 @@ use bevy_ecs::entity::Entity;
 
 use crate::ecs::assets::MeshHandle;
 use crate::ecs::draw_groups::push_instance;
-use crate::ecs::footprints::chunk_footprint;
+use crate::ecs::footprints::add_chunk_footprint;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::{DrawKey, RenderInstances};
 use crate::ecs::receiver_culling::ReceiverCache;
@@ -17,7 +17,7 @@ use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
 use crate::math::cascades::Cascade;
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
-use crate::math::footprint::TileMask;
+use crate::math::footprint::{ClipProjector, TileMask};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
 
 /// Reused buffers of [`update_shadow_views`], and what each view held last frame.
@@ -109,6 +109,10 @@ pub(crate) fn cull_views(
         );
         // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
         // with one test per culling chunk.
+        let mut projectors = [ClipProjector::new(&glam::Mat4::IDENTITY); MAX_CASCADES];
+        for (projector, view) in projectors.iter_mut().zip(&views[range.clone()]) {
+            *projector = ClipProjector::new(&view.clip_from_world);
+        }
         let casters = instances.casters.chunks(CHUNK).zip(scratch.masks.chunks(CHUNK));
         for (k, (casters, masks)) in casters.enumerate() {
             let any = masks.iter().fold(0, |a, &m| a | m);
@@ -122,8 +126,13 @@ pub(crate) fn cull_views(
                 let members = (0..masks.len())
                     .filter(|&j| masks[j] & 1 << c != 0)
                     .map(|j| k * CHUNK + j);
-                let tiles = chunk_footprint(&views[v].clip_from_world, instances, k, members);
-                entries[v].footprint = entries[v].footprint.union(tiles);
+                add_chunk_footprint(
+                    &mut entries[v].footprint,
+                    &projectors[c as usize],
+                    instances,
+                    k,
+                    members,
+                );
                 bits &= bits - 1;
             }
             for (&instance, &mask) in casters.iter().zip(masks) {
@@ -165,14 +174,14 @@ pub(crate) fn cull_views(
             &mut scratch.chunk_scratch,
         );
         // NOTE: visible casters come in ascending order, so a chunk's members are a run.
+        let projector = ClipProjector::new(&view.clip_from_world);
         for run in scratch
             .visible
             .chunk_by(|a, b| *a as usize / CHUNK == *b as usize / CHUNK)
         {
             let chunk = run[0] as usize / CHUNK;
             let members = run.iter().map(|&k| k as usize);
-            let tiles = chunk_footprint(&view.clip_from_world, instances, chunk, members);
-            entry.footprint = entry.footprint.union(tiles);
+            add_chunk_footprint(&mut entry.footprint, &projector, instances, chunk, members);
         }
         for &k in &scratch.visible {
             let instance = instances.casters[k as usize];

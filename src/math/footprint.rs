@@ -5,7 +5,7 @@
 //! [`TILES`]² grid over the map those rectangles touch ([`TileMask`]), independent of the
 //! map's resolution, and turned into texel rectangles of a map of a given size to clear.
 
-use glam::{Mat4, Vec2, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::math::aabb::Aabb;
 
@@ -151,12 +151,20 @@ impl TileMask {
 
     /// The tiles holding a texel centre inside `rect` (conservatively: a hair more).
     pub fn from_rect(rect: &ClipRect) -> Self {
+        let mut mask = Self::EMPTY;
+        mask.add_rect(rect);
+        mask
+    }
+
+    /// Adds the tiles of [`from_rect`](Self::from_rect).
+    pub fn add_rect(&mut self, rect: &ClipRect) {
         if rect.is_empty() {
-            return Self::EMPTY;
+            return;
         }
         // NOTE: a texel centre at u lies in tile floor(u·TILES) for any map size (see
-        // `texel_runs`); the margin absorbs rounding.
-        let tile = |u: f32| ((u * TILES as f32).floor().clamp(0.0, (TILES - 1) as f32)) as u32;
+        // `texel_runs`); the margin absorbs rounding. The value is clamped to be
+        // non-negative first, so the cast's truncation is the floor.
+        let tile = |u: f32| ((u * TILES as f32).clamp(0.0, (TILES - 1) as f32)) as u32;
         const MARGIN: f32 = 1e-4;
         let (x0, x1) = (
             tile(rect.min.x * 0.5 + 0.5 - MARGIN),
@@ -167,11 +175,9 @@ impl TileMask {
             tile(0.5 - rect.min.y * 0.5 + MARGIN),
         );
         let bits = (u32::MAX >> (TILES - 1 - (x1 - x0))) << x0;
-        let mut mask = Self::EMPTY;
-        for row in &mut mask.rows[y0 as usize..=y1 as usize] {
-            *row = bits;
+        for row in &mut self.rows[y0 as usize..=y1 as usize] {
+            *row |= bits;
         }
-        mask
     }
 
     /// Tiles in either.
@@ -237,37 +243,65 @@ impl TileMask {
 /// everything a caster inside `b` can write. The whole square when a corner is not in front
 /// of the projection (`w ≤ 0`) or not finite; empty for an empty box.
 pub fn clip_footprint(clip_from_world: &Mat4, b: &Aabb) -> ClipRect {
-    if b.is_empty() {
-        return ClipRect::EMPTY;
-    }
-    if !b.is_finite() {
-        return ClipRect::FULL;
-    }
-    let w_row = clip_from_world.row(3);
-    if w_row == Vec4::W {
-        // Affine (an orthographic cascade): centre and extent, two rows only.
-        let (c, e) = (b.center(), b.half_extents());
-        let m = clip_from_world;
-        let row = |i| m.row(i);
-        let (rx, ry) = (row(0), row(1));
-        let center = Vec2::new(rx.truncate().dot(c) + rx.w, ry.truncate().dot(c) + ry.w);
-        let extent = Vec2::new(rx.truncate().abs().dot(e), ry.truncate().abs().dot(e));
-        return ClipRect {
-            min: center - extent,
-            max: center + extent,
+    ClipProjector::new(clip_from_world).rect(b)
+}
+
+/// [`clip_footprint`] for many boxes under one matrix: what depends only on the matrix is
+/// taken apart once.
+#[derive(Clone, Copy, Debug)]
+pub struct ClipProjector {
+    matrix: Mat4,
+    /// The bottom row is `0 0 0 1` (an orthographic cascade).
+    affine: bool,
+    /// Rows x and y: linear parts, their absolute values, and the constants.
+    rows: [Vec3; 2],
+    abs_rows: [Vec3; 2],
+    offsets: Vec2,
+}
+
+impl ClipProjector {
+    /// Takes `clip_from_world` apart.
+    pub fn new(clip_from_world: &Mat4) -> Self {
+        let (rx, ry) = (clip_from_world.row(0), clip_from_world.row(1));
+        Self {
+            matrix: *clip_from_world,
+            affine: clip_from_world.row(3) == Vec4::W,
+            rows: [rx.truncate(), ry.truncate()],
+            abs_rows: [rx.truncate().abs(), ry.truncate().abs()],
+            offsets: Vec2::new(rx.w, ry.w),
         }
-        .clamped();
     }
-    let mut rect = ClipRect::EMPTY;
-    for corner in b.corners() {
-        let p = *clip_from_world * corner.extend(1.0);
-        if !p.is_finite() || p.w <= 1e-6 {
+
+    /// The clip-space rectangle `b` covers (see [`clip_footprint`]).
+    pub fn rect(&self, b: &Aabb) -> ClipRect {
+        if b.is_empty() {
+            return ClipRect::EMPTY;
+        }
+        if !b.is_finite() {
             return ClipRect::FULL;
         }
-        let xy = p.truncate().truncate() / p.w;
-        rect = rect.union(ClipRect { min: xy, max: xy });
+        if self.affine {
+            // Centre and extent, two rows only.
+            let (c, e) = (b.center(), b.half_extents());
+            let center = Vec2::new(self.rows[0].dot(c), self.rows[1].dot(c)) + self.offsets;
+            let extent = Vec2::new(self.abs_rows[0].dot(e), self.abs_rows[1].dot(e));
+            return ClipRect {
+                min: center - extent,
+                max: center + extent,
+            }
+            .clamped();
+        }
+        let mut rect = ClipRect::EMPTY;
+        for corner in b.corners() {
+            let p = self.matrix * corner.extend(1.0);
+            if !p.is_finite() || p.w <= 1e-6 {
+                return ClipRect::FULL;
+            }
+            let xy = p.truncate().truncate() / p.w;
+            rect = rect.union(ClipRect { min: xy, max: xy });
+        }
+        rect.clamped()
     }
-    rect.clamped()
 }
 
 #[cfg(test)]
