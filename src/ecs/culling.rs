@@ -1,4 +1,5 @@
-//! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`]. A
+//! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`] in
+//! draw-key order, front to back by culling chunk ([`crate::ecs::view_order`]). A
 //! frame whose camera matrix and instance list are those of the last frame keeps its groups.
 //! (Shadow casters are culled per shadow view by
 //! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).)
@@ -12,8 +13,18 @@ use crate::ecs::draw_groups::{ViewDrawGroups, push_instance};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
+use crate::ecs::view_order::{Run, front_to_back};
 use crate::math::chunks::cull_spheres_frustum_chunked;
 use crate::math::frustum::Frustum;
+
+/// Reused buffers of [`cull_view`].
+#[derive(Default)]
+pub struct ViewScratch {
+    visible: Vec<u32>,
+    scratch: Vec<u32>,
+    runs: Vec<Run>,
+    ordered: Vec<u32>,
+}
 
 /// Culls every instance against the camera frustum into one draw group.
 pub fn cull_view(
@@ -21,7 +32,7 @@ pub fn cull_view(
     instances: Res<RenderInstances>,
     mut groups: ResMut<ViewDrawGroups>,
     mut stats: ResMut<ShadowStats>,
-    mut visible: Local<(Vec<u32>, Vec<u32>)>,
+    mut visible: Local<ViewScratch>,
     mut last: Local<Option<(Mat4, u64)>>,
 ) {
     let start = Instant::now();
@@ -40,7 +51,12 @@ pub fn cull_view(
     groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        let (visible, scratch) = &mut *visible;
+        let ViewScratch {
+            visible,
+            scratch,
+            runs,
+            ordered,
+        } = &mut *visible;
         cull_spheres_frustum_chunked(
             &frustum,
             &instances.centers,
@@ -49,7 +65,9 @@ pub fn cull_view(
             visible,
             scratch,
         );
-        for &i in visible.iter() {
+        let eye = camera.position();
+        front_to_back(visible, &instances.keys, &instances.chunks.centers, eye, runs, ordered);
+        for &i in ordered.iter() {
             push_instance(&mut groups.group, &mut groups.indices, instances.keys[i as usize], i);
         }
     }

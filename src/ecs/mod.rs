@@ -22,6 +22,7 @@ pub mod stats;
 pub mod view;
 pub mod view_cache;
 pub mod view_culling;
+pub mod view_order;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
 pub use bevy_transform::components::{GlobalTransform, Transform};
