@@ -10,7 +10,7 @@ use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::ShadowViews;
 use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
-use penumbra::render::Renderer;
+use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
 use penumbra::settings::{ShadowMode, ShadowSettings};
 use penumbra::viewer::{FrameInfo, Inspector};
@@ -220,4 +220,27 @@ fn a_spot_light_panel_edits_the_light_and_gives_it_settings() {
             .count(),
         1
     );
+}
+
+#[test]
+fn render_switches_reach_the_render_options() {
+    let mut h = harness(state("render-options"));
+    h.run();
+    let options = |h: &Harness<'_, State>| *h.state().app.world().resource::<RenderOptions>();
+    let before = options(&h);
+    for label in ["shadow cache", "compute resolve", "single-pass cascades"] {
+        h.get_by_label(label).click();
+        h.run();
+    }
+    let after = options(&h);
+    assert_eq!(after.shadow_cache, !before.shadow_cache);
+    assert_eq!(after.visibility_resolve, !before.visibility_resolve);
+    assert_eq!(after.single_pass_cascades, !before.single_pass_cascades);
+    h.get_by_label("off").click();
+    h.run();
+    assert_eq!(options(&h).depth_prepass, DepthPrepass::Off);
+    // The renderer draws with them: without the cache every cascade is drawn each frame.
+    h.state_mut().app.update();
+    h.state_mut().app.update();
+    assert_eq!(renderer(&h).last_report.shadow_views_drawn, 4);
 }

@@ -4,6 +4,7 @@
 //! window or headless (the tests drive it through egui's accessibility tree).
 
 mod lights;
+mod render;
 mod settings;
 mod stats;
 mod sun;
@@ -17,7 +18,7 @@ use crate::ecs::components::DirectionalLight;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::render::{DepthPrepass, FrameReport, RenderOptions};
+use crate::render::{FrameReport, RenderOptions};
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;
 use crate::viewer::fly_camera::FlyCamera;
@@ -95,23 +96,15 @@ impl Inspector {
                 ui.label("no spot light or second sun");
             }
         });
-        if let Some(mut options) = world.get_resource_mut::<RenderOptions>() {
-            let mut mode = options.depth_prepass;
-            ui.horizontal(|ui| {
-                ui.label("depth prepass")
-                    .on_hover_text("write depth first, so the lighting pass shades each pixel once; auto: while the view has fewer triangles than pixels");
-                for (value, name) in [
-                    (DepthPrepass::Auto, "auto"),
-                    (DepthPrepass::On, "on"),
-                    (DepthPrepass::Off, "off"),
-                ] {
-                    ui.radio_value(&mut mode, value, name);
+        CollapsingHeader::new("Rendering").default_open(true).show(ui, |ui| {
+            if let Some(mut options) = world.get_resource_mut::<RenderOptions>() {
+                // NOTE: edited on a copy, so the resource changes only when a switch does.
+                let mut edited = *options;
+                if render::render_options_ui(ui, &mut edited) {
+                    *options = edited;
                 }
-            });
-            if mode != options.depth_prepass {
-                options.depth_prepass = mode;
             }
-        }
+        });
         CollapsingHeader::new("Shadow views").default_open(true).show(ui, |ui| {
             stats::shadow_views_ui(
                 ui,

@@ -1,0 +1,31 @@
+//! The render-wide switches of [`RenderOptions`]: the depth prepass, the shadow cache, the
+//! compute visibility resolve and single-pass cascades.
+
+use egui::Ui;
+
+use crate::render::{DepthPrepass, RenderOptions};
+
+/// Draws the switches over `options`; true when one changed.
+pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
+    let before = *options;
+    let edited = options;
+    ui.horizontal(|ui| {
+        ui.label("depth prepass").on_hover_text(
+            "write depth first, so the lighting pass shades each pixel once; auto: while the view has fewer triangles than pixels",
+        );
+        for (value, name) in [
+            (DepthPrepass::Auto, "auto"),
+            (DepthPrepass::On, "on"),
+            (DepthPrepass::Off, "off"),
+        ] {
+            ui.radio_value(&mut edited.depth_prepass, value, name);
+        }
+    });
+    ui.checkbox(&mut edited.shadow_cache, "shadow cache")
+        .on_hover_text("keep shadow maps whose view and casters did not change; off: draw every map every frame");
+    ui.checkbox(&mut edited.visibility_resolve, "compute resolve")
+        .on_hover_text("filter the shadows per pixel in a compute pass after the prepass");
+    ui.checkbox(&mut edited.single_pass_cascades, "single-pass cascades")
+        .on_hover_text("draw a sun's cascades in one multiview pass where the GPU supports it");
+    *edited != before
+}
