@@ -8,10 +8,9 @@ mod common;
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
-use common::still_scene;
+use common::{spawn_box, still_scene};
 use glam::{Quat, Vec3, Vec4};
-use penumbra::ecs::{DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, SpotLight, Transform};
-use penumbra::mesh::cuboid;
+use penumbra::ecs::{DirectionalLight, SpotLight, Transform};
 use penumbra::render::Renderer;
 
 /// Where the test puts things: the cube and a turn of the scene's lights.
@@ -27,18 +26,12 @@ fn app(scene: &str, state: State) -> (App, Entity) {
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = still_scene(renderer, scene);
     let world = app.world_mut();
-    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::new(0.8, 1.6, 0.8)));
-    let material = world.resource_mut::<Materials>().add(Material {
-        base_color: Vec4::new(0.3, 0.4, 0.9, 1.0),
-        ..Default::default()
-    });
-    let cube = world
-        .spawn((
-            Transform::from_translation(state.cube),
-            Mesh3d(mesh),
-            MeshMaterial3d(material),
-        ))
-        .id();
+    let cube = spawn_box(
+        world,
+        Vec3::new(0.8, 1.6, 0.8),
+        Vec4::new(0.3, 0.4, 0.9, 1.0),
+        state.cube,
+    );
     apply(world, cube, state);
     app.update();
     (app, cube)

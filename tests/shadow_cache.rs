@@ -8,14 +8,10 @@ mod common;
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
-use common::still_scene;
+use common::{spawn_box, still_scene};
 use glam::{Quat, Vec3, Vec4};
 use image::RgbaImage;
-use penumbra::ecs::{
-    Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowViewKind, ShadowViews,
-    SpotLight, Transform,
-};
-use penumbra::mesh::cuboid;
+use penumbra::ecs::{Camera3d, DirectionalLight, ShadowViewKind, ShadowViews, SpotLight, Transform};
 use penumbra::render::{RenderOptions, Renderer};
 use penumbra::settings::{CascadeFit, ShadowSettings};
 
@@ -35,19 +31,12 @@ fn app(scene: &str, cache: bool) -> (App, Entity) {
         ..RenderOptions::default()
     });
     let world = app.world_mut();
-    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::new(0.6, 1.2, 0.6)));
-    let material = world.resource_mut::<Materials>().add(Material {
-        base_color: Vec4::new(0.9, 0.3, 0.3, 1.0),
-        ..Default::default()
-    });
-    // Under the first spot light of lights.ron, away from the other three.
-    let cube = world
-        .spawn((
-            Transform::from_translation(Vec3::new(-7.0, 0.6, -4.0)),
-            Mesh3d(mesh),
-            MeshMaterial3d(material),
-        ))
-        .id();
+    let cube = spawn_box(
+        world,
+        Vec3::new(0.6, 1.2, 0.6),
+        Vec4::new(0.9, 0.3, 0.3, 1.0),
+        Vec3::new(-7.0, 0.6, -4.0),
+    );
     app.update();
     (app, cube)
 }

@@ -6,10 +6,9 @@ mod common;
 
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
-use common::still_scene;
+use common::{spawn_box, still_scene};
 use glam::{Vec3, Vec4};
-use penumbra::ecs::{Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowViews, Transform};
-use penumbra::mesh::cuboid;
+use penumbra::ecs::{ShadowViews, Transform};
 use penumbra::render::{RenderOptions, Renderer};
 
 const CASCADES: u32 = 4;
@@ -31,18 +30,12 @@ fn app(single_pass: bool, cache: bool) -> (App, Entity) {
         ..RenderOptions::default()
     });
     let world = app.world_mut();
-    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::new(0.8, 1.6, 0.8)));
-    let material = world.resource_mut::<Materials>().add(Material {
-        base_color: Vec4::new(0.3, 0.4, 0.9, 1.0),
-        ..Default::default()
-    });
-    let cube = world
-        .spawn((
-            Transform::from_translation(Vec3::new(2.0, 0.8, -3.0)),
-            Mesh3d(mesh),
-            MeshMaterial3d(material),
-        ))
-        .id();
+    let cube = spawn_box(
+        world,
+        Vec3::new(0.8, 1.6, 0.8),
+        Vec4::new(0.3, 0.4, 0.9, 1.0),
+        Vec3::new(2.0, 0.8, -3.0),
+    );
     // NOTE: lavapipe draws a primitive its clipper had to split into layer 0 of a multiview
     // pass, whatever its view (a Mesa defect; GPUs draw this scene identically both ways, see
     // docs/benchmarks.md). The roof slabs, 156 m long, cross every cascade's bounds, so on a

@@ -1,8 +1,16 @@
 //! What several render tests share: a scene file spawned into a headless app whose frames are
-//! identical (the filter taps are not rotated per frame).
+//! identical (the filter taps are not rotated per frame), and a box added to it.
+
+// NOTE: each test binary uses part of this module.
+#![allow(dead_code)]
 
 use bevy_app::App;
+use bevy_ecs::entity::Entity;
+use bevy_ecs::world::World;
+use glam::{Vec3, Vec4};
 use penumbra::app::{headless_app, spawn_scene};
+use penumbra::ecs::{Material, Materials, Mesh3d, MeshMaterial3d, Meshes, Transform};
+use penumbra::mesh::cuboid;
 use penumbra::render::Renderer;
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
@@ -19,4 +27,16 @@ pub fn still_scene(renderer: Renderer, scene: &str) -> App {
         s.temporal_rotation = false;
     }
     app
+}
+
+/// Adds a box of `size` metres with a plain `color` material at `at`; returns its entity.
+pub fn spawn_box(world: &mut World, size: Vec3, color: Vec4, at: Vec3) -> Entity {
+    let mesh = world.resource_mut::<Meshes>().add(cuboid(size));
+    let material = world.resource_mut::<Materials>().add(Material {
+        base_color: color,
+        ..Default::default()
+    });
+    world
+        .spawn((Transform::from_translation(at), Mesh3d(mesh), MeshMaterial3d(material)))
+        .id()
 }
