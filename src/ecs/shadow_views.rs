@@ -31,7 +31,7 @@ use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
 
 /// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
-/// without its own [`ShadowSettings`].
+/// without its own [`ShadowSettings`](crate::settings::ShadowSettings).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowLightBudget {
     /// Most shadowed lights per kind (4 suns; the seed's layout: 8 spot lights, 4 point
@@ -144,7 +144,7 @@ impl ShadowViews {
 }
 
 /// Lists the shadow views of the shadowed lights, gives each its content version
-/// ([`ViewCache`]), and culls every caster into the draw group of each view it touches — only
+/// ([`ViewCache`](crate::ecs::view_cache::ViewCache)), and culls every caster into the draw group of each view it touches — only
 /// for views that moved or whose instance list was rebuilt; the others keep last frame's
 /// group. A sun's cascades are culled in one pass over the casters (sorted by draw key, so
 /// each list comes out in draw order), a spot light against its frustum.

@@ -20,7 +20,7 @@ use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chun
 use crate::math::footprint::{ClipProjector, TileMask};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
 
-/// Reused buffers of [`update_shadow_views`], and what each view held last frame.
+/// Reused buffers of [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views), and what each view held last frame.
 #[derive(Default)]
 pub struct ViewScratch {
     /// Cascade bit mask per caster.
