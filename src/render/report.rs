@@ -1,0 +1,67 @@
+//! [`FrameReport`]: what a rendered frame cost (pass timings, draw calls, shadow views
+//! drawn, memory).
+
+use crate::render::resolve::RESOLVE_NAME;
+use crate::render::timer::PassTiming;
+
+/// What the last frame cost on the GPU.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameReport {
+    /// Time of each timed pass of the newest frame whose timings have arrived (timings are
+    /// read back without waiting, so they lag a frame or two; empty when the adapter has no
+    /// timestamp queries or none has arrived yet).
+    pub passes: Vec<PassTiming>,
+    /// The frame `passes` belong to (see [`Renderer::frames_rendered`](crate::render::Renderer::frames_rendered)).
+    pub timed_frame: u64,
+    /// Draw calls recorded.
+    pub draw_calls: u32,
+    /// Shadow views drawn (a view whose layer still holds its content is not).
+    pub shadow_views_drawn: u32,
+    /// Draw calls of the shadow views.
+    pub shadow_draw_calls: u32,
+    /// Shadow-map texels cleared before drawing: a redrawn layer clears only the rectangle
+    /// its last draw wrote (a whole layer when that is not known or most of it).
+    pub shadow_cleared_texels: u64,
+    /// Bytes of shadow-map memory.
+    pub shadow_memory: u64,
+    /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
+    pub resolved_memory: u64,
+    /// Fragment-shader invocations of the lighting pass, while counted
+    /// ([`Renderer::count_forward_fragments`](crate::render::Renderer::count_forward_fragments)).
+    pub forward_fragments: Option<u64>,
+}
+
+impl FrameReport {
+    /// Sum of the shadow-map passes (every view of every light), in milliseconds; the
+    /// visibility resolve, which filters, is not one of them.
+    pub fn shadow_ms(&self) -> f64 {
+        self.passes
+            .iter()
+            .filter(|p| p.name.starts_with("shadow") && p.name != RESOLVE_NAME)
+            .map(|p| p.ms)
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_ms_sums_the_shadow_maps_and_not_the_resolve() {
+        let pass = |name: &str, ms| PassTiming {
+            name: name.to_owned(),
+            ms,
+        };
+        let report = FrameReport {
+            passes: vec![
+                pass("shadow cascade 0", 1.0),
+                pass("shadow spot 0", 0.5),
+                pass(RESOLVE_NAME, 4.0),
+                pass("forward", 8.0),
+            ],
+            ..Default::default()
+        };
+        assert_eq!(report.shadow_ms(), 1.5);
+    }
+}
