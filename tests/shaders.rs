@@ -152,3 +152,102 @@ fn probe_shader_validates_for_every_filter() {
         assert_eq!(module.entry_points[0].name, "main");
     }
 }
+
+/// Runs `main` of a composed compute shader that writes `count` floats into binding 0 and
+/// returns them.
+fn run_compute(module: naga::Module, count: usize) -> Vec<f32> {
+    let renderer = penumbra::render::Renderer::headless(8, 8)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let (device, queue) = (&renderer.gpu.device, &renderer.gpu.queue);
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: None,
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &shader,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let size = (count * 4) as u64;
+    let buffer = |usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let out = buffer(wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+    let readback = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: out.as_entire_binding(),
+        }],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, size);
+    queue.submit([encoder.finish()]);
+    let bytes = penumbra::render::readback::read_buffer(device, &readback, size).expect("read back");
+    bytes
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
+}
+
+#[test]
+fn the_moment_tests_in_wgsl_match_their_cpu_mirror() {
+    use penumbra::math::moments::{chebyshev_upper_bound, moments_of, moments_visibility, reduce_light_bleeding};
+    // (moments, depth, floor, bleed) cases: lit, penumbra, flat occluder, stacked occluders.
+    let cases = [
+        (moments_of(&[0.4], &[1.0]), 0.3, 1e-5, 0.0),
+        (moments_of(&[0.3, 0.6], &[0.5, 0.5]), 0.55, 1e-5, 0.2),
+        (moments_of(&[0.5; 2], &[1.0; 2]), 0.5001, 1e-5, 0.0),
+        (moments_of(&[0.2, 0.7], &[0.5, 0.5]), 0.8, 1e-5, 0.7),
+        (moments_of(&[0.2, 0.7], &[0.5, 0.5]), 0.8, 1e-5, 0.0),
+    ];
+    let mut body = String::new();
+    for (i, (m, depth, floor, bleed)) in cases.iter().enumerate() {
+        let (m, v) = (format!("vec2<f32>({:?}, {:?})", m.x, m.y), i * 3);
+        body += &format!(
+            "    out[{v}] = chebyshev_upper_bound({m}, {depth:?}, {floor:?});\n    out[{}] = reduce_light_bleeding({:?}, {bleed:?});\n    out[{}] = moments_visibility({m}, {depth:?}, {floor:?}, {bleed:?});\n",
+            v + 1,
+            0.5 + 0.1 * i as f32,
+            v + 2,
+        );
+    }
+    let source = format!(
+        "#import penumbra::shadows::moments::{{chebyshev_upper_bound, moments_visibility, reduce_light_bleeding}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    );
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library
+        .compose("moments_test.wgsl", &source, Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let gpu = run_compute(module, cases.len() * 3);
+    for (i, &(m, depth, floor, bleed)) in cases.iter().enumerate() {
+        let cpu: [f32; 3] = [
+            chebyshev_upper_bound(m, depth, floor),
+            reduce_light_bleeding(0.5 + 0.1 * i as f32, bleed),
+            moments_visibility(m, depth, floor, bleed),
+        ];
+        for (k, c) in cpu.iter().enumerate() {
+            let g = gpu[i * 3 + k];
+            assert!((g - c).abs() < 1e-5, "case {i} value {k}: GPU {g}, CPU {c}");
+        }
+    }
+    // The cases span the bound's range, so the comparison judged something.
+    let bounds: Vec<f32> = (0..cases.len()).map(|i| gpu[i * 3]).collect();
+    assert!(bounds.contains(&1.0) && bounds.iter().any(|&p| p > 0.05 && p < 0.95));
+    assert_eq!(gpu[3 * 3 + 2], 0.0, "bleed reduction darkens the stacked umbra");
+}

@@ -16,6 +16,7 @@ pub mod footprint;
 pub mod frustum;
 pub mod light_budget;
 pub mod light_space;
+pub mod moments;
 pub mod pcss;
 pub mod poisson;
 pub mod projection;

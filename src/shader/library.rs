@@ -38,7 +38,7 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 11] = [
+const MODULES: [ModuleSource; 12] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -58,6 +58,10 @@ const MODULES: [ModuleSource; 11] = [
     ModuleSource {
         file: "shadows/common.wgsl",
         source: include_str!("../../shaders/shadows/common.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/moments.wgsl",
+        source: include_str!("../../shaders/shadows/moments.wgsl"),
     },
     ModuleSource {
         file: "shadows/filters.wgsl",
