@@ -18,6 +18,7 @@ pub mod light_budget;
 pub mod light_space;
 pub mod moments;
 pub mod pcss;
+pub mod point;
 pub mod poisson;
 pub mod projection;
 pub mod receivers;
