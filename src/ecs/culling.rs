@@ -9,7 +9,7 @@ use std::time::Instant;
 use bevy_ecs::system::{Local, Res, ResMut};
 use glam::Mat4;
 
-use crate::ecs::draw_groups::{ViewDrawGroups, push_instance};
+use crate::ecs::draw_groups::{ViewDrawGroups, push_run};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
@@ -23,7 +23,6 @@ pub struct ViewScratch {
     visible: Vec<u32>,
     scratch: Vec<u32>,
     runs: Vec<Run>,
-    ordered: Vec<u32>,
 }
 
 /// Culls every instance against the camera frustum into one draw group.
@@ -51,12 +50,7 @@ pub fn cull_view(
     groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        let ViewScratch {
-            visible,
-            scratch,
-            runs,
-            ordered,
-        } = &mut *visible;
+        let ViewScratch { visible, scratch, runs } = &mut *visible;
         cull_spheres_frustum_chunked(
             &frustum,
             &instances.centers,
@@ -66,9 +60,9 @@ pub fn cull_view(
             scratch,
         );
         let eye = camera.position();
-        front_to_back(visible, &instances.keys, &instances.chunks.centers, eye, runs, ordered);
-        for &i in ordered.iter() {
-            push_instance(&mut groups.group, &mut groups.indices, instances.keys[i as usize], i);
+        front_to_back(visible, &instances.keys, &instances.chunks.centers, eye, runs);
+        for run in runs.iter() {
+            push_run(&mut groups.group, &mut groups.indices, run.key, run.of(visible));
         }
     }
     stats.visible_instances = groups.indices.len() as u32;

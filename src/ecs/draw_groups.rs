@@ -53,23 +53,32 @@ impl DrawGroup {
 /// Appends instance `index` with `key` to `indices`, extending the last batch of the right
 /// list when the key matches, else starting a new one.
 pub fn push_instance(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, index: u32) {
+    push_run(group, indices, key, &[index]);
+}
+
+/// Appends instances `run`, all with `key`, to `indices` as [`push_instance`] does one by one.
+pub fn push_run(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, run: &[u32]) {
+    if run.is_empty() {
+        return;
+    }
     let list = if key.masked {
         &mut group.masked
     } else {
         &mut group.opaque
     };
     let position = indices.len() as u32;
-    indices.push(index);
+    let count = run.len() as u32;
+    indices.extend_from_slice(run);
     match list.last_mut() {
         Some(last) if last.mesh == key.mesh && last.material == key.material && last.first + last.count == position => {
-            last.count += 1
+            last.count += count
         }
         _ => list.push(DrawBatch {
             mesh: key.mesh,
             material: key.material,
             double_sided: key.double_sided,
             first: position,
-            count: 1,
+            count,
         }),
     }
 }
@@ -122,5 +131,27 @@ mod tests {
         );
         assert_eq!(g.instance_count(), 5);
         assert_eq!(g.draw_count(), 3);
+    }
+
+    #[test]
+    fn pushing_runs_equals_pushing_their_instances_one_by_one() {
+        let runs: [(DrawKey, &[u32]); 4] = [
+            (key(false, 0, 0), &[4, 5, 6]),
+            (key(false, 0, 0), &[1]),
+            (key(true, 1, 0), &[9, 2]),
+            (key(false, 2, 0), &[]),
+        ];
+        let (mut by_run, mut run_indices) = (DrawGroup::default(), Vec::new());
+        let (mut by_one, mut one_indices) = (DrawGroup::default(), Vec::new());
+        for (k, run) in runs {
+            push_run(&mut by_run, &mut run_indices, k, run);
+            for &i in run {
+                push_instance(&mut by_one, &mut one_indices, k, i);
+            }
+        }
+        assert_eq!(by_run, by_one);
+        assert_eq!(run_indices, one_indices);
+        assert_eq!(by_run.opaque.len(), 1, "consecutive runs of one key merge");
+        assert_eq!(by_run.instance_count(), 6);
     }
 }

@@ -12,25 +12,25 @@ use crate::math::chunks::CHUNK;
 /// A run of visible instances sharing a draw key and a culling chunk.
 #[derive(Clone, Copy, Debug)]
 pub struct Run {
-    key: DrawKey,
+    /// Their draw key.
+    pub key: DrawKey,
     distance: f32,
     start: u32,
     end: u32,
 }
 
-/// Writes `visible` (ascending instance indices) into `out` ordered by draw key, then by the
-/// distance from `eye` to the centre of each instance's culling chunk (`chunk_centers`),
-/// nearest first; instances of one chunk keep their order. `runs` is scratch.
-pub fn front_to_back(
-    visible: &[u32],
-    keys: &[DrawKey],
-    chunk_centers: &[Vec3],
-    eye: Vec3,
-    runs: &mut Vec<Run>,
-    out: &mut Vec<u32>,
-) {
+impl Run {
+    /// The run's instances, from the `visible` list it was made from.
+    pub fn of<'a>(&self, visible: &'a [u32]) -> &'a [u32] {
+        &visible[self.start as usize..self.end as usize]
+    }
+}
+
+/// Splits `visible` (ascending instance indices) into `runs` ordered by draw key, then by the
+/// distance from `eye` to the centre of the runs' culling chunk (`chunk_centers`), nearest
+/// first; instances of one chunk keep their order.
+pub fn front_to_back(visible: &[u32], keys: &[DrawKey], chunk_centers: &[Vec3], eye: Vec3, runs: &mut Vec<Run>) {
     runs.clear();
-    out.clear();
     let mut i = 0;
     while i < visible.len() {
         let first = visible[i] as usize;
@@ -50,9 +50,6 @@ pub fn front_to_back(
         i = end;
     }
     runs.sort_by(|a, b| a.key.cmp(&b.key).then(a.distance.total_cmp(&b.distance)));
-    for run in runs.iter() {
-        out.extend_from_slice(&visible[run.start as usize..run.end as usize]);
-    }
 }
 
 #[cfg(test)]
@@ -92,8 +89,9 @@ mod tests {
             .iter()
             .map(|&i| i as u32)
             .collect();
-        let (mut runs, mut out) = (Vec::new(), Vec::new());
-        front_to_back(&visible, &keys, &centers, Vec3::ZERO, &mut runs, &mut out);
+        let mut runs = Vec::new();
+        front_to_back(&visible, &keys, &centers, Vec3::ZERO, &mut runs);
+        let out: Vec<u32> = runs.iter().flat_map(|r| r.of(&visible).iter().copied()).collect();
         let (c, k) = (CHUNK as u32, 2 * CHUNK as u32);
         // Mesh 0: chunk 1 (near) before chunk 0 (far); mesh 1: chunk 1 before chunk 2.
         assert_eq!(out, [c + 2, c + 7, 3, 5, k - 1, k + 1]);
