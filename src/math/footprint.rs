@@ -33,51 +33,9 @@ pub struct TexelRect {
 }
 
 impl TexelRect {
-    /// No texel.
-    pub const EMPTY: Self = Self {
-        x0: 0,
-        y0: 0,
-        x1: 0,
-        y1: 0,
-    };
-
-    /// Every texel of a `side`² map.
-    pub fn full(side: u32) -> Self {
-        Self {
-            x0: 0,
-            y0: 0,
-            x1: side,
-            y1: side,
-        }
-    }
-
-    /// True when it holds no texel.
-    pub fn is_empty(&self) -> bool {
-        self.x0 >= self.x1 || self.y0 >= self.y1
-    }
-
-    /// Texels inside.
+    /// Texels inside (0 when empty).
     pub fn area(&self) -> u64 {
-        if self.is_empty() {
-            return 0;
-        }
-        u64::from(self.x1 - self.x0) * u64::from(self.y1 - self.y0)
-    }
-
-    /// The smallest rectangle holding both.
-    pub fn union(self, other: Self) -> Self {
-        if self.is_empty() {
-            return other;
-        }
-        if other.is_empty() {
-            return self;
-        }
-        Self {
-            x0: self.x0.min(other.x0),
-            y0: self.y0.min(other.y0),
-            x1: self.x1.max(other.x1),
-            y1: self.y1.max(other.y1),
-        }
+        u64::from(self.x1.saturating_sub(self.x0)) * u64::from(self.y1.saturating_sub(self.y0))
     }
 }
 
@@ -210,22 +168,28 @@ impl TileMask {
             let t = u64::from(TILES);
             (if up { v.div_ceil(t) } else { v / t }) as u32
         };
-        // Open rectangles reach the previous row: (first tile, end tile, first row).
-        let mut open: Vec<(u32, u32, u32)> = Vec::new();
-        let mut next = Vec::new();
+        // Open rectangles reach the previous row: (first tile, end tile, first row). A row
+        // of 32 tiles holds at most 16 runs, so fixed arrays do (no allocation per call).
+        const MAX_RUNS: usize = TILES as usize / 2;
+        let mut open = [(0u32, 0u32, 0u32); MAX_RUNS];
+        let mut next = open;
+        let mut open_count = 0;
         for y in 0..=TILES {
-            let row = if y < TILES { self.rows[y as usize] } else { 0 };
-            next.clear();
-            let mut bits = row;
+            let mut bits = if y < TILES { self.rows[y as usize] } else { 0 };
+            let mut next_count = 0;
             while bits != 0 {
                 let x0 = bits.trailing_zeros();
                 let x1 = x0 + (bits >> x0).trailing_ones();
                 bits &= !(((1u64 << x1) - 1) as u32);
-                let y0 = open.iter().find(|o| (o.0, o.1) == (x0, x1)).map_or(y, |o| o.2);
-                next.push((x0, x1, y0));
+                let y0 = open[..open_count]
+                    .iter()
+                    .find(|o| (o.0, o.1) == (x0, x1))
+                    .map_or(y, |o| o.2);
+                next[next_count] = (x0, x1, y0);
+                next_count += 1;
             }
-            for &(x0, x1, y0) in &open {
-                if !next.iter().any(|n| (n.0, n.1, n.2) == (x0, x1, y0)) {
+            for &(x0, x1, y0) in &open[..open_count] {
+                if !next[..next_count].contains(&(x0, x1, y0)) {
                     out.push(TexelRect {
                         x0: edge(x0, false),
                         y0: edge(y0, false),
@@ -234,7 +198,8 @@ impl TileMask {
                     });
                 }
             }
-            std::mem::swap(&mut open, &mut next);
+            open = next;
+            open_count = next_count;
         }
     }
 }
@@ -356,7 +321,15 @@ mod tests {
         assert_eq!(clip_footprint(&ortho(), &inf), ClipRect::FULL);
         let mut runs = Vec::new();
         TileMask::from_rect(&ClipRect::FULL).texel_runs(512, &mut runs);
-        assert_eq!(runs, [TexelRect::full(512)]);
+        assert_eq!(
+            runs,
+            [TexelRect {
+                x0: 0,
+                y0: 0,
+                x1: 512,
+                y1: 512
+            }]
+        );
         assert_eq!(TileMask::from_rect(&ClipRect::FULL), TileMask::FULL);
     }
 
@@ -437,21 +410,18 @@ mod tests {
     }
 
     #[test]
-    fn texel_rects_union_and_measure() {
-        let a = TexelRect {
-            x0: 0,
-            y0: 0,
-            x1: 4,
-            y1: 2,
-        };
-        let b = TexelRect {
+    fn texel_rect_areas() {
+        let r = TexelRect {
             x0: 2,
             y0: 1,
             x1: 8,
             y1: 3,
         };
-        assert_eq!(a.union(b).area(), 24);
-        assert_eq!(a.union(TexelRect::EMPTY), a);
-        assert_eq!(TexelRect::EMPTY.area(), 0);
+        assert_eq!(r.area(), 12);
+        assert_eq!(
+            TexelRect { x1: 1, ..r }.area(),
+            0,
+            "an inverted rectangle holds nothing"
+        );
     }
 }
