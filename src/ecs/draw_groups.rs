@@ -48,6 +48,19 @@ impl DrawGroup {
     pub fn draw_count(&self) -> usize {
         self.opaque.len() + self.masked.len()
     }
+
+    /// Becomes a copy of `group`, whose index list is appended to `indices` here: the copy's
+    /// batches point into `indices`. Keeps this group's allocations.
+    pub fn append_copy(&mut self, group: &DrawGroup, list: &[u32], indices: &mut Vec<u32>) {
+        let offset = indices.len() as u32;
+        indices.extend_from_slice(list);
+        self.opaque.clone_from(&group.opaque);
+        self.masked.clone_from(&group.masked);
+        self.opaque
+            .iter_mut()
+            .chain(self.masked.iter_mut())
+            .for_each(|b| b.first += offset);
+    }
 }
 
 /// Appends instance `index` with `key` to `indices`, extending the last batch of the right

@@ -242,16 +242,7 @@ pub fn update_shadow_views(
         out.indices.clear();
         out.generation += 1;
         for (entry, group) in entries.iter().zip(out.groups.iter_mut()) {
-            let offset = out.indices.len() as u32;
-            out.indices.extend_from_slice(&entry.list);
-            // NOTE: field by field, so the vectors keep their allocations.
-            group.opaque.clone_from(&entry.group.opaque);
-            group.masked.clone_from(&entry.group.masked);
-            group
-                .opaque
-                .iter_mut()
-                .chain(group.masked.iter_mut())
-                .for_each(|b| b.first += offset);
+            group.append_copy(&entry.group, &entry.list, &mut out.indices);
         }
         collect_single_pass(&lights, scratch, out);
     }

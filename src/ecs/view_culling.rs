@@ -42,27 +42,15 @@ pub struct ViewScratch {
 
 /// Appends each sun's single-pass list after the view groups (none while they are off).
 pub(crate) fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, out: &mut ShadowViews) {
-    out.single_pass.clear();
-    if !scratch.single_pass {
-        return;
-    }
+    let suns = if scratch.single_pass { lights.suns.len() } else { 0 };
+    // NOTE: resized, not rebuilt, so the groups keep their allocations.
+    out.single_pass.resize_with(suns, SinglePassGroup::default);
     let mut first_view = 0;
-    for (i, (_, sun)) in scratch.suns.iter().enumerate().take(lights.suns.len()) {
-        let views = scratch.receivers.set(i).count as u32;
-        let offset = out.indices.len() as u32;
-        out.indices.extend_from_slice(&sun.list);
-        let mut group = sun.group.clone();
-        group
-            .opaque
-            .iter_mut()
-            .chain(group.masked.iter_mut())
-            .for_each(|b| b.first += offset);
-        out.single_pass.push(SinglePassGroup {
-            first_view,
-            views,
-            group,
-        });
-        first_view += views;
+    for (i, ((_, sun), pass)) in scratch.suns.iter().zip(out.single_pass.iter_mut()).enumerate() {
+        pass.first_view = first_view;
+        pass.views = scratch.receivers.set(i).count as u32;
+        pass.group.append_copy(&sun.group, &sun.list, &mut out.indices);
+        first_view += pass.views;
     }
 }
 
