@@ -48,7 +48,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     let r = renderer(&app);
     assert_eq!(
         r.graph_order(),
-        ["shadow", "depth prepass", "shadow resolve", "forward"]
+        ["shadow", "depth prepass", "visibility resolve", "forward"]
     );
     assert!(r.graph_culled().is_empty());
     // Three frames of one size: the camera depth was created once and reused.
@@ -67,7 +67,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         ["depth prepass", "forward"],
         "no shadow view, yet the shadow node ran"
     );
-    assert_eq!(r.graph_culled(), ["shadow", "shadow resolve"]);
+    assert_eq!(r.graph_culled(), ["shadow", "visibility resolve"]);
     assert_eq!(r.counters().transient_resources, 2);
 }
 
@@ -158,7 +158,7 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     let r = renderer(&app);
     assert_eq!(
         r.graph_order(),
-        ["shadow", "depth prepass", "shadow resolve", "forward", "paint"]
+        ["shadow", "depth prepass", "visibility resolve", "forward", "paint"]
     );
     assert_eq!(r.graph_culled(), ["unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
@@ -226,12 +226,12 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     let mut small = app_sized(64, 40);
     small.update();
     assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
-    assert_eq!(renderer(&small).graph_culled(), ["depth prepass", "shadow resolve"]);
+    assert_eq!(renderer(&small).graph_culled(), ["depth prepass", "visibility resolve"]);
     let mut large = app();
     large.update();
     assert_eq!(
         renderer(&large).graph_order(),
-        ["shadow", "depth prepass", "shadow resolve", "forward"]
+        ["shadow", "depth prepass", "visibility resolve", "forward"]
     );
 }
 
@@ -262,7 +262,7 @@ fn the_compute_resolve_matches_the_lighting_pass_filters() {
         let (resolved, resolved_shadow, order) = render_resolved(scene, true);
         assert_eq!(
             order,
-            ["shadow", "depth prepass", "shadow resolve", "forward"],
+            ["shadow", "depth prepass", "visibility resolve", "forward"],
             "{scene}"
         );
         let (direct, direct_shadow, order) = render_resolved(scene, false);

@@ -55,7 +55,7 @@ fn every_frame_is_timed_or_counted_and_numbered() {
                 "shadow cascade 2",
                 "shadow cascade 3",
                 "depth prepass",
-                "shadow resolve",
+                "visibility resolve",
                 "forward"
             ],
             "frame {}",

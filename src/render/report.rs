@@ -1,7 +1,6 @@
 //! [`FrameReport`]: what a rendered frame cost (pass timings, draw calls, shadow views
 //! drawn, memory).
 
-use crate::render::resolve::RESOLVE_NAME;
 use crate::render::timer::PassTiming;
 
 /// What the last frame cost on the GPU.
@@ -32,12 +31,12 @@ pub struct FrameReport {
 }
 
 impl FrameReport {
-    /// Sum of the shadow-map passes (every view of every light), in milliseconds; the
-    /// visibility resolve, which filters, is not one of them.
+    /// Sum of the shadow-map passes (every view of every light: the passes named
+    /// `shadow …`), in milliseconds.
     pub fn shadow_ms(&self) -> f64 {
         self.passes
             .iter()
-            .filter(|p| p.name.starts_with("shadow") && p.name != RESOLVE_NAME)
+            .filter(|p| p.name.starts_with("shadow"))
             .map(|p| p.ms)
             .sum()
     }
@@ -46,6 +45,7 @@ impl FrameReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::resolve::RESOLVE_NAME;
 
     #[test]
     fn shadow_ms_sums_the_shadow_maps_and_not_the_resolve() {

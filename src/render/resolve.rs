@@ -15,7 +15,7 @@ use crate::render::shadows::visibility::VISIBILITY_FORMAT;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Name of the resolve in GPU timings and the graph.
-pub const RESOLVE_NAME: &str = "shadow resolve";
+pub const RESOLVE_NAME: &str = "visibility resolve";
 
 /// What the resolve reads and writes this frame.
 #[derive(Clone, Copy)]
@@ -35,7 +35,7 @@ pub struct VisibilityResolve {
 fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("shadow resolve"),
+        label: Some(RESOLVE_NAME),
         entries: &[
             entry(
                 0,
