@@ -12,6 +12,8 @@ pub struct GrowBuffer {
     pub buffer: wgpu::Buffer,
     label: &'static str,
     usage: wgpu::BufferUsages,
+    /// The generation of the data last written by [`write_generation`](Self::write_generation).
+    generation: Option<u64>,
 }
 
 impl GrowBuffer {
@@ -29,7 +31,24 @@ impl GrowBuffer {
             usage: usage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { buffer, label, usage }
+        Self {
+            buffer,
+            label,
+            usage,
+            generation: None,
+        }
+    }
+
+    /// Writes `data` of `generation` unless the buffer already holds that generation (data
+    /// whose producer bumps a counter whenever it changes); returns true when the buffer was
+    /// replaced.
+    pub fn write_generation(&mut self, gpu: &GpuContext, generation: u64, data: &[u8]) -> Result<bool, LimitError> {
+        if self.generation == Some(generation) {
+            return Ok(false);
+        }
+        let replaced = self.write(gpu, data)?;
+        self.generation = Some(generation);
+        Ok(replaced)
     }
 
     /// Writes `data`, growing first if needed; returns true when the buffer was replaced.

@@ -45,9 +45,6 @@ pub struct SceneGpu {
     pub view_group: wgpu::BindGroup,
     mesh_generation: u64,
     material_generation: (u64, u64),
-    instance_generation: u64,
-    /// The generations of the shadow and camera draw lists last uploaded.
-    index_generations: (u64, u64),
 }
 
 fn instances_group(
@@ -123,8 +120,6 @@ impl SceneGpu {
             view_group,
             mesh_generation: u64::MAX,
             material_generation: (u64::MAX, u64::MAX),
-            instance_generation: 0,
-            index_generations: (u64::MAX, u64::MAX),
         }
     }
 
@@ -152,28 +147,19 @@ impl SceneGpu {
         if (input.materials.generation(), input.images.generation()) != self.material_generation {
             self.upload_materials(gpu, layouts, input, problems);
         }
-        let mut regroup = false;
-        if input.instances.generation != self.instance_generation {
-            let instances = bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu);
-            regroup |= self.instances.write(gpu, instances)?;
-            self.instance_generation = input.instances.generation;
-        }
+        let instances = bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu);
+        let regroup = self
+            .instances
+            .write_generation(gpu, input.instances.generation, instances)?;
         // NOTE: the draw lists are uploaded only when culling rebuilt them (a still frame
         // reuses them, and they are the largest per-frame upload: one index per drawn instance).
-        let mut shadow_replaced = false;
-        if input.shadow_views.generation != self.index_generations.0 {
-            shadow_replaced = self
-                .shadow_indices
-                .write(gpu, bytemuck::cast_slice(&input.shadow_views.indices))?;
-            self.index_generations.0 = input.shadow_views.generation;
-        }
-        let mut view_replaced = false;
-        if input.view_groups.generation != self.index_generations.1 {
-            view_replaced = self
-                .view_indices
-                .write(gpu, bytemuck::cast_slice(&input.view_groups.indices))?;
-            self.index_generations.1 = input.view_groups.generation;
-        }
+        let (shadow, view) = (input.shadow_views, input.view_groups);
+        let shadow_replaced =
+            self.shadow_indices
+                .write_generation(gpu, shadow.generation, bytemuck::cast_slice(&shadow.indices))?;
+        let view_replaced =
+            self.view_indices
+                .write_generation(gpu, view.generation, bytemuck::cast_slice(&view.indices))?;
         if regroup || shadow_replaced {
             self.shadow_instances_group = instances_group(
                 device,
