@@ -1,5 +1,5 @@
-//! What every mesh pass shares: the vertex layout of the mesh buffers and the instanced draw
-//! of a list of batches.
+//! What every mesh pass shares: the vertex stage over the mesh buffers, the camera view's
+//! rasterisation, and the instanced draw of a list of batches.
 
 use crate::ecs::draw_groups::DrawBatch;
 use crate::mesh::Vertex;
@@ -9,12 +9,28 @@ use crate::render::scene_gpu::SceneGpu;
 pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
 
-/// The mesh vertex buffer layout.
-pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-    wgpu::VertexBufferLayout {
-        array_stride: size_of::<Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &VERTEX_ATTRIBUTES,
+/// The vertex buffers of every mesh pipeline: the mesh vertices.
+static MESH_BUFFERS: [Option<wgpu::VertexBufferLayout<'static>>; 1] = [Some(wgpu::VertexBufferLayout {
+    array_stride: size_of::<Vertex>() as u64,
+    step_mode: wgpu::VertexStepMode::Vertex,
+    attributes: &VERTEX_ATTRIBUTES,
+})];
+
+/// The vertex stage of a mesh pipeline: `vs_main` of `module` over the mesh buffers.
+pub fn mesh_vertex_state(module: &wgpu::ShaderModule) -> wgpu::VertexState<'_> {
+    wgpu::VertexState {
+        module,
+        entry_point: Some("vs_main"),
+        compilation_options: Default::default(),
+        buffers: &MESH_BUFFERS,
+    }
+}
+
+/// Rasterisation of a camera-view mesh pipeline: back faces culled unless `double_sided`.
+pub fn mesh_primitive(double_sided: bool) -> wgpu::PrimitiveState {
+    wgpu::PrimitiveState {
+        cull_mode: if double_sided { None } else { Some(wgpu::Face::Back) },
+        ..Default::default()
     }
 }
 

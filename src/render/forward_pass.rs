@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
-use crate::render::draw::{bind_camera_view, draw_batches, vertex_layout};
+use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::Layouts;
@@ -68,7 +68,6 @@ fn create_pipeline(
         ],
         immediate_size: 0,
     });
-    let buffers = [Some(vertex_layout())];
     let mut targets = vec![Some(key.format.into())];
     if key.variant.analysis {
         targets.extend((0..3).map(|_| Some(ANALYSIS_FORMAT.into())));
@@ -76,16 +75,8 @@ fn create_pipeline(
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(&format!("forward {}", key.variant.label())),
         layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &shader,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: if key.double_sided { None } else { Some(wgpu::Face::Back) },
-            ..Default::default()
-        },
+        vertex: mesh_vertex_state(&shader),
+        primitive: mesh_primitive(key.double_sided),
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(!key.depth_prepass),

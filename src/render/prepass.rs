@@ -9,7 +9,7 @@
 use std::borrow::Cow;
 
 use crate::ecs::draw_groups::DrawBatch;
-use crate::render::draw::{bind_camera_view, draw_batches, vertex_layout};
+use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
@@ -91,21 +91,12 @@ fn create_pipeline(
         bind_group_layouts: &[Some(&layouts.view), Some(&layouts.instances), material],
         immediate_size: 0,
     });
-    let buffers = [Some(vertex_layout())];
     let targets = [Some(wgpu::ColorTargetState::from(NORMAL_FORMAT))];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(PREPASS_NAME),
         layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &shader,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: if double_sided { None } else { Some(wgpu::Face::Back) },
-            ..Default::default()
-        },
+        vertex: mesh_vertex_state(&shader),
+        primitive: mesh_primitive(double_sided),
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),

@@ -6,7 +6,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
-use crate::render::draw::vertex_layout;
+use crate::render::draw::mesh_vertex_state;
 use crate::render::layouts::Layouts;
 use crate::render::shadows::storage::SHADOW_FORMAT;
 use crate::settings::ShadowSettings;
@@ -124,7 +124,6 @@ fn create_pipeline(
         unclipped_depth: key.unclipped,
         ..Default::default()
     };
-    let buffers = [Some(vertex_layout())];
     let fragment = key.masked.then(|| wgpu::FragmentState {
         module: shader,
         entry_point: Some("fs_masked"),
@@ -139,12 +138,7 @@ fn create_pipeline(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: shader,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &buffers,
-        },
+        vertex: mesh_vertex_state(shader),
         primitive,
         depth_stencil: Some(depth_stencil),
         multisample: wgpu::MultisampleState::default(),
