@@ -1,17 +1,18 @@
 // Forward shading of receivers: Lambert diffuse from every light of the frame times its
 // shadow, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
-// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade), ANALYSIS_OUTPUTS (also write the
+// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or cube face of a point light), ANALYSIS_OUTPUTS (also write the
 // focus light's shadow factor, world position and normal of every pixel, for scoring against
-// a reference), SHADOW_SPOT (spot-light shadows) and the filter defs of penumbra::shadows.
+// a reference), SHADOW_LOCAL (spot- and point-light shadows) and the filter defs of penumbra::shadows.
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
-#ifdef SHADOW_SPOT
+#ifdef SHADOW_LOCAL
+#import penumbra::shadows::point::{point_debug_color, point_face}
 #import penumbra::shadows::spot::spot_covers
 #endif
-#import penumbra::shadows::types::{LIGHT_DIRECTIONAL, LIGHT_SPOT}
+#import penumbra::shadows::types::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -84,8 +85,17 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     }
     var color = base.rgb * (frame.ambient + direct) * frame.exposure;
 #ifdef SHADOW_DEBUG_CASCADES
-    if frame.focus_light < light_count() && get_light(frame.focus_light).kind == LIGHT_DIRECTIONAL {
-        let tint = cascade_debug_color(get_light(frame.focus_light), view_depth);
+    if frame.focus_light < light_count() {
+        let light = get_light(frame.focus_light);
+        var tint = vec3<f32>(1.0);
+        if light.kind == LIGHT_DIRECTIONAL {
+            tint = cascade_debug_color(light, view_depth);
+        }
+#ifdef SHADOW_LOCAL
+        if light.kind == LIGHT_POINT {
+            tint = point_debug_color(light, surface);
+        }
+#endif
         color = mix(color, color * tint * 1.6, 0.6);
     }
 #endif
@@ -98,9 +108,12 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         if light.kind == LIGHT_DIRECTIONAL {
             focus_cascade = cascade_index(light, view_depth);
         }
-#ifdef SHADOW_SPOT
+#ifdef SHADOW_LOCAL
         if light.kind == LIGHT_SPOT && spot_covers(light, surface) {
             focus_cascade = 0;
+        }
+        if light.kind == LIGHT_POINT {
+            focus_cascade = point_face(light, surface);
         }
 #endif
     }

@@ -1,4 +1,4 @@
-//! Shadow settings: every runtime parameter of the directional shadow system, with the
+//! Shadow settings: every runtime parameter of a light's shadows, with the
 //! ranges they are valid in, and the two ways of handling a bad value: reject it (scene files)
 //! or clamp it with a warning (values set at run time by code or an inspector).
 
@@ -75,13 +75,17 @@ pub enum ShadowDebugView {
     /// Normal shading.
     #[default]
     None,
-    /// Tint every pixel by the cascade it samples (red, green, blue, yellow for 0..3).
+    /// Tint every pixel by the cascade it samples (red, green, blue, yellow for 0..3) — for a
+    /// point light, by the cube face (+X red, −X cyan, +Y green, −Y magenta, +Z blue, −Z
+    /// yellow). Shown for the renderer's focus light.
     Cascades,
 }
 
-/// Every tunable parameter of a directional light's shadows. Attach it to the entity that
-/// holds the [`DirectionalLight`](crate::ecs::DirectionalLight); lights without it use the
-/// defaults.
+/// Every tunable parameter of a light's shadows. Attach it to the entity that holds the
+/// [`DirectionalLight`](crate::ecs::DirectionalLight), [`SpotLight`](crate::ecs::SpotLight) or
+/// [`PointLight`](crate::ecs::PointLight); lights without it use the defaults (positional
+/// lights at the [`ShadowLightBudget`](crate::ecs::ShadowLightBudget)'s resolution). The
+/// cascade fields only apply to suns.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShadowSettings {

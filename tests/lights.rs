@@ -1,13 +1,14 @@
 //! Lights in scene files and code: `lights: [Directional(...), Spot(...), Point(...)]` beside
 //! (or instead of) `sun:`, located errors for bad light fields, spot and point light
-//! components that require a transform, and a report of the lights not drawn yet.
+//! components that require a transform, and every shadowed light's views.
 
 use bevy_app::App;
 use bevy_ecs::query::With;
 use glam::Vec3;
 use penumbra::app::spawn_scene;
 use penumbra::ecs::{
-    DirectionalLight, GlobalTransform, PointLight, ShadowDiagnostics, ShadowPlugin, SpotLight, Transform,
+    DirectionalLight, GlobalTransform, PointLight, ShadowDiagnostics, ShadowPlugin, ShadowViewKind, SpotLight,
+    Transform,
 };
 use penumbra::scene::{LightDesc, SceneDesc};
 use penumbra::settings::ShadowSettings;
@@ -65,16 +66,14 @@ fn scene_lights_spawn_with_their_fields_and_placement() {
     let counts: Vec<usize> = lights.suns.iter().map(|s| s.cascades.count).collect();
     assert_eq!(counts, [4, 2]);
     assert!(lights.spots[0].shadow.is_some());
+    assert!(lights.points[0].shadow.is_some());
+    // Six cascades, the spot light's view and the point light's six cube faces.
     let views = world.resource::<penumbra::ecs::ShadowViews>();
-    assert_eq!(views.views.len(), 7);
-    // The point light's shadow is not rendered yet, and that is said, not hidden.
+    assert_eq!(views.views.len(), 13);
+    let faces: Vec<ShadowViewKind> = views.views[7..].iter().map(|v| v.kind).collect();
+    assert_eq!(faces, (0..6).map(ShadowViewKind::PointFace).collect::<Vec<_>>());
     let warnings = &world.resource::<ShadowDiagnostics>().current;
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.starts_with("1 point light(s) ask for shadows: point-light shadows are not rendered yet")),
-        "{warnings:?}"
-    );
+    assert!(warnings.is_empty(), "{warnings:?}");
 }
 
 #[test]

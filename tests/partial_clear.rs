@@ -10,7 +10,7 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
 use common::{spawn_box, still_scene};
 use glam::{Quat, Vec3, Vec4};
-use penumbra::ecs::{DirectionalLight, SpotLight, Transform};
+use penumbra::ecs::{DirectionalLight, ShadowStorage, SpotLight, Transform};
 use penumbra::render::Renderer;
 
 /// Where the test puts things: the cube and a turn of the scene's lights.
@@ -56,15 +56,15 @@ fn renderer(app: &App) -> &Renderer {
 }
 
 /// Every layer of the cascades' or the spot lights' storage.
-fn maps(app: &App, cascades: bool) -> Vec<Vec<f32>> {
+fn maps(app: &App, storage: ShadowStorage) -> Vec<Vec<f32>> {
     (0..)
-        .map_while(|layer| renderer(app).read_shadow_map(cascades, layer))
+        .map_while(|layer| renderer(app).read_shadow_map(storage, layer))
         .collect()
 }
 
 /// Runs `steps` on one app and, after each, compares its maps with a fresh app's; returns
 /// the texels the kept app cleared and the texels of its layers, over all steps.
-fn follow(scene: &str, cascades: bool, steps: &[State]) -> (u64, u64) {
+fn follow(scene: &str, storage: ShadowStorage, steps: &[State]) -> (u64, u64) {
     let (mut kept, cube) = app(scene, steps[0]);
     let (mut cleared, mut layer_texels) = (0, 0);
     for (i, &state) in steps.iter().enumerate().skip(1) {
@@ -82,7 +82,7 @@ fn follow(scene: &str, cascades: bool, steps: &[State]) -> (u64, u64) {
             ..state
         };
         let (fresh, _) = app(scene, fresh_state);
-        let (a, b) = (maps(&kept, cascades), maps(&fresh, cascades));
+        let (a, b) = (maps(&kept, storage), maps(&fresh, storage));
         assert!(
             !a.is_empty() && a.len() == b.len(),
             "{scene}: {} and {} layers",
@@ -119,7 +119,7 @@ fn cascades_after_a_caster_moves_and_the_sun_turns_equal_a_fresh_draw() {
         at(1.0, -9.0, 0.0),
         at(1.0, -9.0, 0.05),
     ];
-    let (cleared, texels) = follow("assets/bench/boxes.ron", true, &steps);
+    let (cleared, texels) = follow("assets/bench/boxes.ron", ShadowStorage::Cascades, &steps);
     // The moves clear far less than whole layers would (the turn moves every footprint).
     assert!(cleared < texels / 2, "cleared {cleared} of {texels} texels");
 }
@@ -132,7 +132,7 @@ fn spot_lights_after_a_caster_moves_and_the_lights_turn_equal_a_fresh_draw() {
     };
     // Under the red spot light of lights.ron, at (-6, 5, -3).
     let steps = [at(-7.0, -4.0, 0.0), at(-6.2, -3.5, 0.0), at(-6.2, -3.5, 0.1)];
-    let (cleared, texels) = follow("assets/scenes/lights.ron", false, &steps);
+    let (cleared, texels) = follow("assets/scenes/lights.ron", ShadowStorage::Spots, &steps);
     // The spot lights' casters cover much of their maps: some layers are cleared whole.
     assert!(cleared < texels, "cleared {cleared} of {texels} texels");
 }

@@ -218,11 +218,12 @@ fn default_scene_matches_its_reference_image() {
     }
 }
 
-/// Renders a scene file twice, with and without the shadows of its suns and spot lights.
+/// Renders a scene file twice, with and without the shadows of its suns, spot and point
+/// lights.
 fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u32) -> (RgbaImage, RgbaImage) {
     use penumbra::app::{headless_app, spawn_scene};
     use penumbra::ecs::DirectionalLight;
-    use penumbra::ecs::lights::SpotLight;
+    use penumbra::ecs::lights::{PointLight, SpotLight};
     use penumbra::render::Renderer;
 
     let mut desc = SceneDesc::load(path).unwrap_or_else(|e| panic!("{e}"));
@@ -239,6 +240,10 @@ fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u
         }
         let mut spots = world.query::<&mut SpotLight>();
         for mut light in spots.iter_mut(world) {
+            light.shadows_enabled = shadows;
+        }
+        let mut points = world.query::<&mut PointLight>();
+        for mut light in points.iter_mut(world) {
             light.shadows_enabled = shadows;
         }
         app.update();

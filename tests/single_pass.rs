@@ -8,7 +8,7 @@ use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use common::{spawn_box, still_scene};
 use glam::{Vec3, Vec4};
-use penumbra::ecs::{ShadowViews, Transform};
+use penumbra::ecs::{ShadowStorage, ShadowViews, Transform};
 use penumbra::render::{RenderOptions, Renderer};
 
 const CASCADES: u32 = 4;
@@ -65,7 +65,11 @@ fn renderer(app: &App) -> &Renderer {
 /// Every cascade layer, read back.
 fn maps(app: &App) -> Vec<Vec<f32>> {
     (0..CASCADES)
-        .map(|c| renderer(app).read_shadow_map(true, c).expect("cascade layer"))
+        .map(|c| {
+            renderer(app)
+                .read_shadow_map(ShadowStorage::Cascades, c)
+                .expect("cascade layer")
+        })
         .collect()
 }
 

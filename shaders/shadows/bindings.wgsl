@@ -1,6 +1,6 @@
 // The shadow bind group (group 3): the frame's lights and shadow views as uniform arrays,
-// one depth array per kind of shadow storage, the samplers and the Poisson taps. A material
-// does not name these; it calls `penumbra::lights`.
+// one depth array per kind of shadow storage (a cube array for point lights), the samplers
+// and the Poisson taps. A material does not name these; it calls `penumbra::lights`.
 #define_import_path penumbra::shadows::bindings
 
 #import penumbra::shadows::types::{LightList, PoissonTaps, ShadowViewList}
@@ -20,3 +20,5 @@
 // Each resolved light's visibility per pixel (layer `Light::resolve_layer`), written by the
 // compute resolve before the lighting pass; a 1×1 stand-in when nothing is resolved.
 @group(3) @binding(7) var resolved_visibility: texture_2d_array<f32>;
+// Every shadowed point light's six faces, sampled as a cube (index: first layer / 6).
+@group(3) @binding(8) var point_maps: texture_depth_cube_array;

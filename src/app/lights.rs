@@ -19,7 +19,7 @@ pub(crate) enum LightPlan {
     /// A spot light, with its own shadow settings if the file gives them.
     Spot(SpotLight, Transform, Option<ShadowSettings>),
     /// A point light.
-    Point(PointLight, Transform),
+    Point(PointLight, Transform, Option<ShadowSettings>),
 }
 
 /// A transform at `position` whose forward (−Z) axis is `direction`.
@@ -87,6 +87,7 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
             intensity,
             range,
             radius,
+            shadows,
             shadows_enabled,
         } => {
             let light = PointLight {
@@ -96,7 +97,7 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
                 radius,
                 shadows_enabled,
             };
-            LightPlan::Point(light, Transform::from_translation(position))
+            LightPlan::Point(light, Transform::from_translation(position), shadows)
         }
     });
     sun.chain(lights).collect()
@@ -115,8 +116,11 @@ pub(crate) fn spawn_lights(world: &mut World, plans: Vec<LightPlan>) {
                     entity.insert(settings);
                 }
             }
-            LightPlan::Point(light, transform) => {
-                world.spawn((light, transform, SceneEntity));
+            LightPlan::Point(light, transform, settings) => {
+                let mut entity = world.spawn((light, transform, SceneEntity));
+                if let Some(settings) = settings {
+                    entity.insert(settings);
+                }
             }
         }
     }

@@ -23,13 +23,14 @@ use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sani
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
-use crate::ecs::shadow_views::{SPOT_NEAR, ShadowLightBudget};
+use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::ActiveView;
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
 };
+use crate::math::point::{PointView, point_view};
 use crate::math::spot::{SpotInput, SpotView, spot_view};
 use crate::settings::ShadowSettings;
 
@@ -67,8 +68,7 @@ pub struct SpotLightView {
     pub shadow: Option<SpotView>,
 }
 
-/// A point light this frame (lit, not shadowed yet). Its position is relative to the
-/// [`RenderOrigin`].
+/// A point light this frame. Its position is relative to the [`RenderOrigin`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLightView {
     /// The light's entity.
@@ -77,6 +77,13 @@ pub struct PointLightView {
     pub position: Vec3,
     /// The light's parameters (repaired where out of range).
     pub light: PointLight,
+    /// Sanitized shadow settings (filter, bias, normal offset, and `resolution`: the side of
+    /// each cube face — shared by every shadowed point light, the largest any asks for; the
+    /// cascade fields are unused).
+    pub settings: ShadowSettings,
+    /// The six face views, relative to the render origin, when the light casts a shadow this
+    /// frame.
+    pub shadow: Option<PointView>,
 }
 
 /// Every light of this frame, per kind, in the order the ECS query returned them.
@@ -124,7 +131,14 @@ impl FrameLights {
 
     /// The spot light at `light` in the renderer's light list, if that light is a spot light.
     pub fn spot_at(&self, light: u32) -> Option<&SpotLightView> {
-        self.spots.get((light as usize).checked_sub(self.suns.len())?)
+        let index = (light as usize).checked_sub(self.suns.len())?;
+        self.spots.get(index)
+    }
+
+    /// The point light at `light` in the renderer's light list, if that light is a point light.
+    pub fn point_at(&self, light: u32) -> Option<&PointLightView> {
+        let index = (light as usize).checked_sub(self.suns.len() + self.spots.len())?;
+        self.points.get(index)
     }
 }
 
@@ -138,12 +152,12 @@ pub struct LightScratch {
 }
 
 /// Collects the lights, chooses which cast shadows under the budget (reporting the others),
-/// and computes the cascades of shadowed suns and the views of shadowed spot lights.
+/// and computes the cascades of shadowed suns and the views of shadowed spot and point lights.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub fn update_frame_lights(
     suns: Query<(Entity, &DirectionalLight, &GlobalTransform, Option<&ShadowSettings>)>,
     spots: Query<(Entity, &SpotLight, &GlobalTransform, Option<&ShadowSettings>)>,
-    points: Query<(Entity, &PointLight, &GlobalTransform)>,
+    points: Query<(Entity, &PointLight, &GlobalTransform, Option<&ShadowSettings>)>,
     view: Res<ActiveView>,
     origin: Res<RenderOrigin>,
     budget: Res<ShadowLightBudget>,
@@ -215,24 +229,32 @@ pub fn update_frame_lights(
             shadow: None,
         });
     }
-    for (entity, light, transform) in &points {
+    for (entity, light, transform, settings) in &points {
         let Some((_, position)) = world_pose(transform) else {
             diagnostics.warn(format!(
                 "point light {entity} has a non-finite or degenerate transform; it is ignored"
             ));
             continue;
         };
+        let light = sanitize_point(entity, light, diagnostics);
+        let position = position - origin.0;
+        if light.shadows_enabled {
+            scratch.candidates.push(LightCandidate {
+                id: lights.suns.len() + lights.spots.len() + lights.points.len(),
+                kind: LightKind::Point,
+                bounds: Some((position, light.range)),
+            });
+        }
+        let resolution = settings.map_or(budget.point_resolution, |s| s.resolution);
+        let mut settings = sanitized_settings(settings, diagnostics);
+        settings.resolution = resolution.max(1);
         lights.points.push(PointLightView {
             entity,
-            position: position - origin.0,
-            light: sanitize_point(entity, light, diagnostics),
+            position,
+            light,
+            settings,
+            shadow: None,
         });
-    }
-    let unshadowed_points = lights.points.iter().filter(|p| p.light.shadows_enabled).count();
-    if unshadowed_points > 0 {
-        diagnostics.warn(format!(
-            "{unshadowed_points} point light(s) ask for shadows: point-light shadows are not rendered yet, so they light the scene unshadowed"
-        ));
     }
     let ranking = match &view.camera {
         Some((camera, _)) => RankingView {
@@ -252,6 +274,17 @@ pub fn update_frame_lights(
         &mut scratch.choice,
     );
     report_over_budget(lights, &scratch.choice, &budget, diagnostics);
+    // NOTE: point lights are sampled as one cube array, so they share a face size: the
+    // largest any shadowed one asks for.
+    let spots_end = lights.suns.len() + lights.spots.len();
+    let point_side = scratch
+        .choice
+        .shadowed
+        .iter()
+        .filter_map(|&id| id.checked_sub(spots_end))
+        .map(|p| lights.points[p].settings.resolution)
+        .max()
+        .unwrap_or(0);
     for &id in &scratch.choice.shadowed {
         if let Some(sun) = lights.suns.get_mut(id) {
             if let Some((camera, _)) = &view.camera {
@@ -267,6 +300,18 @@ pub fn update_frame_lights(
                     angular_diameter: sun.light.angular_diameter,
                     blend_width: sun.settings.blend_width,
                 });
+            }
+            continue;
+        }
+        if id >= spots_end {
+            let point = &mut lights.points[id - spots_end];
+            point.settings.resolution = point_side;
+            point.shadow = point_view(point.position, POINT_NEAR, point.light.range, point_side);
+            if point.shadow.is_none() {
+                diagnostics.warn(format!(
+                    "point light {} has range {}: no shadow view can be made",
+                    point.entity, point.light.range
+                ));
             }
             continue;
         }

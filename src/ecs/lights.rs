@@ -1,8 +1,8 @@
 //! Positional lights: [`SpotLight`] and [`PointLight`] (the sun is
 //! [`DirectionalLight`](crate::ecs::DirectionalLight)). Position and direction come from the
-//! entity's transform. Spot lights light and cast shadows; point lights light the scene, and
-//! their cube shadows come later (a point light that asks for one is reported in
-//! [`ShadowDiagnostics`](crate::ecs::ShadowDiagnostics), never dropped silently).
+//! entity's transform. Both light and cast shadows (a spot light a perspective view, a point
+//! light a cube of six faces), with the entity's
+//! [`ShadowSettings`](crate::settings::ShadowSettings) if it has them.
 
 use bevy_ecs::component::Component;
 use bevy_transform::components::Transform;

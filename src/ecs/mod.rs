@@ -35,6 +35,6 @@ pub use instances::RenderInstances;
 pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
-pub use shadow_views::{CullVolume, ShadowLightBudget, ShadowView, ShadowViewKind, ShadowViews};
+pub use shadow_views::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::ActiveView;

@@ -1,11 +1,13 @@
 //! Shadow views: every view a shadow map is rendered from this frame — each cascade of each
-//! shadowed sun, each shadowed spot light — in one list ([`ShadowViews`]), with the casters of
+//! shadowed sun, each shadowed spot light, each cube face of each shadowed point light — in
+//! one list ([`ShadowViews`]), with the casters of
 //! each culled into its own draw group. Nothing here has a fixed count: the lists grow with
 //! the lights, keep their capacity between frames, and allocate nothing once the scene has
 //! been seen.
 //!
 //! Each view has a `slot` in the storage of its kind (a layer of the cascades' depth array,
-//! a layer of the spot lights' array); the renderer allocates storage from these slots.
+//! a layer of the spot lights' array, a face of the point lights' cube array); the renderer
+//! allocates storage from these slots.
 
 use std::time::Instant;
 
@@ -29,9 +31,10 @@ use crate::ecs::view_culling::{ViewScratch, collect_single_pass, cull_views};
 use crate::math::footprint::TileMask;
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
+use crate::math::point::FACES;
 
-/// How many lights of each kind may cast shadows, and the shadow-map size of a spot light
-/// without its own [`ShadowSettings`](crate::settings::ShadowSettings).
+/// How many lights of each kind may cast shadows, and the shadow-map size of a spot or point
+/// light without its own [`ShadowSettings`](crate::settings::ShadowSettings).
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShadowLightBudget {
     /// Most shadowed lights per kind (4 suns; the seed's layout: 8 spot lights, 4 point
@@ -39,6 +42,8 @@ pub struct ShadowLightBudget {
     pub lights: ShadowBudget,
     /// Side of a spot light's shadow map, texels.
     pub spot_resolution: u32,
+    /// Side of each cube face of a point light's shadow, texels.
+    pub point_resolution: u32,
 }
 
 impl Default for ShadowLightBudget {
@@ -50,6 +55,7 @@ impl Default for ShadowLightBudget {
                 point: 4,
             },
             spot_resolution: 1024,
+            point_resolution: 512,
         }
     }
 }
@@ -58,6 +64,25 @@ impl Default for ShadowLightBudget {
 /// to it (depth clamping) or clipped.
 pub const SPOT_NEAR: f32 = 0.05;
 
+/// Near plane of a point light's cube faces, metres (along each face's axis).
+pub const POINT_NEAR: f32 = 0.05;
+
+/// The storage a shadow view renders into: one depth array per kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowStorage {
+    /// The cascades of every shadowed sun, a layer each.
+    Cascades,
+    /// Every shadowed spot light, a layer each.
+    Spots,
+    /// Every shadowed point light, six layers (a cube) each.
+    Points,
+}
+
+impl ShadowStorage {
+    /// Every storage, in the order of the renderer's arrays.
+    pub const ALL: [ShadowStorage; 3] = [ShadowStorage::Cascades, ShadowStorage::Spots, ShadowStorage::Points];
+}
+
 /// What a shadow view renders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShadowViewKind {
@@ -65,6 +90,20 @@ pub enum ShadowViewKind {
     Cascade(u32),
     /// A spot light's perspective view (into the spot lights' depth array).
     Spot,
+    /// Face `f` (cube-map layer order: +X, −X, +Y, −Y, +Z, −Z) of a point light's cube (into
+    /// the point lights' depth array).
+    PointFace(u32),
+}
+
+impl ShadowViewKind {
+    /// The storage a view of this kind renders into.
+    pub fn storage(self) -> ShadowStorage {
+        match self {
+            ShadowViewKind::Cascade(_) => ShadowStorage::Cascades,
+            ShadowViewKind::Spot => ShadowStorage::Spots,
+            ShadowViewKind::PointFace(_) => ShadowStorage::Points,
+        }
+    }
 }
 
 /// The volume a view's casters must touch to be drawn.
@@ -113,7 +152,7 @@ pub struct ShadowView {
 
 /// This frame's shadow views and their culled casters: `groups[i]` holds the draws of
 /// `views[i]`, indexing `indices`. Views are listed suns first (cascade by cascade), then
-/// spot lights, in the order of [`FrameLights`].
+/// spot lights, then point lights (six faces each), in the order of [`FrameLights`].
 #[derive(Resource, Debug, Default)]
 pub struct ShadowViews {
     /// Every view rendered this frame.
@@ -131,12 +170,12 @@ pub struct ShadowViews {
 }
 
 impl ShadowViews {
-    /// What the storage of cascades (`true`) or of spot lights (`false`) must hold this
-    /// frame: the side of its largest view and the number of layers (0, 0 without views).
-    pub fn extent(&self, cascades: bool) -> (u32, u32) {
+    /// What `storage` must hold this frame: the side of its largest view and the number of
+    /// layers (0, 0 without views).
+    pub fn extent(&self, storage: ShadowStorage) -> (u32, u32) {
         self.views
             .iter()
-            .filter(|v| matches!(v.kind, ShadowViewKind::Cascade(_)) == cascades)
+            .filter(|v| v.kind.storage() == storage)
             .fold((0, 0), |(side, layers), v| {
                 (side.max(v.resolution), layers.max(v.slot + 1))
             })
@@ -147,7 +186,8 @@ impl ShadowViews {
 /// ([`ViewCache`](crate::ecs::view_cache::ViewCache)), and culls every caster into the draw group of each view it touches — only
 /// for views that moved or whose instance list was rebuilt; the others keep last frame's
 /// group. A sun's cascades are culled in one pass over the casters (sorted by draw key, so
-/// each list comes out in draw order), a spot light against its frustum.
+/// each list comes out in draw order), a spot light or a point light's face against its
+/// frustum.
 #[allow(clippy::too_many_arguments)]
 pub fn update_shadow_views(
     lights: Res<FrameLights>,
@@ -210,6 +250,26 @@ pub fn update_shadow_views(
         });
         scratch.settings.push(spot.settings);
         spot_slot += 1;
+    }
+    let mut point_slot = 0;
+    for (i, point) in lights.points.iter().enumerate() {
+        let Some(shadow) = &point.shadow else { continue };
+        for face in 0..FACES {
+            out.views.push(ShadowView {
+                entity: point.entity,
+                light_kind: LightKind::Point,
+                light: lights.light_index(LightKind::Point, i) as u32,
+                kind: ShadowViewKind::PointFace(face as u32),
+                clip_from_world: shadow.faces[face],
+                cull: CullVolume::Frustum(shadow.frusta[face]),
+                slot: point_slot,
+                resolution: point.settings.resolution,
+                footprint: TileMask::EMPTY,
+                version: 0,
+            });
+            scratch.settings.push(point.settings);
+            point_slot += 1;
+        }
     }
     let inputs = out.views.iter().zip(&scratch.settings).map(|(v, settings)| ViewInput {
         entity: v.entity,

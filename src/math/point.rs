@@ -15,6 +15,9 @@ use crate::math::projection::perspective_reverse_z;
 /// Faces of a cube: +X, −X, +Y, −Y, +Z, −Z (cube-map layer order).
 pub const FACES: usize = 6;
 
+/// The axis of each face, in layer order.
+pub const FACE_AXES: [Vec3; FACES] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+
 /// The face (cube-map layer) a direction from the light samples: its major axis; on an exact
 /// tie, x before y before z.
 pub fn face_of(direction: Vec3) -> usize {
@@ -83,6 +86,40 @@ pub fn face_frustum(position: Vec3, face: usize, near: f32, range: f32) -> Frust
 /// `resolution` texels (the 90° face spans `2·axis`).
 pub fn texel_size_at(axis: f32, resolution: u32) -> f32 {
     2.0 * axis / resolution.max(1) as f32
+}
+
+/// The six shadow views of a point light, computed once per frame for a shadowed light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointView {
+    /// Light clip space from world of each face, in cube-map layer order.
+    pub faces: [Mat4; FACES],
+    /// The cull volume of each face.
+    pub frusta: [Frustum; FACES],
+    /// Near plane distance along a face's axis, metres.
+    pub near: f32,
+    /// Far plane distance (the light's range), metres.
+    pub range: f32,
+    /// World size of one texel per metre of distance along a face's axis (`2 / resolution`).
+    pub texel_per_metre: f32,
+}
+
+/// The views of a point light at `position` reaching `range`, with faces of `resolution`
+/// texels; None when no view can be made (a non-finite position, `near >= range`, or a zero
+/// resolution).
+pub fn point_view(position: Vec3, near: f32, range: f32, resolution: u32) -> Option<PointView> {
+    let valid =
+        position.is_finite() && near.is_finite() && range.is_finite() && 0.0 < near && near < range && resolution > 0;
+    if !valid {
+        return None;
+    }
+    let faces = std::array::from_fn(|f| face_clip_from_world(position, f, near, range));
+    Some(PointView {
+        frusta: faces.map(Frustum::from_clip_from_world),
+        faces,
+        near,
+        range,
+        texel_per_metre: texel_size_at(1.0, resolution),
+    })
 }
 
 #[cfg(test)]
@@ -159,5 +196,19 @@ mod tests {
         assert_eq!(face_of(Vec3::new(1.0, 1.0, 1.0)), 0, "ties go to x");
         assert_eq!(face_of(Vec3::new(0.0, -1.0, 1.0)), 3, "then y");
         assert!((texel_size_at(5.0, 1024) - 10.0 / 1024.0).abs() < 1e-7);
+    }
+
+    #[test]
+    fn a_point_view_has_every_face_or_none() {
+        let view = point_view(Vec3::ONE, 0.05, 10.0, 512).expect("valid light");
+        for (f, axis) in FACE_AXES.iter().enumerate() {
+            assert_eq!(view.faces[f], face_clip_from_world(Vec3::ONE, f, 0.05, 10.0));
+            assert!(view.frusta[f].contains_point(Vec3::ONE + *axis * 5.0));
+        }
+        assert!((view.texel_per_metre - 2.0 / 512.0).abs() < 1e-9);
+        assert!(point_view(Vec3::NAN, 0.05, 10.0, 512).is_none());
+        assert!(point_view(Vec3::ONE, 0.05, 0.05, 512).is_none());
+        assert!(point_view(Vec3::ONE, 0.05, f32::INFINITY, 512).is_none());
+        assert!(point_view(Vec3::ONE, 0.05, 10.0, 0).is_none());
     }
 }

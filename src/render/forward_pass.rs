@@ -171,6 +171,7 @@ impl RenderNode for ForwardPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
+        pass.read(frame.point_maps);
         if let Some(visibility) = frame.visibility {
             pass.read(visibility);
         }

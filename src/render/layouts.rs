@@ -106,6 +106,15 @@ impl Layouts {
                         multisampled: false,
                     },
                 ),
+                entry(
+                    8,
+                    fc,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::CubeArray,
+                        multisampled: false,
+                    },
+                ),
             ],
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -4,6 +4,7 @@
 use bevy_ecs::resource::Resource;
 use image::RgbaImage;
 
+use crate::ecs::shadow_views::ShadowStorage;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
 use crate::render::forward_pass::ForwardPass;
@@ -392,6 +393,7 @@ impl Renderer {
             analysis,
             cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
             spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
+            point_maps: graph.import_texture("point maps", &self.shadows.points.array_view),
             depth_prepass,
             depth: None,
             normals: None,
@@ -420,15 +422,11 @@ impl Renderer {
         self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
     }
 
-    /// Reads layer `layer` of the cascades' (`cascades`) or the spot lights' shadow maps
-    /// back: `side`² reverse-Z depths, row by row (None past the last layer or before any
-    /// shadow map exists). It waits for the GPU; for tests and debugging.
-    pub fn read_shadow_map(&self, cascades: bool, layer: u32) -> Option<Vec<f32>> {
-        let storage = if cascades {
-            &self.shadows.cascades
-        } else {
-            &self.shadows.spots
-        };
+    /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
+    /// `side`² reverse-Z depths, row by row (None past the last layer or before any shadow map
+    /// of that storage exists). It waits for the GPU; for tests and debugging.
+    pub fn read_shadow_map(&self, storage: ShadowStorage, layer: u32) -> Option<Vec<f32>> {
+        let storage = self.shadows.array(storage);
         if storage.placeholder {
             return None;
         }

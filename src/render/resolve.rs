@@ -110,6 +110,7 @@ impl RenderNode for VisibilityResolve {
         pass.read(normals);
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
+        pass.read(frame.point_maps);
         pass.write(visibility);
         self.handles = Some(Handles { depth, normals });
     }

@@ -164,6 +164,12 @@ pub enum LightDesc {
         /// Radius of the emitter, ≥ 0 (soft-shadow size). Default 0.
         #[serde(default)]
         radius: f32,
+        /// Its own shadow settings (filter, PCF radius, PCSS quality, biases, and
+        /// `resolution`: the side of each cube face, shared by every shadowed point light —
+        /// the largest asked for). Default: the default settings at the light budget's point
+        /// resolution (512), not the scene's `shadows`.
+        #[serde(default)]
+        shadows: Option<ShadowSettings>,
         /// Whether it casts shadows. Default true.
         #[serde(default = "yes")]
         shadows_enabled: bool,

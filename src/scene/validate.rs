@@ -242,9 +242,13 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
             intensity,
             range,
             radius,
+            shadows,
             ..
         } => {
             check_positional(c, *position, *range, *radius, at);
+            for p in shadows.iter().flat_map(ShadowSettings::problems) {
+                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+            }
             (color, intensity, "intensity")
         }
     };

@@ -38,7 +38,7 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 12] = [
+const MODULES: [ModuleSource; 13] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -74,6 +74,10 @@ const MODULES: [ModuleSource; 12] = [
     ModuleSource {
         file: "shadows/spot.wgsl",
         source: include_str!("../../shaders/shadows/spot.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/point.wgsl",
+        source: include_str!("../../shaders/shadows/point.wgsl"),
     },
     ModuleSource {
         file: "lights.wgsl",
@@ -204,9 +208,9 @@ impl ShaderLibrary {
     /// current shader stays in use.
     pub fn set_forward_source(&mut self, file: &str, source: &str) -> Result<(), ShaderError> {
         for alpha_mask in [false, true] {
-            for spot_shadows in [false, true] {
+            for local_shadows in [false, true] {
                 let variant = ForwardVariant {
-                    spot_shadows,
+                    local_shadows,
                     ..ForwardVariant::for_settings(&Default::default(), alpha_mask)
                 };
                 self.compose(file, source, variant.shader_defs())?;

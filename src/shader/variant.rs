@@ -23,10 +23,10 @@ pub enum ShadowFilter {
 pub struct ForwardVariant {
     /// Shadow filter.
     pub filter: ShadowFilter,
-    /// Compile spot-light shadows in (the frame has a shadowed spot light). A variant
-    /// without it lights spot lights unshadowed; leaving the code out when no spot light
-    /// casts keeps the sun-only shader as lean as before spot lights existed.
-    pub spot_shadows: bool,
+    /// Compile spot- and point-light shadows in (the frame has a shadowed spot or point
+    /// light). A variant without it lights them unshadowed; leaving the code out when no
+    /// positional light casts keeps the sun-only shader as lean as before they existed.
+    pub local_shadows: bool,
     /// Tint fragments by cascade.
     pub debug_cascades: bool,
     /// Discard fragments below the material's alpha cutoff.
@@ -45,7 +45,7 @@ impl ForwardVariant {
         };
         Self {
             filter,
-            spot_shadows: false,
+            local_shadows: false,
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
             alpha_mask,
             analysis: false,
@@ -54,23 +54,29 @@ impl ForwardVariant {
 
     /// The variant a frame's lights need: PCSS (at the highest quality any shadowed PCSS
     /// light asks for) when one uses it, else PCF; each light then picks its own filter among
-    /// those compiled in. The cascade debug tint is on when a sun asks for it.
+    /// those compiled in. The cascade (or cube-face) debug tint is on when a sun or point
+    /// light asks for it.
     pub fn for_lights(lights: &FrameLights, alpha_mask: bool) -> Self {
         // NOTE: called for every pipeline a frame draws with, so nothing is collected.
         let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).map(|s| &s.settings);
         let spots = lights.spots.iter().filter(|s| s.shadow.is_some()).map(|s| &s.settings);
+        let points = lights.points.iter().filter(|p| p.shadow.is_some()).map(|p| &p.settings);
         let quality = suns
             .chain(spots)
+            .chain(points)
             .filter(|s| s.mode == ShadowMode::Pcss)
             .map(|s| s.pcss_quality)
             .max_by_key(|q| (q.filter_samples(), q.blocker_samples()));
         Self {
             filter: quality.map_or(ShadowFilter::Pcf, ShadowFilter::Pcss),
-            spot_shadows: lights.spots.iter().any(|s| s.shadow.is_some()),
+            local_shadows: lights.spots.iter().any(|s| s.shadow.is_some())
+                || lights.points.iter().any(|p| p.shadow.is_some()),
             debug_cascades: lights
                 .suns
                 .iter()
-                .any(|s| s.settings.debug_view == ShadowDebugView::Cascades),
+                .map(|s| &s.settings)
+                .chain(lights.points.iter().map(|p| &p.settings))
+                .any(|s| s.debug_view == ShadowDebugView::Cascades),
             alpha_mask,
             analysis: false,
         }
@@ -86,13 +92,13 @@ impl ForwardVariant {
         ];
         let mut all = Vec::new();
         for filter in filters {
-            for spot_shadows in [false, true] {
+            for local_shadows in [false, true] {
                 for debug_cascades in [false, true] {
                     for alpha_mask in [false, true] {
                         for analysis in [false, true] {
                             all.push(ForwardVariant {
                                 filter,
-                                spot_shadows,
+                                local_shadows,
                                 debug_cascades,
                                 alpha_mask,
                                 analysis,
@@ -119,8 +125,8 @@ impl ForwardVariant {
         if matches!(self.filter, ShadowFilter::Pcss(_)) {
             defs.insert("SHADOW_FILTER_PCSS".to_string(), ShaderDefValue::Bool(true));
         }
-        if self.spot_shadows {
-            defs.insert("SHADOW_SPOT".to_string(), ShaderDefValue::Bool(true));
+        if self.local_shadows {
+            defs.insert("SHADOW_LOCAL".to_string(), ShaderDefValue::Bool(true));
         }
         if self.debug_cascades {
             defs.insert("SHADOW_DEBUG_CASCADES".to_string(), ShaderDefValue::Bool(true));
@@ -140,8 +146,8 @@ impl ForwardVariant {
             ShadowFilter::Pcf => "pcf".to_string(),
             ShadowFilter::Pcss(q) => format!("pcss-{}", format!("{q:?}").to_lowercase()),
         };
-        if self.spot_shadows {
-            s.push_str("+spot");
+        if self.local_shadows {
+            s.push_str("+local");
         }
         if self.debug_cascades {
             s.push_str("+cascades");

@@ -64,6 +64,8 @@ pub struct FrameResources {
     pub cascade_maps: TextureId,
     /// The spot lights' depth array (imported).
     pub spot_maps: TextureId,
+    /// The point lights' cube array (imported).
+    pub point_maps: TextureId,
     /// The frame writes the camera depth in a prepass (decided once per frame by the
     /// renderer from [`RenderOptions::depth_prepass`](crate::render::RenderOptions)).
     pub depth_prepass: bool,

@@ -22,7 +22,7 @@ use std::num::NonZeroU32;
 
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowView, ShadowViewKind};
+use crate::ecs::shadow_views::{ShadowStorage, ShadowView, ShadowViewKind};
 use crate::math::footprint::{TILES, TexelRect, TileMask};
 use crate::render::draw::draw_batches;
 use crate::render::frame::{FrameContext, FrameInputs};
@@ -41,9 +41,9 @@ pub struct DepthPass {
     names: Vec<String>,
     /// Partial clears of a layer.
     clears: ClearPipelines,
-    /// Per storage (cascades, spot lights): the allocation `held` refers to, and what each
-    /// layer holds.
-    held: [(u64, Vec<Layer>); 2],
+    /// Per storage (cascades, spot lights, point lights): the allocation `held` refers to, and
+    /// what each layer holds.
+    held: [(u64, Vec<Layer>); 3],
     /// Views whose layer holds them are skipped ([`RenderOptions::shadow_cache`](crate::render::RenderOptions)).
     cache: bool,
     /// A sun's cascades are drawn in one multiview pass where the device allows
@@ -68,15 +68,16 @@ struct Layer {
 
 /// Index of a view kind's storage in [`DepthPass::held`].
 fn storage_index(kind: ShadowViewKind) -> usize {
-    match kind {
-        ShadowViewKind::Cascade(_) => 0,
-        ShadowViewKind::Spot => 1,
+    match kind.storage() {
+        ShadowStorage::Cascades => 0,
+        ShadowStorage::Spots => 1,
+        ShadowStorage::Points => 2,
     }
 }
 
 /// Writes the timing name of `view` into `name`: `shadow cascade c` for the first sun's
 /// cascades (as before several suns existed), `shadow sun k cascade c` for the others,
-/// `shadow spot k` for spot lights.
+/// `shadow spot k` for spot lights, `shadow point k face f` for point lights' cube faces.
 pub fn view_name(lights: &FrameLights, view: &ShadowView, name: &mut String) {
     name.clear();
     let light = view.light as usize;
@@ -85,6 +86,11 @@ pub fn view_name(lights: &FrameLights, view: &ShadowView, name: &mut String) {
         ShadowViewKind::Cascade(c) if light == 0 => write!(name, "shadow cascade {c}"),
         ShadowViewKind::Cascade(c) => write!(name, "shadow sun {light} cascade {c}"),
         ShadowViewKind::Spot => write!(name, "shadow spot {}", light.saturating_sub(lights.suns.len())),
+        ShadowViewKind::PointFace(f) => write!(
+            name,
+            "shadow point {} face {f}",
+            light.saturating_sub(lights.suns.len() + lights.spots.len())
+        ),
     };
 }
 
@@ -93,6 +99,7 @@ fn view_settings<'a>(lights: &'a FrameLights, view: &ShadowView) -> Option<&'a S
     match view.kind {
         ShadowViewKind::Cascade(_) => lights.sun_at(view.light).map(|s| &s.settings),
         ShadowViewKind::Spot => lights.spot_at(view.light).map(|s| &s.settings),
+        ShadowViewKind::PointFace(_) => lights.point_at(view.light).map(|p| &p.settings),
     }
 }
 
@@ -113,6 +120,9 @@ impl RenderNode for DepthPass {
         }
         if views.iter().any(|v| v.kind == ShadowViewKind::Spot) {
             pass.write(frame.spot_maps);
+        }
+        if views.iter().any(|v| matches!(v.kind, ShadowViewKind::PointFace(_))) {
+            pass.write(frame.point_maps);
         }
     }
 

@@ -178,12 +178,17 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
         });
     }
     for point in &lights.points {
+        let (filter, flags) = filter_and_flags(&point.settings);
         out.push(LightGpu {
             color: point.light.color * point.light.intensity,
             kind: LIGHT_POINT,
             position: point.position,
             range: point.light.range,
             size: point.light.radius,
+            shadow_params: Vec4::new(point.settings.normal_offset, 0.0, 0.0, 0.0),
+            shadow_filter: filter,
+            flags,
+            pcf_radius: point.settings.pcf_radius,
             ..LightGpu::default()
         });
     }
@@ -242,6 +247,11 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32) -> ShadowVi
         ShadowViewKind::Spot => {
             if let Some(v) = lights.spot_at(view.light).and_then(|s| s.shadow) {
                 gpu.params = Vec4::new(v.texel_per_metre, v.near, v.far, 0.0);
+            }
+        }
+        ShadowViewKind::PointFace(_) => {
+            if let Some(v) = lights.point_at(view.light).and_then(|p| p.shadow) {
+                gpu.params = Vec4::new(v.texel_per_metre, v.near, v.range, 0.0);
             }
         }
     }

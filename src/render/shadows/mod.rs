@@ -1,5 +1,5 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
-//! lights), the frame's lights and shadow views packed into uniform arrays (read through the
+//! lights, point-light cubes), the frame's lights and shadow views packed into uniform arrays (read through the
 //! constant cache, which made the forward pass faster than storage buffers on the H200; see
 //! docs/benchmarks.md), the casters' per-view matrices, and the shadow bind group (group 3) every material samples through
 //! `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
@@ -15,7 +15,7 @@ pub mod visibility;
 use wgpu::util::DeviceExt;
 
 use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowViewKind, ShadowViews};
+use crate::ecs::shadow_views::{ShadowStorage, ShadowViewKind, ShadowViews};
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
 use crate::render::gpu_types::PoissonTapsGpu;
@@ -35,6 +35,8 @@ pub struct ShadowResources {
     pub cascades: DepthArray,
     /// Every shadowed spot light.
     pub spots: DepthArray,
+    /// The six faces of every shadowed point light (sampled as a cube array).
+    pub points: DepthArray,
     lights: wgpu::Buffer,
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
@@ -67,6 +69,15 @@ pub struct Resolved {
     pub group: wgpu::BindGroup,
 }
 
+/// The label of `storage`'s depth array.
+fn storage_label(storage: ShadowStorage) -> &'static str {
+    match storage {
+        ShadowStorage::Cascades => "cascade shadow maps",
+        ShadowStorage::Spots => "spot shadow maps",
+        ShadowStorage::Points => "point shadow cubes",
+    }
+}
+
 /// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
 /// it wrote.
 fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u8>, data: &[u8]) -> bool {
@@ -83,11 +94,11 @@ fn shadow_group(
     device: &wgpu::Device,
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 3],
-    maps: [&DepthArray; 2],
+    maps: [&DepthArray; 3],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, views, taps] = buffers;
-    let [cascades, spots] = maps;
+    let [cascades, spots, points] = maps;
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("shadows"),
         layout: &layouts.shadows,
@@ -123,6 +134,10 @@ fn shadow_group(
             wgpu::BindGroupEntry {
                 binding: 7,
                 resource: wgpu::BindingResource::TextureView(&visibility.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 8,
+                resource: wgpu::BindingResource::TextureView(&points.array_view),
             },
         ],
     })
@@ -174,14 +189,15 @@ impl ShadowResources {
             contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let cascades = DepthArray::placeholder(device, "cascade shadow maps");
-        let spots = DepthArray::placeholder(device, "spot shadow maps");
+        let cascades = DepthArray::placeholder(device, storage_label(ShadowStorage::Cascades), false);
+        let spots = DepthArray::placeholder(device, storage_label(ShadowStorage::Spots), false);
+        let points = DepthArray::placeholder(device, storage_label(ShadowStorage::Points), true);
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
         let group = shadow_group(
             device,
             layouts,
             [&lights, &views, &poisson_taps],
-            [&cascades, &spots],
+            [&cascades, &spots, &points],
             &no_visibility,
         );
         let [caster_group, caster_run_group] = caster_groups(device, layouts, &caster_views.buffer);
@@ -190,6 +206,7 @@ impl ShadowResources {
             no_visibility,
             cascades,
             spots,
+            points,
             lights,
             views,
             caster_views,
@@ -206,15 +223,29 @@ impl ShadowResources {
 
     /// The storage a view of `kind` renders into.
     pub fn storage(&self, kind: ShadowViewKind) -> &DepthArray {
-        match kind {
-            ShadowViewKind::Cascade(_) => &self.cascades,
-            ShadowViewKind::Spot => &self.spots,
+        self.array(kind.storage())
+    }
+
+    /// The depth array of `storage`.
+    pub fn array(&self, storage: ShadowStorage) -> &DepthArray {
+        match storage {
+            ShadowStorage::Cascades => &self.cascades,
+            ShadowStorage::Spots => &self.spots,
+            ShadowStorage::Points => &self.points,
+        }
+    }
+
+    fn array_mut(&mut self, storage: ShadowStorage) -> &mut DepthArray {
+        match storage {
+            ShadowStorage::Cascades => &mut self.cascades,
+            ShadowStorage::Spots => &mut self.spots,
+            ShadowStorage::Points => &mut self.points,
         }
     }
 
     /// Bytes of shadow-map memory.
     pub fn memory_bytes(&self) -> u64 {
-        self.cascades.memory_bytes() + self.spots.memory_bytes()
+        ShadowStorage::ALL.iter().map(|&s| self.array(s).memory_bytes()).sum()
     }
 
     /// Bytes of the resolved visibility (0 while nothing is resolved).
@@ -241,12 +272,13 @@ impl ShadowResources {
     ) -> Result<bool, LimitError> {
         let device = &gpu.device;
         let mut rebuild = false;
-        for (cascade, label) in [(true, "cascade shadow maps"), (false, "spot shadow maps")] {
-            let (side, layers) = views.extent(cascade);
-            let storage = if cascade { &mut self.cascades } else { &mut self.spots };
+        for kind in ShadowStorage::ALL {
+            let (side, layers) = views.extent(kind);
+            let storage = self.array_mut(kind);
             if storage.needs(side, layers) {
                 gpu.limits.check_target(side, side)?;
-                *storage = DepthArray::new(device, label, side, layers);
+                let cube = kind == ShadowStorage::Points;
+                *storage = DepthArray::new(device, storage_label(kind), side, layers, cube);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -259,7 +291,7 @@ impl ShadowResources {
             self.view_data.push(pack_view(lights, view, side));
             let view_bit = match view.kind {
                 ShadowViewKind::Cascade(c) => 1 << c,
-                ShadowViewKind::Spot => 0,
+                ShadowViewKind::Spot | ShadowViewKind::PointFace(_) => 0,
             };
             self.caster_data
                 .push(CasterViewGpu::new(view.clip_from_world, view_bit));
@@ -304,7 +336,7 @@ impl ShadowResources {
         }
         let buffers = [&self.lights, &self.views, &self.poisson_taps];
         if rebuild {
-            let maps = [&self.cascades, &self.spots];
+            let maps = [&self.cascades, &self.spots, &self.points];
             self.group = shadow_group(device, layouts, buffers, maps, &self.no_visibility);
             counters.shadow_groups += 1;
         }
@@ -316,7 +348,7 @@ impl ShadowResources {
                     Some(resolved) if !rebuild => resolved,
                     kept => {
                         let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
-                        let maps = [&self.cascades, &self.spots];
+                        let maps = [&self.cascades, &self.spots, &self.points];
                         let group = shadow_group(device, layouts, buffers, maps, &target);
                         counters.shadow_groups += 1;
                         Resolved { target, group }

@@ -1,7 +1,9 @@
 //! Shadow storage: a `Depth32Float` 2D array with one layer per shadow view of one kind (the
-//! cascades of every shadowed sun; every shadowed spot light). A view smaller than the layer
-//! is drawn in its top-left corner and sampled through its UV rectangle, so each light keeps
-//! its own resolution. The array is owned across frames: it is recreated when the largest
+//! cascades of every shadowed sun; every shadowed spot light; the six faces of every shadowed
+//! point light). A view smaller than the layer is drawn in its top-left corner and sampled
+//! through its UV rectangle, so each light keeps its own resolution — except point lights,
+//! whose array is sampled as a cube array (hardware face selection, filtering across face
+//! edges) and so share one face size: the largest any of them asks for. The array is owned across frames: it is recreated when the largest
 //! view changes size or more layers are needed, never for fewer.
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -18,7 +20,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 pub struct DepthArray {
     /// The texture.
     pub texture: wgpu::Texture,
-    /// All layers, for sampling.
+    /// All layers, for sampling (a cube-array view for point lights).
     pub array_view: wgpu::TextureView,
     /// One view per layer, for rendering a shadow view.
     pub layer_views: Vec<wgpu::TextureView>,
@@ -31,9 +33,14 @@ pub struct DepthArray {
 }
 
 impl DepthArray {
-    /// Allocates `layers` layers of `side`² texels.
-    pub fn new(device: &wgpu::Device, label: &str, side: u32, layers: u32) -> Self {
-        let layers = layers.max(1);
+    /// Allocates `layers` layers of `side`² texels; with `cube`, sampled as a cube array
+    /// (the layers rounded up to whole cubes).
+    pub fn new(device: &wgpu::Device, label: &str, side: u32, layers: u32, cube: bool) -> Self {
+        let layers = if cube {
+            layers.max(1).div_ceil(6) * 6
+        } else {
+            layers.max(1)
+        };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d {
@@ -52,7 +59,11 @@ impl DepthArray {
         });
         let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(label),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            dimension: Some(if cube {
+                wgpu::TextureViewDimension::CubeArray
+            } else {
+                wgpu::TextureViewDimension::D2Array
+            }),
             ..Default::default()
         });
         let layer_views = (0..layers)
@@ -76,11 +87,11 @@ impl DepthArray {
         }
     }
 
-    /// The 1×1, one-layer stand-in bound while a kind has no shadow view.
-    pub fn placeholder(device: &wgpu::Device, label: &str) -> Self {
+    /// The 1×1 stand-in (one layer, or one cube) bound while a kind has no shadow view.
+    pub fn placeholder(device: &wgpu::Device, label: &str, cube: bool) -> Self {
         Self {
             placeholder: true,
-            ..Self::new(device, label, 1, 1)
+            ..Self::new(device, label, 1, 1, cube)
         }
     }
 

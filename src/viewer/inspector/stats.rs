@@ -41,6 +41,10 @@ pub(crate) fn shadow_views_ui(ui: &mut Ui, lights: &FrameLights, views: &ShadowV
                     let planes = lights.spot_at(view.light).and_then(|s| s.shadow);
                     (planes.map_or((0.0, 0.0), |v| (v.near, v.far)), 0.0)
                 }
+                ShadowViewKind::PointFace(_) => {
+                    let planes = lights.point_at(view.light).and_then(|p| p.shadow);
+                    (planes.map_or((0.0, 0.0), |v| (v.near, v.range)), 0.0)
+                }
             };
             ui.label(format!("{:.1} – {:.1}", range.0, range.1));
             let density = if texel > 0.0 {
