@@ -15,6 +15,8 @@ pub const MIN_RESOLUTION: u32 = 512;
 pub const MAX_RESOLUTION: u32 = 4096;
 /// Largest PCF kernel radius: 5 gives an 11×11 grid.
 pub const MAX_PCF_RADIUS: u32 = 5;
+/// Largest VSM pre-blur radius, texels.
+pub const MAX_VSM_BLUR: u32 = 8;
 
 /// How the shadow map is filtered when a receiver samples it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -24,6 +26,11 @@ pub enum ShadowMode {
     Pcf,
     /// Percentage-closer soft shadows: blocker search, penumbra estimate, variable PCF.
     Pcss,
+    /// Variance shadow map (spot and point lights): the first two moments of the depth are
+    /// pre-filtered once per redrawn map (`vsm_blur`), and a pixel's shadow is one filtered
+    /// fetch and Chebyshev's bound, whatever the penumbra width. A sun asked for it is
+    /// filtered with PCF (its moment technique is EVSM, to come).
+    Vsm,
 }
 
 /// Sample counts for PCSS (blocker search taps / filter taps).
@@ -85,7 +92,7 @@ pub enum ShadowDebugView {
 /// [`DirectionalLight`](crate::ecs::DirectionalLight), [`SpotLight`](crate::ecs::SpotLight) or
 /// [`PointLight`](crate::ecs::PointLight); lights without it use the defaults (positional
 /// lights at the [`ShadowLightBudget`](crate::ecs::ShadowLightBudget)'s resolution). The
-/// cascade fields only apply to suns.
+/// cascade fields only apply to suns, the `vsm_*` fields only to spot and point lights.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShadowSettings {
@@ -130,6 +137,15 @@ pub struct ShadowSettings {
     pub depth_clamp: bool,
     /// Debug visualisation.
     pub debug_view: ShadowDebugView,
+    /// VSM: radius in texels (0–8) of the separable Gaussian pre-blur of the moments; 0
+    /// keeps only the hardware bilinear filter. Cube faces are blurred across their edges.
+    pub vsm_blur: u32,
+    /// VSM: light-bleed reduction, 0–0.95: the bound's low tail up to this value is clipped
+    /// to black and the rest stretched (`clamp((p − amount)/(1 − amount), 0, 1)`).
+    pub vsm_bleed_reduction: f32,
+    /// VSM: smallest variance, as a fraction of the light's range squared, 0–0.01; hides the
+    /// moments' quantisation on flat receivers.
+    pub vsm_min_variance: f32,
 }
 
 impl Default for ShadowSettings {
@@ -153,6 +169,9 @@ impl Default for ShadowSettings {
             distance_fade_width: 0.1,
             depth_clamp: true,
             debug_view: ShadowDebugView::None,
+            vsm_blur: 2,
+            vsm_bleed_reduction: 0.3,
+            vsm_min_variance: 1e-6,
         }
     }
 }
@@ -311,6 +330,32 @@ impl ShadowSettings {
             0.5,
             d.distance_fade_width,
             "a fraction from 0 to 0.5",
+        );
+        check_u32(
+            &mut p,
+            "vsm_blur",
+            &mut s.vsm_blur,
+            0,
+            MAX_VSM_BLUR,
+            "texels from 0 to 8",
+        );
+        check_f32(
+            &mut p,
+            "vsm_bleed_reduction",
+            &mut s.vsm_bleed_reduction,
+            0.0,
+            0.95,
+            d.vsm_bleed_reduction,
+            "a fraction from 0 to 0.95",
+        );
+        check_f32(
+            &mut p,
+            "vsm_min_variance",
+            &mut s.vsm_min_variance,
+            0.0,
+            0.01,
+            d.vsm_min_variance,
+            "a fraction of the range squared from 0 to 0.01",
         );
         (s, p)
     }

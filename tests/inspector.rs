@@ -223,6 +223,47 @@ fn a_spot_light_panel_edits_the_light_and_gives_it_settings() {
 }
 
 #[test]
+fn a_point_light_panel_switches_its_filter_to_vsm_and_edits_the_blur() {
+    use penumbra::ecs::PointLight;
+
+    let mut s = state("point");
+    s.app
+        .world_mut()
+        .spawn((PointLight::default(), Transform::from_xyz(0.0, 3.0, 0.0)));
+    s.app.update();
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("point light 0").click();
+    h.run();
+    slider(&h, "radius m").set_value_accesskit(0.25);
+    h.run();
+    // The point panel comes after the sun's settings, so its mode box is the last of the name.
+    h.get_all_by_label("mode").last().expect("a mode box").click();
+    h.run();
+    h.get_by_label("VSM").click();
+    h.run();
+    slider(&h, "VSM blur (texels)").set_value_accesskit(5.0);
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let (light, settings) = world
+        .query::<(&PointLight, &ShadowSettings)>()
+        .single(world)
+        .expect("the point light got its own settings");
+    assert_eq!(light.radius, 0.25);
+    assert_eq!((settings.mode, settings.vsm_blur), (ShadowMode::Vsm, 5));
+    assert_eq!(settings.resolution, 512, "the budget's point resolution");
+    // Its six faces are drawn on the next frame.
+    h.state_mut().app.update();
+    let views = h.state().app.world().resource::<ShadowViews>();
+    let faces = views
+        .views
+        .iter()
+        .filter(|v| matches!(v.kind, penumbra::ecs::ShadowViewKind::PointFace(_)))
+        .count();
+    assert_eq!(faces, 6);
+}
+
+#[test]
 fn render_switches_reach_the_render_options() {
     let mut h = harness(state("render-options"));
     h.run();

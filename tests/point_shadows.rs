@@ -1,73 +1,13 @@
 //! Point-light shadows on a real wgpu device (lavapipe in CI), judged against rays cast on the
 //! CPU: a shadow lands where a ray to the light is blocked in every face direction (±X, ±Y,
-//! ±Z) and across face edges, and a point light's PCSS penumbra widens with the gap between
-//! caster and receiver as the perspective estimate says.
+//! ±Z) and across face edges, with PCF and with VSM (blurred or not, 32- or 16-bit moments),
+//! and a point light's PCSS penumbra widens with the gap between caster and receiver as the
+//! perspective estimate says.
 
+mod common;
+
+use common::rays::{Aabb, evaluate, evaluate_with, scene_with};
 use glam::Vec3;
-use penumbra::bench::session::SceneSession;
-use penumbra::render::Renderer;
-use penumbra::render::frame::FrameInputs;
-use penumbra::render::probe::ProbeGpu;
-use penumbra::scene::SceneDesc;
-
-fn scene(text: &str) -> SceneDesc {
-    SceneDesc::from_str(text, "test.ron").unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Evaluates the focus light's shadow at `probes` (position, normal) after one frame of `desc`.
-fn evaluate(desc: &SceneDesc, probes: &[(Vec3, Vec3)]) -> Vec<f32> {
-    let (w, h) = (64, 48);
-    let mut session = SceneSession::new(desc, w, h).unwrap_or_else(|e| panic!("{e}"));
-    let mut renderer = Renderer::headless(w, h)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    session.update();
-    let input = FrameInputs::from_world(session.app.world(), 0);
-    renderer.render(&input);
-    assert!(renderer.take_errors().is_empty());
-    let probes: Vec<ProbeGpu> = probes
-        .iter()
-        .enumerate()
-        .map(|(k, &(p, n))| ProbeGpu::new(p, n, (k as u32 % 64, k as u32 / 64)))
-        .collect();
-    renderer.evaluate_probes(&input, &probes)
-}
-
-/// An axis-aligned box.
-#[derive(Clone, Copy)]
-struct Aabb {
-    min: Vec3,
-    max: Vec3,
-}
-
-impl Aabb {
-    fn cube(center: Vec3, size: f32) -> Self {
-        Self {
-            min: center - Vec3::splat(size * 0.5),
-            max: center + Vec3::splat(size * 0.5),
-        }
-    }
-
-    /// True when the segment from `a` to `b` passes through the box (slab test).
-    fn blocks(&self, a: Vec3, b: Vec3) -> bool {
-        let d = b - a;
-        let (mut t0, mut t1) = (0.0f32, 1.0f32);
-        for i in 0..3 {
-            if d[i] == 0.0 {
-                if !(self.min[i]..=self.max[i]).contains(&a[i]) {
-                    return false;
-                }
-                continue;
-            }
-            let (mut near, mut far) = ((self.min[i] - a[i]) / d[i], (self.max[i] - a[i]) / d[i]);
-            if near > far {
-                std::mem::swap(&mut near, &mut far);
-            }
-            t0 = t0.max(near);
-            t1 = t1.min(far);
-        }
-        t0 <= t1
-    }
-}
 
 const LIGHT: Vec3 = Vec3::new(0.0, 4.0, 0.0);
 
@@ -82,37 +22,14 @@ fn casters() -> Vec<Aabb> {
     boxes
 }
 
-fn scene_with(casters: &[Aabb], light: &str) -> SceneDesc {
-    let objects: Vec<String> = casters
-        .iter()
-        .map(|b| {
-            let (c, s) = ((b.min + b.max) * 0.5, b.max - b.min);
-            format!(
-                "(shape: Cuboid(size: ({}, {}, {})), material: \"m\", translation: ({}, {}, {})),",
-                s.x, s.y, s.z, c.x, c.y, c.z
-            )
-        })
-        .collect();
-    scene(&format!(
-        r#"Scene(
-        camera: (position: (0, 9, 9), target: (0, 2, 0), fov: 60, near: 0.1, far: 100),
-        lights: [{light}],
-        materials: {{ "m": (base_color: (0.7, 0.7, 0.7, 1)) }},
-        objects: [{}],
-    )"#,
-        objects.join("\n")
-    ))
-}
-
-#[test]
-fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
+/// Evaluates `light` (a point light at `LIGHT`) on planes 4 m from it across each face axis,
+/// facing it, out to 40° from the axis (near the face edges), every 5 cm, and asserts per
+/// face that at most `max_wrong` of the probes a ray judges disagree with it (on which side
+/// of 0.5 they fall) and that their mean error is at most 0.01; VSM moments are stored in
+/// `format` where given.
+fn assert_rays_on_every_face(light: &str, format: Option<wgpu::TextureFormat>, max_wrong: f64) {
     let boxes = casters();
-    let desc = scene_with(
-        &boxes,
-        "Point(position: (0, 4, 0), intensity: 40, range: 12, shadows: (mode: Pcf, pcf_radius: 1, resolution: 1024))",
-    );
-    // Probes on a plane 4 m from the light across each face axis, facing the light, out to
-    // 40° from the axis (near the face edges), every 5 cm.
+    let desc = scene_with(&boxes, light);
     let mut probes = Vec::new();
     let mut faces = Vec::new();
     for (face, axis) in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
@@ -128,10 +45,11 @@ fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
             }
         }
     }
-    let values = evaluate(&desc, &probes);
+    let values = evaluate_with(&desc, &probes, format);
     let mut judged = [0usize; 6];
     let mut shadowed = [0usize; 6];
     let mut wrong = [0usize; 6];
+    let mut error = [0.0f64; 6];
     for ((&(p, n), &v), &face) in probes.iter().zip(&values).zip(&faces) {
         let blocked_at = |q: Vec3| boxes.iter().any(|b| b.blocks(q + n * 1e-3, LIGHT));
         let here = blocked_at(p);
@@ -144,6 +62,7 @@ fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
         judged[face] += 1;
         shadowed[face] += usize::from(here);
         wrong[face] += usize::from((v < 0.5) != here);
+        error[face] += f64::from((v - if here { 0.0 } else { 1.0 }).abs());
     }
     for face in 0..6 {
         assert!(
@@ -157,13 +76,43 @@ fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
             shadowed[face]
         );
         let share = wrong[face] as f64 / judged[face] as f64;
+        let mean_error = error[face] / judged[face] as f64;
         assert!(
-            share <= 0.005,
+            mean_error <= 0.01,
+            "face {face}: mean error {mean_error:.4} against the rays"
+        );
+        assert!(
+            share <= max_wrong,
             "face {face}: {:.2} % of probes disagree with the rays ({} of {})",
             share * 100.0,
             wrong[face],
             judged[face]
         );
+    }
+}
+
+#[test]
+fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
+    assert_rays_on_every_face(
+        "Point(position: (0, 4, 0), intensity: 40, range: 12, shadows: (mode: Pcf, pcf_radius: 1, resolution: 1024))",
+        None,
+        0.005,
+    );
+}
+
+#[test]
+fn a_point_vsm_shadow_lands_where_a_ray_to_the_light_is_blocked_with_and_without_blur() {
+    for format in [wgpu::TextureFormat::Rg32Float, wgpu::TextureFormat::Rgba16Float] {
+        for blur in [0, 3] {
+            assert_rays_on_every_face(
+                &format!(
+                    "Point(position: (0, 4, 0), intensity: 40, range: 12,
+                        shadows: (mode: Vsm, vsm_blur: {blur}, resolution: 1024))"
+                ),
+                Some(format),
+                0.005,
+            );
+        }
     }
 }
 

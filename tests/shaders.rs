@@ -45,6 +45,20 @@ fn the_shadow_clear_shader_validates() {
 }
 
 #[test]
+fn the_moments_shader_validates_for_spot_and_point_lights_in_both_formats() {
+    let mut library = ShaderLibrary::new().unwrap();
+    for point in [false, true] {
+        for fp32 in [false, true] {
+            let module = library
+                .shadow_moments(point, fp32)
+                .unwrap_or_else(|e| panic!("point {point}, fp32 {fp32}: {e}"));
+            let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+            assert_eq!(entry_points, ["resolve", "blur"]);
+        }
+    }
+}
+
+#[test]
 fn the_resolve_shader_validates_for_every_filter_variant() {
     let mut library = ShaderLibrary::new().unwrap();
     let mut composed = 0;

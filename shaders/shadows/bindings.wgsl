@@ -22,3 +22,9 @@
 @group(3) @binding(7) var resolved_visibility: texture_2d_array<f32>;
 // Every shadowed point light's six faces, sampled as a cube (index: first layer / 6).
 @group(3) @binding(8) var point_maps: texture_depth_cube_array;
+// Variance shadow maps: the pre-filtered moments (z, z²) of the normalised distance of every
+// spot light's layer and point light's cube (1×1 stand-ins while no light uses VSM), and the
+// bilinear sampler that filters them.
+@group(3) @binding(9) var spot_moments: texture_2d_array<f32>;
+@group(3) @binding(10) var point_moments: texture_cube_array<f32>;
+@group(3) @binding(11) var moments_sampler: sampler;

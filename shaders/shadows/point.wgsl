@@ -10,19 +10,23 @@
 // kernel), or the receiver's own distance when the light's receiver-plane flag is off. PCSS
 // searches blockers over the region through which the light's disc is seen and filters with
 // `w_penumbra = (d_receiver − d_blocker) · w_light / d_blocker` in metres at the receiver.
-// The entry point is `point_visibility`.
+// VSM reads the moments of the distance from the light, pre-filtered across face edges, in
+// one bilinear fetch. The entry point is `point_visibility`.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path; without it a PCSS light is
 // filtered with PCF.
 #define_import_path penumbra::shadows::point
 
-#import penumbra::shadows::bindings::{point_maps, shadow_compare, shadow_point, shadow_views}
+#import penumbra::shadows::bindings::{
+    moments_sampler, point_maps, point_moments, shadow_compare, shadow_point, shadow_views,
+}
 #import penumbra::shadows::common::{
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
     normal_offset_metres, poisson_rotation, sixteen_tap,
 }
+#import penumbra::shadows::moments::moments_visibility
 #import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // A receiver seen from a point light.
@@ -185,6 +189,11 @@ fn point_visibility(light: Light, surface: Surface) -> f32 {
     let s = project_to_point(light, surface);
     if major_axis(s.to_receiver) >= s.range {
         return 1.0;
+    }
+    if light.shadow_filter == SHADOW_FILTER_VSM {
+        // Moments of the distance from the light over the range, pre-filtered across faces.
+        let moments = textureSampleLevel(point_moments, moments_sampler, s.to_receiver, s.cube, 0.0).xy;
+        return moments_visibility(moments, s.distance / s.range, light.cone.z, light.cone.w);
     }
     let rotation = poisson_rotation(surface.frag_coord, light.flags);
 #ifdef SHADOW_FILTER_PCSS

@@ -1,23 +1,26 @@
 // Spot-light shadows: a perspective reverse-Z view per light in the spot lights' depth array.
 // The receiver moves along its normal by the light's normal offset in texels at its own
 // distance, the receiver-plane gradient comes from projecting the surface's tangent plane
-// (planes stay planes under a projective map, so it is exact), PCF is a rotated Poisson disc
-// and PCSS uses the perspective penumbra of the blog seed,
+// (planes stay planes under a projective map, so it is exact), PCF is a rotated Poisson disc,
+// PCSS uses the perspective penumbra of the blog seed,
 // `w_penumbra = (d_receiver − d_blocker) · w_light / d_blocker`, in world units at the
-// receiver. The entry point is `spot_visibility`.
+// receiver, and VSM is one bilinear fetch of the pre-filtered moments and Chebyshev's bound.
+// The entry point is `spot_visibility`.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path; without it a PCSS light is
 // filtered with PCF.
 #define_import_path penumbra::shadows::spot
 
-#import penumbra::shadows::bindings::{shadow_views, spot_maps}
+#import penumbra::shadows::bindings::{moments_sampler, shadow_views, spot_maps, spot_moments}
 #import penumbra::shadows::common::{
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
     poisson_rotation,
 }
 #import penumbra::shadows::filters::{MapSample, find_blockers, pcf_poisson, pcss_filter}
+#import penumbra::shadows::moments::moments_visibility
 #import penumbra::shadows::types::{
-    Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+    Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
+    SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // A receiver projected into a spot light's view.
@@ -28,6 +31,8 @@ struct SpotSample {
     in_front: bool,
     // Distance from the light along its axis, metres.
     distance: f32,
+    // The same after the normal offset (what VSM compares), metres.
+    offset_distance: f32,
 }
 
 // View UV and reverse-Z depth of a world point (w <= 0: behind the light).
@@ -65,6 +70,7 @@ fn project_to_spot(light: Light, view: ShadowView, world_pos: vec3<f32>, normal:
     out.view_uv = q.xy;
     out.in_front = q.w > 0.0;
     out.distance = distance;
+    out.offset_distance = q.w;
     out.map.uv = view.rect.xy + q.xy * view.rect.zw;
     out.map.depth = max(q.z, 0.0);
     out.map.layer = view.layer;
@@ -141,6 +147,11 @@ fn spot_visibility(light: Light, surface: Surface) -> f32 {
     let s = project_to_spot(light, view, surface.position, surface.normal);
     if !s.in_front || any(s.view_uv < vec2<f32>(0.0)) || any(s.view_uv > vec2<f32>(1.0)) || s.map.depth > 1.0 {
         return 1.0;
+    }
+    if light.shadow_filter == SHADOW_FILTER_VSM {
+        // Moments of the distance along the axis over the range, pre-filtered.
+        let moments = textureSampleLevel(spot_moments, moments_sampler, s.map.uv, s.map.layer, 0.0).xy;
+        return moments_visibility(moments, s.offset_distance / view.params.z, light.cone.z, light.cone.w);
     }
     let rotation = poisson_rotation(surface.frag_coord, light.flags);
 #ifdef SHADOW_FILTER_PCSS

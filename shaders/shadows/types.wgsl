@@ -12,6 +12,7 @@ const LIGHT_POINT: u32 = 2u;
 // `Light::shadow_filter`: how a light's shadow map is filtered.
 const SHADOW_FILTER_PCF: u32 = 0u;
 const SHADOW_FILTER_PCSS: u32 = 1u;
+const SHADOW_FILTER_VSM: u32 = 2u;
 
 // Capacity of the light and shadow-view lists (uniform arrays: the constant cache makes the
 // per-pixel reads cheap). The renderer reports an error for anything past them.
@@ -40,7 +41,8 @@ struct Light {
     // Size of the emitter: angular diameter of a sun (radians), radius of a spot or point
     // light (metres).
     size: f32,
-    // Spot cone: x = cos(outer angle), y = 1 / (cos(inner) - cos(outer)); zw unused.
+    // Spot cone: x = cos(outer angle), y = 1 / (cos(inner) - cos(outer)). VSM (spot, point):
+    // z = minimum variance (a fraction of the range squared), w = light-bleed reduction.
     cone: vec4<f32>,
     // x: normal offset (texels), y: where a sun's shadows end (view depth), z: cascade blend
     // fraction, w: distance fade fraction.

@@ -23,7 +23,7 @@ use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sani
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
-use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget};
+use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget, ShadowView, ShadowViewKind};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::ActiveView;
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
@@ -32,7 +32,7 @@ use crate::math::light_budget::{
 };
 use crate::math::point::{PointView, point_view};
 use crate::math::spot::{SpotInput, SpotView, spot_view};
-use crate::settings::ShadowSettings;
+use crate::settings::{ShadowMode, ShadowSettings};
 
 /// A directional light this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,6 +135,15 @@ impl FrameLights {
         self.spots.get(index)
     }
 
+    /// The settings of the light `view` belongs to.
+    pub fn view_settings(&self, view: &ShadowView) -> Option<&ShadowSettings> {
+        match view.kind {
+            ShadowViewKind::Cascade(_) => self.sun_at(view.light).map(|s| &s.settings),
+            ShadowViewKind::Spot => self.spot_at(view.light).map(|s| &s.settings),
+            ShadowViewKind::PointFace(_) => self.point_at(view.light).map(|p| &p.settings),
+        }
+    }
+
     /// The point light at `light` in the renderer's light list, if that light is a point light.
     pub fn point_at(&self, light: u32) -> Option<&PointLightView> {
         let index = (light as usize).checked_sub(self.suns.len() + self.spots.len())?;
@@ -184,6 +193,12 @@ pub fn update_frame_lights(
             continue;
         };
         let light = sanitize_sun(entity, light, diagnostics);
+        let settings = sanitized_settings(settings, diagnostics);
+        if light.shadows_enabled && settings.mode == ShadowMode::Vsm {
+            diagnostics.warn(format!(
+                "directional light {entity} asks for Vsm, which only spot and point lights have; it is filtered with Pcf"
+            ));
+        }
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
                 id: lights.suns.len(),
@@ -195,7 +210,7 @@ pub fn update_frame_lights(
             entity,
             direction,
             light,
-            settings: sanitized_settings(settings, diagnostics),
+            settings,
             cascades: CascadeSet::default(),
         });
     }

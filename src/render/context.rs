@@ -1,6 +1,6 @@
 //! The wgpu device: found for a window surface or for headless rendering, with the optional
-//! features penumbra uses (timestamp queries, unclipped depth) turned on where the adapter
-//! has them.
+//! features penumbra uses (timestamp queries, unclipped depth, multiview, filterable 32-bit floats)
+//! turned on where the adapter has them.
 
 use std::sync::{Arc, Mutex};
 
@@ -78,6 +78,10 @@ pub struct GpuContext {
     /// Most views one multiview pass may render (0: no `MULTIVIEW`, cascades are drawn one
     /// pass each).
     pub multiview_views: u32,
+    /// Format of variance shadow maps' moments: `Rg32Float` where 32-bit floats can be
+    /// filtered (`FLOAT32_FILTERABLE`), else `Rgba16Float`, whose 11-bit mantissa makes the
+    /// variance `E[z²] − E[z]²` coarse (raise `vsm_min_variance` there).
+    pub moments_format: wgpu::TextureFormat,
     /// The limits user data is checked against.
     pub limits: DeviceLimits,
     errors: Arc<Mutex<ErrorSink>>,
@@ -110,7 +114,8 @@ impl GpuContext {
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::DEPTH_CLIP_CONTROL
             | wgpu::Features::PIPELINE_STATISTICS_QUERY
-            | wgpu::Features::MULTIVIEW;
+            | wgpu::Features::MULTIVIEW
+            | wgpu::Features::FLOAT32_FILTERABLE;
         let required_features = available & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -153,6 +158,11 @@ impl GpuContext {
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             multiview_views,
+            moments_format: if required_features.contains(wgpu::Features::FLOAT32_FILTERABLE) {
+                wgpu::TextureFormat::Rg32Float
+            } else {
+                wgpu::TextureFormat::Rgba16Float
+            },
             adapter_info,
         })
     }

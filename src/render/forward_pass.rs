@@ -172,6 +172,8 @@ impl RenderNode for ForwardPass {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
         pass.read(frame.point_maps);
+        pass.read(frame.spot_moments);
+        pass.read(frame.point_moments);
         if let Some(visibility) = frame.visibility {
             pass.read(visibility);
         }

@@ -14,8 +14,9 @@ use crate::render::shadows::gpu::{
 pub struct Layouts {
     /// Forward group 0: the frame uniforms.
     pub view: wgpu::BindGroupLayout,
-    /// Group 3: lights and shadow views (uniform arrays), the cascade and spot depth arrays, the
-    /// comparison and point samplers, the Poisson taps, the resolved visibility.
+    /// Group 3: lights and shadow views (uniform arrays), the cascade and spot depth arrays and
+    /// the point lights' cube array, the comparison and point samplers, the Poisson taps, the
+    /// resolved visibility, and the spot and point lights' VSM moments with their sampler.
     pub shadows: wgpu::BindGroupLayout,
     /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
     pub caster_view: wgpu::BindGroupLayout,
@@ -30,6 +31,8 @@ pub struct Layouts {
     pub shadow_compare: wgpu::Sampler,
     /// Nearest sampler for raw shadow depth reads.
     pub shadow_point: wgpu::Sampler,
+    /// Bilinear, clamped sampler for VSM moments.
+    pub moments_sampler: wgpu::Sampler,
     /// Trilinear, repeating sampler for material textures.
     pub material_sampler: wgpu::Sampler,
 }
@@ -83,6 +86,11 @@ impl Layouts {
             view_dimension: wgpu::TextureViewDimension::D2Array,
             multisampled: false,
         };
+        let moments = |view_dimension| wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension,
+            multisampled: false,
+        };
         let shadows = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadows"),
             entries: &[
@@ -115,6 +123,9 @@ impl Layouts {
                         multisampled: false,
                     },
                 ),
+                entry(9, fc, moments(wgpu::TextureViewDimension::D2Array)),
+                entry(10, fc, moments(wgpu::TextureViewDimension::CubeArray)),
+                entry(11, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
             ],
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -170,6 +181,12 @@ impl Layouts {
             label: Some("shadow point"),
             ..Default::default()
         });
+        let moments_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow moments"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         let material_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("material"),
             address_mode_u: wgpu::AddressMode::Repeat,
@@ -187,6 +204,7 @@ impl Layouts {
             material,
             shadow_compare,
             shadow_point,
+            moments_sampler,
             material_sampler,
         }
     }

@@ -21,6 +21,7 @@ use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::depth_pass::DepthPass;
+use crate::render::shadows::moments_pass::MomentsPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
 use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
@@ -91,10 +92,11 @@ impl Renderer {
         let layouts = Layouts::new(&gpu.device);
         let library = ShaderLibrary::new().expect("the shipped shader modules compose (checked by tests)");
         let scene = SceneGpu::new(&gpu.device, &layouts);
-        let shadows = ShadowResources::new(&gpu.device, &layouts);
+        let shadows = ShadowResources::new(&gpu.device, &layouts, gpu.moments_format);
         let timer = GpuTimer::new(&gpu.queue, gpu.timestamps);
         let mut graph = RenderGraph::default();
         graph.add_node(Box::new(DepthPass::default()));
+        graph.add_node(Box::new(MomentsPass::default()));
         graph.add_node(Box::new(DepthPrepass::default()));
         graph.add_node(Box::new(VisibilityResolve::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
@@ -394,6 +396,8 @@ impl Renderer {
             cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
             spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
             point_maps: graph.import_texture("point maps", &self.shadows.points.array_view),
+            spot_moments: graph.import_texture("spot moments", &self.shadows.spot_moments.moments.sampled),
+            point_moments: graph.import_texture("point moments", &self.shadows.point_moments.moments.sampled),
             depth_prepass,
             depth: None,
             normals: None,

@@ -111,6 +111,8 @@ impl RenderNode for VisibilityResolve {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
         pass.read(frame.point_maps);
+        pass.read(frame.spot_moments);
+        pass.read(frame.point_moments);
         pass.write(visibility);
         self.handles = Some(Handles { depth, normals });
     }

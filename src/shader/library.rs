@@ -112,6 +112,10 @@ const SHADOW_CLEAR: ModuleSource = ModuleSource {
     file: "shadow_clear.wgsl",
     source: include_str!("../../shaders/shadow_clear.wgsl"),
 };
+const SHADOW_MOMENTS: ModuleSource = ModuleSource {
+    file: "shadow_moments.wgsl",
+    source: include_str!("../../shaders/shadow_moments.wgsl"),
+};
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
     source: include_str!("../../shaders/resolve.wgsl"),
@@ -252,6 +256,18 @@ impl ShaderLibrary {
     /// The partial shadow-layer clear (`vs_main`, no fragment stage).
     pub fn shadow_clear(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(SHADOW_CLEAR.file, SHADOW_CLEAR.source, HashMap::new())
+    }
+
+    /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or
+    /// spot lights' layers, writing `rg32float` (`fp32`) or `rgba16float` moments.
+    pub fn shadow_moments(&mut self, point: bool, fp32: bool) -> Result<naga::Module, ShaderError> {
+        let mut defs = HashMap::new();
+        for (name, on) in [("MOMENTS_POINT", point), ("MOMENTS_FP32", fp32)] {
+            if on {
+                defs.insert(name.to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
+            }
+        }
+        self.compose(SHADOW_MOMENTS.file, SHADOW_MOMENTS.source, defs)
     }
 
     /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).

@@ -40,7 +40,7 @@ impl ForwardVariant {
     /// The variant the given settings need for opaque or masked materials.
     pub fn for_settings(settings: &ShadowSettings, alpha_mask: bool) -> Self {
         let filter = match settings.mode {
-            ShadowMode::Pcf => ShadowFilter::Pcf,
+            ShadowMode::Pcf | ShadowMode::Vsm => ShadowFilter::Pcf,
             ShadowMode::Pcss => ShadowFilter::Pcss(settings.pcss_quality),
         };
         Self {

@@ -4,6 +4,8 @@
 // NOTE: each test binary uses part of this module.
 #![allow(dead_code)]
 
+pub mod rays;
+
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;

@@ -66,6 +66,10 @@ pub struct FrameResources {
     pub spot_maps: TextureId,
     /// The point lights' cube array (imported).
     pub point_maps: TextureId,
+    /// The spot lights' VSM moments (imported).
+    pub spot_moments: TextureId,
+    /// The point lights' VSM moments (imported).
+    pub point_moments: TextureId,
     /// The frame writes the camera depth in a prepass (decided once per frame by the
     /// renderer from [`RenderOptions::depth_prepass`](crate::render::RenderOptions)).
     pub depth_prepass: bool,

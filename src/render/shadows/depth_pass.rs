@@ -31,7 +31,7 @@ use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::clear::ClearPipelines;
 use crate::render::shadows::gpu::CasterViewGpu;
 use crate::render::shadows::storage::DepthArray;
-use crate::settings::{MAX_CASCADES, ShadowSettings};
+use crate::settings::MAX_CASCADES;
 
 /// The shadow-map node.
 #[derive(Default)]
@@ -92,15 +92,6 @@ pub fn view_name(lights: &FrameLights, view: &ShadowView, name: &mut String) {
             light.saturating_sub(lights.suns.len() + lights.spots.len())
         ),
     };
-}
-
-/// The settings of the light a view belongs to.
-fn view_settings<'a>(lights: &'a FrameLights, view: &ShadowView) -> Option<&'a ShadowSettings> {
-    match view.kind {
-        ShadowViewKind::Cascade(_) => lights.sun_at(view.light).map(|s| &s.settings),
-        ShadowViewKind::Spot => lights.spot_at(view.light).map(|s| &s.settings),
-        ShadowViewKind::PointFace(_) => lights.point_at(view.light).map(|p| &p.settings),
-    }
 }
 
 impl RenderNode for DepthPass {
@@ -195,7 +186,7 @@ impl DepthPass {
         if self.cache && layers.get(slot).map(|l| l.version) == Some(view.version) {
             return false;
         }
-        if slot >= storage.layer_views.len() || view_settings(ctx.lights, view).is_none() {
+        if slot >= storage.layer_views.len() || ctx.lights.view_settings(view).is_none() {
             return false;
         }
         if layers.len() <= slot {
@@ -250,7 +241,7 @@ impl DepthPass {
             return;
         };
         let view = &ctx.shadow_views.views[first];
-        let Some(settings) = view_settings(ctx.lights, view) else {
+        let Some(settings) = ctx.lights.view_settings(view) else {
             return;
         };
         let clear = self.take_clear(ctx, first, count);

@@ -24,6 +24,8 @@ pub const LIGHT_POINT: u32 = 2;
 pub const SHADOW_FILTER_PCF: u32 = 0;
 /// `Light::shadow_filter`: PCSS.
 pub const SHADOW_FILTER_PCSS: u32 = 1;
+/// `Light::shadow_filter`: variance shadow map (spot and point lights).
+pub const SHADOW_FILTER_VSM: u32 = 2;
 /// PCSS blocker early-out.
 pub const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2;
 /// Receiver-plane depth bias.
@@ -47,7 +49,8 @@ pub struct LightGpu {
     pub direction: Vec3,
     /// Angular diameter (sun) or radius (spot, point).
     pub size: f32,
-    /// Spot cone: cos(outer), 1 / (cos(inner) − cos(outer)).
+    /// Spot cone: cos(outer), 1 / (cos(inner) − cos(outer)); VSM (spot, point): minimum
+    /// variance, light-bleed reduction.
     pub cone: Vec4,
     /// Normal offset (texels), max distance, blend width, fade width.
     pub shadow_params: Vec4,
@@ -114,11 +117,14 @@ impl CasterViewGpu {
 /// Views one single-pass (multiview) caster binding covers: a sun's cascades.
 pub const SINGLE_PASS_VIEWS: usize = crate::settings::MAX_CASCADES;
 
-/// The filter and flag bits a light's settings select.
-fn filter_and_flags(settings: &ShadowSettings) -> (u32, u32) {
+/// The filter and flag bits a light's settings select; VSM only for a light with moments
+/// (`positional`: spot and point lights), PCF for a sun that asks for it.
+fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
     let filter = match settings.mode {
         ShadowMode::Pcf => SHADOW_FILTER_PCF,
         ShadowMode::Pcss => SHADOW_FILTER_PCSS,
+        ShadowMode::Vsm if positional => SHADOW_FILTER_VSM,
+        ShadowMode::Vsm => SHADOW_FILTER_PCF,
     };
     let mut flags = 0;
     if settings.blocker_early_out {
@@ -138,7 +144,7 @@ fn filter_and_flags(settings: &ShadowSettings) -> (u32, u32) {
 pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<LightGpu>) {
     out.clear();
     for sun in &lights.suns {
-        let (filter, flags) = filter_and_flags(&sun.settings);
+        let (filter, flags) = filter_and_flags(&sun.settings, false);
         let s = &sun.settings;
         let set = &sun.cascades;
         out.push(LightGpu {
@@ -159,7 +165,7 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
         });
     }
     for spot in &lights.spots {
-        let (filter, flags) = filter_and_flags(&spot.settings);
+        let (filter, flags) = filter_and_flags(&spot.settings, true);
         let l = &spot.light;
         let (cos_outer, cos_inner) = (l.outer_angle.cos(), l.inner_angle.min(l.outer_angle).cos());
         out.push(LightGpu {
@@ -169,7 +175,12 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
             range: l.range,
             direction: spot.direction,
             size: l.radius,
-            cone: Vec4::new(cos_outer, 1.0 / (cos_inner - cos_outer).max(1e-4), 0.0, 0.0),
+            cone: Vec4::new(
+                cos_outer,
+                1.0 / (cos_inner - cos_outer).max(1e-4),
+                spot.settings.vsm_min_variance,
+                spot.settings.vsm_bleed_reduction,
+            ),
             shadow_params: Vec4::new(spot.settings.normal_offset, 0.0, 0.0, 0.0),
             shadow_filter: filter,
             flags,
@@ -178,13 +189,19 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
         });
     }
     for point in &lights.points {
-        let (filter, flags) = filter_and_flags(&point.settings);
+        let (filter, flags) = filter_and_flags(&point.settings, true);
         out.push(LightGpu {
             color: point.light.color * point.light.intensity,
             kind: LIGHT_POINT,
             position: point.position,
             range: point.light.range,
             size: point.light.radius,
+            cone: Vec4::new(
+                0.0,
+                0.0,
+                point.settings.vsm_min_variance,
+                point.settings.vsm_bleed_reduction,
+            ),
             shadow_params: Vec4::new(point.settings.normal_offset, 0.0, 0.0, 0.0),
             shadow_filter: filter,
             flags,
@@ -271,6 +288,7 @@ mod tests {
             ("LIGHT_POINT", LIGHT_POINT),
             ("SHADOW_FILTER_PCF", SHADOW_FILTER_PCF),
             ("SHADOW_FILTER_PCSS", SHADOW_FILTER_PCSS),
+            ("SHADOW_FILTER_VSM", SHADOW_FILTER_VSM),
             ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),

@@ -1,5 +1,5 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
-//! lights, point-light cubes), the frame's lights and shadow views packed into uniform arrays (read through the
+//! lights, point-light cubes) and VSM moments for spot and point lights, the frame's lights and shadow views packed into uniform arrays (read through the
 //! constant cache, which made the forward pass faster than storage buffers on the H200; see
 //! docs/benchmarks.md), the casters' per-view matrices, and the shadow bind group (group 3) every material samples through
 //! `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
@@ -9,6 +9,8 @@ pub mod casters;
 pub mod clear;
 pub mod depth_pass;
 pub mod gpu;
+pub mod moment_storage;
+pub mod moments_pass;
 pub mod storage;
 pub mod visibility;
 
@@ -26,8 +28,10 @@ use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers,
     pack_lights, pack_view,
 };
+use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::visibility::VisibilityTarget;
+use crate::settings::ShadowMode;
 
 /// Everything the shadow passes and the materials share.
 pub struct ShadowResources {
@@ -37,6 +41,10 @@ pub struct ShadowResources {
     pub spots: DepthArray,
     /// The six faces of every shadowed point light (sampled as a cube array).
     pub points: DepthArray,
+    /// VSM moments of the spot lights' layers (a stand-in while no spot light uses VSM).
+    pub spot_moments: MomentArray,
+    /// VSM moments of the point lights' cubes (a stand-in while no point light uses VSM).
+    pub point_moments: MomentArray,
     lights: wgpu::Buffer,
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
@@ -78,6 +86,9 @@ fn storage_label(storage: ShadowStorage) -> &'static str {
     }
 }
 
+/// Labels of the spot and point lights' moment arrays.
+const MOMENT_LABELS: [&str; 2] = ["spot shadow moments", "point shadow moments"];
+
 /// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
 /// it wrote.
 fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u8>, data: &[u8]) -> bool {
@@ -95,10 +106,12 @@ fn shadow_group(
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 3],
     maps: [&DepthArray; 3],
+    moments: [&MomentArray; 2],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, views, taps] = buffers;
     let [cascades, spots, points] = maps;
+    let [spot_moments, point_moments] = moments;
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("shadows"),
         layout: &layouts.shadows,
@@ -139,6 +152,18 @@ fn shadow_group(
                 binding: 8,
                 resource: wgpu::BindingResource::TextureView(&points.array_view),
             },
+            wgpu::BindGroupEntry {
+                binding: 9,
+                resource: wgpu::BindingResource::TextureView(&spot_moments.moments.sampled),
+            },
+            wgpu::BindGroupEntry {
+                binding: 10,
+                resource: wgpu::BindingResource::TextureView(&point_moments.moments.sampled),
+            },
+            wgpu::BindGroupEntry {
+                binding: 11,
+                resource: wgpu::BindingResource::Sampler(&layouts.moments_sampler),
+            },
         ],
     })
 }
@@ -166,8 +191,8 @@ fn caster_groups(device: &wgpu::Device, layouts: &Layouts, buffer: &wgpu::Buffer
 }
 
 impl ShadowResources {
-    /// Empty buffers and 1×1 stand-in maps.
-    pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Self {
+    /// Empty buffers and 1×1 stand-in maps; VSM moments in `moments_format`.
+    pub fn new(device: &wgpu::Device, layouts: &Layouts, moments_format: wgpu::TextureFormat) -> Self {
         let list = |label, size: usize| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -192,12 +217,15 @@ impl ShadowResources {
         let cascades = DepthArray::placeholder(device, storage_label(ShadowStorage::Cascades), false);
         let spots = DepthArray::placeholder(device, storage_label(ShadowStorage::Spots), false);
         let points = DepthArray::placeholder(device, storage_label(ShadowStorage::Points), true);
+        let spot_moments = MomentArray::placeholder(device, MOMENT_LABELS[0], moments_format, false);
+        let point_moments = MomentArray::placeholder(device, MOMENT_LABELS[1], moments_format, true);
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
         let group = shadow_group(
             device,
             layouts,
             [&lights, &views, &poisson_taps],
             [&cascades, &spots, &points],
+            [&spot_moments, &point_moments],
             &no_visibility,
         );
         let [caster_group, caster_run_group] = caster_groups(device, layouts, &caster_views.buffer);
@@ -207,6 +235,8 @@ impl ShadowResources {
             cascades,
             spots,
             points,
+            spot_moments,
+            point_moments,
             lights,
             views,
             caster_views,
@@ -243,9 +273,19 @@ impl ShadowResources {
         }
     }
 
-    /// Bytes of shadow-map memory.
+    /// Bytes of shadow-map memory (depth and VSM moments).
     pub fn memory_bytes(&self) -> u64 {
-        ShadowStorage::ALL.iter().map(|&s| self.array(s).memory_bytes()).sum()
+        let depth: u64 = ShadowStorage::ALL.iter().map(|&s| self.array(s).memory_bytes()).sum();
+        depth + self.spot_moments.memory_bytes() + self.point_moments.memory_bytes()
+    }
+
+    /// The VSM moments of `storage` (None for the cascades, which have none).
+    pub fn moments(&self, storage: ShadowStorage) -> Option<&MomentArray> {
+        match storage {
+            ShadowStorage::Cascades => None,
+            ShadowStorage::Spots => Some(&self.spot_moments),
+            ShadowStorage::Points => Some(&self.point_moments),
+        }
     }
 
     /// Bytes of the resolved visibility (0 while nothing is resolved).
@@ -279,6 +319,23 @@ impl ShadowResources {
                 gpu.limits.check_target(side, side)?;
                 let cube = kind == ShadowStorage::Points;
                 *storage = DepthArray::new(device, storage_label(kind), side, layers, cube);
+                counters.shadow_maps += 1;
+                rebuild = true;
+            }
+        }
+        for (k, kind) in [ShadowStorage::Spots, ShadowStorage::Points].into_iter().enumerate() {
+            let uses_vsm = views.views.iter().any(|v| {
+                v.kind.storage() == kind && lights.view_settings(v).is_some_and(|s| s.mode == ShadowMode::Vsm)
+            });
+            let (side, layers) = if uses_vsm { views.extent(kind) } else { (0, 0) };
+            let moments = if k == 0 {
+                &mut self.spot_moments
+            } else {
+                &mut self.point_moments
+            };
+            if moments.needs(side, layers) {
+                let format = moments.moments.texture.format();
+                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, side, layers, k == 1);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -337,7 +394,8 @@ impl ShadowResources {
         let buffers = [&self.lights, &self.views, &self.poisson_taps];
         if rebuild {
             let maps = [&self.cascades, &self.spots, &self.points];
-            self.group = shadow_group(device, layouts, buffers, maps, &self.no_visibility);
+            let moments = [&self.spot_moments, &self.point_moments];
+            self.group = shadow_group(device, layouts, buffers, maps, moments, &self.no_visibility);
             counters.shadow_groups += 1;
         }
         match resolve {
@@ -349,7 +407,8 @@ impl ShadowResources {
                     kept => {
                         let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
                         let maps = [&self.cascades, &self.spots, &self.points];
-                        let group = shadow_group(device, layouts, buffers, maps, &target);
+                        let moments = [&self.spot_moments, &self.point_moments];
+                        let group = shadow_group(device, layouts, buffers, maps, moments, &target);
                         counters.shadow_groups += 1;
                         Resolved { target, group }
                     }

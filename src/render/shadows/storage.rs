@@ -22,6 +22,9 @@ pub struct DepthArray {
     pub texture: wgpu::Texture,
     /// All layers, for sampling (a cube-array view for point lights).
     pub array_view: wgpu::TextureView,
+    /// All layers as a 2D array (the same as `array_view` except for point lights), for
+    /// passes that read layers by index.
+    pub flat_view: wgpu::TextureView,
     /// One view per layer, for rendering a shadow view.
     pub layer_views: Vec<wgpu::TextureView>,
     /// Texels per side of a layer.
@@ -66,6 +69,15 @@ impl DepthArray {
             }),
             ..Default::default()
         });
+        let flat_view = if cube {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(label),
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        } else {
+            array_view.clone()
+        };
         let layer_views = (0..layers)
             .map(|layer| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
@@ -80,6 +92,7 @@ impl DepthArray {
         Self {
             texture,
             array_view,
+            flat_view,
             layer_views,
             side,
             placeholder: false,

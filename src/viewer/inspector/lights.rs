@@ -1,7 +1,8 @@
-//! The per-light panels: one collapsible panel per spot light and per directional light
-//! after the first (the first is the "Sun" and "Shadows" sections), with every parameter
-//! live — placement, colour and intensity, range, cone angles, emitter radius, the shadow
-//! switch — and the light's own shadow filter, resolution and biases.
+//! The per-light panels: one collapsible panel per spot light, per point light and per
+//! directional light after the first (the first is the "Sun" and "Shadows" sections), with
+//! every parameter live — placement, colour and intensity, range, cone angles, emitter
+//! radius, the shadow switch — and the light's own shadow filter (PCF, PCSS or VSM with its
+//! blur and bleed reduction), resolution and biases.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::query::With;
@@ -11,14 +12,14 @@ use egui::{CollapsingHeader, DragValue, Slider, Ui};
 use glam::Vec3;
 
 use crate::ecs::components::DirectionalLight;
-use crate::ecs::lights::SpotLight;
+use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::shadow_views::ShadowLightBudget;
 use crate::math::spot::MAX_SPOT_HALF_ANGLE;
 use crate::settings::ShadowSettings;
 use crate::viewer::inspector::settings::{bias_ui, filter_ui, resolution_ui, settings_ui};
 use crate::viewer::inspector::sun::{sun_angles, sun_direction};
 
-/// Draws a panel per spot light and per extra directional light; returns how many.
+/// Draws a panel per spot light, point light and extra directional light; returns how many.
 pub(crate) fn lights_ui(ui: &mut Ui, world: &mut World) -> usize {
     let suns: Vec<Entity> = world
         .query_filtered::<Entity, With<DirectionalLight>>()
@@ -26,6 +27,7 @@ pub(crate) fn lights_ui(ui: &mut Ui, world: &mut World) -> usize {
         .skip(1)
         .collect();
     let spots: Vec<Entity> = world.query_filtered::<Entity, With<SpotLight>>().iter(world).collect();
+    let points: Vec<Entity> = world.query_filtered::<Entity, With<PointLight>>().iter(world).collect();
     for (k, &entity) in suns.iter().enumerate() {
         CollapsingHeader::new(format!("directional light {}", k + 1))
             .id_salt(entity)
@@ -38,7 +40,13 @@ pub(crate) fn lights_ui(ui: &mut Ui, world: &mut World) -> usize {
             .default_open(false)
             .show(ui, |ui| spot_ui(ui, world, entity));
     }
-    suns.len() + spots.len()
+    for (k, &entity) in points.iter().enumerate() {
+        CollapsingHeader::new(format!("point light {k}"))
+            .id_salt(entity)
+            .default_open(false)
+            .show(ui, |ui| point_ui(ui, world, entity));
+    }
+    suns.len() + spots.len() + points.len()
 }
 
 /// A directional light after the first: aim, brightness, disc size, shadows and its
@@ -83,14 +91,7 @@ fn spot_ui(ui: &mut Ui, world: &mut World, entity: Entity) {
     };
     if let Some(mut transform) = e.get_mut::<Transform>() {
         let mut edited = *transform;
-        ui.horizontal(|ui| {
-            ui.label("position m");
-            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
-                let label = ui.label(name);
-                ui.add(DragValue::new(&mut edited.translation[axis]).speed(0.05))
-                    .labelled_by(label.id);
-            }
-        });
+        position_ui(ui, &mut edited);
         aim_ui(ui, &mut edited, -90.0..=90.0);
         if edited != *transform {
             *transform = edited;
@@ -98,22 +99,7 @@ fn spot_ui(ui: &mut Ui, world: &mut World, entity: Entity) {
     }
     if let Some(mut light) = e.get_mut::<SpotLight>() {
         let mut edited = *light;
-        ui.horizontal(|ui| {
-            ui.label("colour");
-            let mut rgb = edited.color.to_array();
-            ui.color_edit_button_rgb(&mut rgb);
-            edited.color = Vec3::from_array(rgb);
-        });
-        ui.add(
-            Slider::new(&mut edited.intensity, 0.0..=1000.0)
-                .logarithmic(true)
-                .text("intensity"),
-        );
-        ui.add(
-            Slider::new(&mut edited.range, 0.1..=200.0)
-                .logarithmic(true)
-                .text("range m"),
-        );
+        emitter_ui(ui, &mut edited.color, &mut edited.intensity, &mut edited.range);
         let mut outer = edited.outer_angle.to_degrees();
         let mut inner = edited.inner_angle.to_degrees();
         ui.add(Slider::new(&mut outer, 1.0..=MAX_SPOT_HALF_ANGLE.to_degrees()).text("outer angle °"));
@@ -127,12 +113,71 @@ fn spot_ui(ui: &mut Ui, world: &mut World, entity: Entity) {
             *light = edited;
         }
     }
+    positional_settings_ui(ui, &mut e, default_resolution);
+}
+
+/// A point light: position, colour, intensity, range, radius, shadows, and its shadow filter,
+/// face resolution and biases (a light without settings gets them on first edit, at the
+/// budget's point resolution).
+fn point_ui(ui: &mut Ui, world: &mut World, entity: Entity) {
+    let default_resolution = world.resource::<ShadowLightBudget>().point_resolution;
+    let Ok(mut e) = world.get_entity_mut(entity) else {
+        return;
+    };
+    if let Some(mut transform) = e.get_mut::<Transform>() {
+        let mut edited = *transform;
+        position_ui(ui, &mut edited);
+        if edited != *transform {
+            *transform = edited;
+        }
+    }
+    if let Some(mut light) = e.get_mut::<PointLight>() {
+        let mut edited = *light;
+        emitter_ui(ui, &mut edited.color, &mut edited.intensity, &mut edited.range);
+        ui.add(Slider::new(&mut edited.radius, 0.0..=1.0).text("radius m"))
+            .on_hover_text("Size of the emitter; sets the PCSS penumbra width.");
+        ui.checkbox(&mut edited.shadows_enabled, "casts shadows");
+        if edited != *light {
+            *light = edited;
+        }
+    }
+    positional_settings_ui(ui, &mut e, default_resolution);
+    ui.label("Point lights share one cube size: the largest any shadowed one asks for.");
+}
+
+/// Position drag values.
+fn position_ui(ui: &mut Ui, transform: &mut Transform) {
+    ui.horizontal(|ui| {
+        ui.label("position m");
+        for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+            let label = ui.label(name);
+            ui.add(DragValue::new(&mut transform.translation[axis]).speed(0.05))
+                .labelled_by(label.id);
+        }
+    });
+}
+
+/// Colour, intensity and range of a positional light.
+fn emitter_ui(ui: &mut Ui, color: &mut Vec3, intensity: &mut f32, range: &mut f32) {
+    ui.horizontal(|ui| {
+        ui.label("colour");
+        let mut rgb = color.to_array();
+        ui.color_edit_button_rgb(&mut rgb);
+        *color = Vec3::from_array(rgb);
+    });
+    ui.add(Slider::new(intensity, 0.0..=1000.0).logarithmic(true).text("intensity"));
+    ui.add(Slider::new(range, 0.1..=200.0).logarithmic(true).text("range m"));
+}
+
+/// A positional light's own shadow settings (filter with VSM, resolution, biases), inserted
+/// on first edit with `default_resolution`.
+fn positional_settings_ui(ui: &mut Ui, e: &mut bevy_ecs::world::EntityWorldMut<'_>, default_resolution: u32) {
     let mut settings = e.get::<ShadowSettings>().copied().unwrap_or(ShadowSettings {
         resolution: default_resolution,
         ..Default::default()
     });
     let before = settings;
-    filter_ui(ui, &mut settings);
+    filter_ui(ui, &mut settings, true);
     resolution_ui(ui, &mut settings);
     bias_ui(ui, &mut settings);
     if settings != before {

@@ -5,7 +5,7 @@
 use egui::{ComboBox, Slider, Ui};
 
 use crate::settings::{
-    CascadeFit, MAX_CASCADES, MAX_PCF_RADIUS, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings,
+    CascadeFit, MAX_CASCADES, MAX_PCF_RADIUS, MAX_VSM_BLUR, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings,
 };
 
 /// The shadow-map resolutions offered (the seed's runtime table).
@@ -13,7 +13,7 @@ pub(crate) const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];
 
 /// Draws the controls for `s`; the caller writes the copy back when it changed.
 pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
-    filter_ui(ui, s);
+    filter_ui(ui, s, false);
     ui.add(Slider::new(&mut s.cascade_count, 1..=MAX_CASCADES as u32).text("cascades"));
     resolution_ui(ui, s);
     ComboBox::from_label("fit")
@@ -60,13 +60,17 @@ pub(crate) fn bias_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     ui.add(Slider::new(&mut s.normal_offset, 0.0..=5.0).text("normal offset"));
 }
 
-/// The filter: PCF with its radius, or PCSS with its quality and switches.
-pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+/// The filter: PCF with its radius, PCSS with its quality and switches, or (for a light with
+/// `moments`: spot and point lights) VSM with its blur, bleed reduction and variance floor.
+pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, moments: bool) {
     ComboBox::from_label("mode")
         .selected_text(mode_name(s.mode))
         .show_ui(ui, |ui| {
             ui.selectable_value(&mut s.mode, ShadowMode::Pcf, mode_name(ShadowMode::Pcf));
             ui.selectable_value(&mut s.mode, ShadowMode::Pcss, mode_name(ShadowMode::Pcss));
+            if moments {
+                ui.selectable_value(&mut s.mode, ShadowMode::Vsm, mode_name(ShadowMode::Vsm));
+            }
         });
     match s.mode {
         ShadowMode::Pcf => {
@@ -91,6 +95,15 @@ pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings) {
             ui.checkbox(&mut s.receiver_plane_bias, "receiver-plane bias");
             ui.checkbox(&mut s.temporal_rotation, "temporal rotation");
         }
+        ShadowMode::Vsm => {
+            ui.add(Slider::new(&mut s.vsm_blur, 0..=MAX_VSM_BLUR).text("VSM blur (texels)"));
+            ui.add(Slider::new(&mut s.vsm_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
+            ui.add(
+                Slider::new(&mut s.vsm_min_variance, 0.0..=0.01)
+                    .logarithmic(true)
+                    .text("minimum variance"),
+            );
+        }
     }
 }
 
@@ -98,5 +111,6 @@ fn mode_name(mode: ShadowMode) -> &'static str {
     match mode {
         ShadowMode::Pcf => "PCF",
         ShadowMode::Pcss => "PCSS",
+        ShadowMode::Vsm => "VSM",
     }
 }

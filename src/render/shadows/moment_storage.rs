@@ -1,0 +1,134 @@
+//! Variance-shadow-map storage: the moments `(z, z²)` of every layer of one depth storage (spot
+//! lights: a 2D array; point lights: a cube array), in the device's
+//! [`moments_format`](crate::render::GpuContext::moments_format), and a scratch array of the
+//! same size for the separable blur. Allocated only while a light of that storage filters with
+//! VSM; a 1×1 stand-in is bound otherwise.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Numbers every array ever created, so the moments pass can tell its layers were replaced.
+static CREATED: AtomicU64 = AtomicU64::new(1);
+
+/// One texture of moments with the views the passes need.
+pub struct MomentTexture {
+    /// The texture.
+    pub texture: wgpu::Texture,
+    /// All layers for sampling (a cube-array view for point lights).
+    pub sampled: wgpu::TextureView,
+    /// All layers as a 2D array, for compute writes.
+    pub storage: wgpu::TextureView,
+}
+
+impl MomentTexture {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        format: wgpu::TextureFormat,
+        side: u32,
+        layers: u32,
+        cube: bool,
+    ) -> Self {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = |dimension| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(label),
+                dimension: Some(dimension),
+                ..Default::default()
+            })
+        };
+        let sampled = view(if cube {
+            wgpu::TextureViewDimension::CubeArray
+        } else {
+            wgpu::TextureViewDimension::D2Array
+        });
+        let storage = view(wgpu::TextureViewDimension::D2Array);
+        Self {
+            texture,
+            sampled,
+            storage,
+        }
+    }
+}
+
+/// The moments of one depth storage and the blur's scratch.
+pub struct MomentArray {
+    /// The moments the materials sample.
+    pub moments: MomentTexture,
+    /// Where the first blur axis writes.
+    pub scratch: MomentTexture,
+    /// Texels per side of a layer.
+    pub side: u32,
+    /// Layers (whole cubes for point lights).
+    pub layers: u32,
+    /// Sampled as a cube array.
+    pub cube: bool,
+    /// True for the 1×1 stand-in.
+    pub placeholder: bool,
+    /// Unique number of this allocation.
+    pub id: u64,
+}
+
+impl MomentArray {
+    /// Allocates `layers` layers of `side`² texels (rounded up to whole cubes with `cube`).
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        format: wgpu::TextureFormat,
+        side: u32,
+        layers: u32,
+        cube: bool,
+    ) -> Self {
+        let layers = if cube {
+            layers.max(1).div_ceil(6) * 6
+        } else {
+            layers.max(1)
+        };
+        Self {
+            moments: MomentTexture::new(device, label, format, side, layers, cube),
+            scratch: MomentTexture::new(device, label, format, side, layers, cube),
+            side,
+            layers,
+            cube,
+            placeholder: false,
+            id: CREATED.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    /// The 1×1 stand-in bound while no light of the storage uses VSM.
+    pub fn placeholder(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, cube: bool) -> Self {
+        Self {
+            placeholder: true,
+            ..Self::new(device, label, format, 1, 1, cube)
+        }
+    }
+
+    /// True when `layers` layers of `side` texels need a new allocation (none needed for 0
+    /// layers: the array is kept).
+    pub fn needs(&self, side: u32, layers: u32) -> bool {
+        layers > 0 && (self.placeholder || self.side != side || self.layers < layers)
+    }
+
+    /// Bytes of GPU memory (moments and scratch; 0 for the stand-in).
+    pub fn memory_bytes(&self) -> u64 {
+        if self.placeholder {
+            return 0;
+        }
+        let texel = self.moments.texture.format().block_copy_size(None).unwrap_or(8);
+        2 * u64::from(self.side).pow(2) * u64::from(texel) * u64::from(self.layers)
+    }
+}

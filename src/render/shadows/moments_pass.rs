@@ -1,0 +1,426 @@
+//! The VSM moments pass (`shaders/shadow_moments.wgsl`): after the depth pass, every spot or
+//! point light that filters with VSM and whose depth changed gets its moments made again —
+//! one compute pass per light (`shadow moments spot k`, `shadow moments point k`) that turns
+//! its depth layers into moments `(z, z²)` of its normalised distance and, with
+//! `vsm_blur > 0`, blurs them along x into the scratch array and along y back. A point
+//! light's six faces are made together, so the blur can cross their edges. Like the depth
+//! pass, it remembers which content version each layer's moments hold, so a still light costs
+//! nothing.
+
+use std::borrow::Cow;
+use std::fmt::Write;
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::ecs::shadow_views::{ShadowStorage, ShadowViewKind};
+use crate::math::point::FACES;
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::layouts::entry;
+use crate::render::shadows::moment_storage::MomentArray;
+use crate::render::shadows::storage::DepthArray;
+use crate::settings::ShadowMode;
+use crate::shader::ShaderLibrary;
+
+/// Mirror of WGSL `MomentsJob`, padded to the 256-byte dynamic-offset alignment.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct MomentsJobGpu {
+    first_layer: u32,
+    side: u32,
+    radius: u32,
+    axis: u32,
+    near: f32,
+    range: f32,
+    _pad: [u32; 58],
+}
+
+/// One light whose moments are made this frame.
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    /// 0: spot lights, 1: point lights.
+    storage: usize,
+    /// First layer (slot) and how many.
+    first: u32,
+    layers: u32,
+    near: f32,
+    range: f32,
+    blur: u32,
+    /// Index of the light among its kind (for the pass name).
+    light: usize,
+}
+
+/// The pipelines, built on first use for the device's moments format.
+struct Pipelines {
+    resolve_layout: wgpu::BindGroupLayout,
+    /// Blur layouts and pipelines for spot lights (2D array) and point lights (cube array).
+    blur_layouts: [wgpu::BindGroupLayout; 2],
+    resolve: [wgpu::ComputePipeline; 2],
+    blur: [wgpu::ComputePipeline; 2],
+}
+
+/// The moments node.
+#[derive(Default)]
+pub struct MomentsPass {
+    pipelines: Option<Pipelines>,
+    /// The per-job uniforms, and how many jobs it holds.
+    jobs_buffer: Option<(wgpu::Buffer, usize)>,
+    /// Per storage (spot, point lights): the moments and depth allocations `versions` refer
+    /// to, and the content version of each layer's moments.
+    held: [(u64, u64, Vec<u64>); 2],
+    cache: bool,
+    jobs: Vec<Job>,
+    data: Vec<MomentsJobGpu>,
+    name: String,
+}
+
+/// True when a view of `storage` in this frame filters with VSM.
+fn uses_vsm(inputs: &FrameInputs<'_>, storage: ShadowStorage) -> bool {
+    inputs.shadow_views.views.iter().any(|v| {
+        v.kind.storage() == storage
+            && inputs
+                .lights
+                .view_settings(v)
+                .is_some_and(|s| s.mode == ShadowMode::Vsm)
+    })
+}
+
+fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let storage = entry(
+        1,
+        compute,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+        },
+    );
+    let job = entry(
+        2,
+        compute,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(size_of::<MomentsJobGpu>() as u64),
+        },
+    );
+    let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("shadow moments resolve"),
+        entries: &[
+            entry(
+                0,
+                compute,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    multisampled: false,
+                },
+            ),
+            storage,
+            job,
+        ],
+    });
+    let blur_layout = |dimension| {
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadow moments blur"),
+            entries: &[
+                storage,
+                job,
+                entry(
+                    3,
+                    compute,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                entry(
+                    4,
+                    compute,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: dimension,
+                        multisampled: false,
+                    },
+                ),
+            ],
+        })
+    };
+    let blur_layouts = [
+        blur_layout(wgpu::TextureViewDimension::D2Array),
+        blur_layout(wgpu::TextureViewDimension::CubeArray),
+    ];
+    let fp32 = format == wgpu::TextureFormat::Rg32Float;
+    let mut pipeline = |point: bool, layout: &wgpu::BindGroupLayout, entry_point: &str| {
+        let module = library
+            .shadow_moments(point, fp32)
+            .expect("the shipped moments shader composes (checked by tests)");
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("shadow moments"),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow moments"),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("shadow moments"),
+            layout: Some(&pipeline_layout),
+            module: &shader,
+            entry_point: Some(entry_point),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    let resolve = [
+        pipeline(false, &resolve_layout, "resolve"),
+        pipeline(true, &resolve_layout, "resolve"),
+    ];
+    let blur = [
+        pipeline(false, &blur_layouts[0], "blur"),
+        pipeline(true, &blur_layouts[1], "blur"),
+    ];
+    Pipelines {
+        resolve_layout,
+        blur_layouts,
+        resolve,
+        blur,
+    }
+}
+
+impl RenderNode for MomentsPass {
+    fn name(&self) -> &'static str {
+        "shadow moments"
+    }
+
+    /// Reads the depth and writes the moments of each storage with a VSM light this frame;
+    /// with none, nothing (the node is culled).
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        self.cache = inputs.options.shadow_cache;
+        if uses_vsm(inputs, ShadowStorage::Spots) {
+            pass.read(frame.spot_maps);
+            pass.write(frame.spot_moments);
+        }
+        if uses_vsm(inputs, ShadowStorage::Points) {
+            pass.read(frame.point_maps);
+            pass.write(frame.point_moments);
+        }
+    }
+
+    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        self.plan(ctx);
+        if self.jobs.is_empty() {
+            return;
+        }
+        let device = &ctx.gpu.device;
+        let format = ctx.shadows.spot_moments.moments.texture.format();
+        let pipelines = self
+            .pipelines
+            .get_or_insert_with(|| create_pipelines(device, ctx.library, format));
+        // NOTE: one uniform entry per dispatch: the resolve and, with a blur, both axes.
+        self.data.clear();
+        for job in &self.jobs {
+            let side = if job.storage == 0 {
+                ctx.shadows.spots.side
+            } else {
+                ctx.shadows.points.side
+            };
+            let stages = if job.blur > 0 { 3 } else { 1 };
+            for axis in 0..stages as u32 {
+                self.data.push(MomentsJobGpu {
+                    first_layer: job.first,
+                    side,
+                    radius: job.blur,
+                    axis: axis.saturating_sub(1),
+                    near: job.near,
+                    range: job.range,
+                    _pad: [0; 58],
+                });
+            }
+        }
+        let needed = self.data.len();
+        if self.jobs_buffer.as_ref().is_none_or(|(_, n)| *n < needed) {
+            let capacity = needed.next_power_of_two().max(8);
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shadow moments jobs"),
+                size: (capacity * size_of::<MomentsJobGpu>()) as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.jobs_buffer = Some((buffer, capacity));
+        }
+        let Some((buffer, _)) = &self.jobs_buffer else {
+            return;
+        };
+        ctx.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.data));
+        let stores: [(&DepthArray, &MomentArray); 2] = [
+            (&ctx.shadows.spots, &ctx.shadows.spot_moments),
+            (&ctx.shadows.points, &ctx.shadows.point_moments),
+        ];
+        let groups = stores.map(|(depth, moments)| bind_groups(device, pipelines, buffer, depth, moments));
+        let mut entry = 0;
+        for job in &self.jobs {
+            let [resolve, blur_x, blur_y] = &groups[job.storage];
+            let side = self.data[entry].side;
+            self.name.clear();
+            let kind = if job.storage == 0 { "spot" } else { "point" };
+            // NOTE: writing to a String cannot fail.
+            let _ = write!(self.name, "shadow moments {kind} {}", job.light);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&self.name),
+                timestamp_writes: ctx.timer.compute_pass(&self.name),
+            });
+            let stages: &[(&wgpu::ComputePipeline, &wgpu::BindGroup)] = if job.blur > 0 {
+                &[
+                    (&pipelines.resolve[job.storage], resolve),
+                    (&pipelines.blur[job.storage], blur_x),
+                    (&pipelines.blur[job.storage], blur_y),
+                ]
+            } else {
+                &[(&pipelines.resolve[job.storage], resolve)]
+            };
+            for &(pipeline, group) in stages {
+                let offset = (entry * size_of::<MomentsJobGpu>()) as u32;
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[offset]);
+                pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), job.layers);
+                entry += 1;
+            }
+        }
+    }
+}
+
+/// The resolve group and both blur groups (x: moments → scratch, y: scratch → moments) of
+/// one storage.
+fn bind_groups(
+    device: &wgpu::Device,
+    pipelines: &Pipelines,
+    buffer: &wgpu::Buffer,
+    depth: &DepthArray,
+    moments: &MomentArray,
+) -> [wgpu::BindGroup; 3] {
+    let job = wgpu::BindGroupEntry {
+        binding: 2,
+        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(size_of::<MomentsJobGpu>() as u64),
+        }),
+    };
+    fn view(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+        wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        }
+    }
+    let resolve = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadow moments resolve"),
+        layout: &pipelines.resolve_layout,
+        entries: &[
+            view(0, &depth.flat_view),
+            view(1, &moments.moments.storage),
+            job.clone(),
+        ],
+    });
+    let layout = &pipelines.blur_layouts[usize::from(moments.cube)];
+    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("shadow moments blur"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    let blur = |from: &wgpu::TextureView, to: &wgpu::TextureView| {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow moments blur"),
+            layout,
+            entries: &[
+                view(1, to),
+                job.clone(),
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                view(4, from),
+            ],
+        })
+    };
+    let blur_x = blur(&moments.moments.sampled, &moments.scratch.storage);
+    let blur_y = blur(&moments.scratch.sampled, &moments.moments.storage);
+    [resolve, blur_x, blur_y]
+}
+
+impl MomentsPass {
+    /// Lists the VSM lights whose moments must be made this frame (their depth changed, the
+    /// allocations are new, or the cache is off), and marks their layers as holding them.
+    fn plan(&mut self, ctx: &FrameContext<'_>) {
+        self.jobs.clear();
+        let views = &ctx.shadow_views.views;
+        let ids = [
+            (ctx.shadows.spot_moments.id, ctx.shadows.spots.id),
+            (ctx.shadows.point_moments.id, ctx.shadows.points.id),
+        ];
+        for (held, &(moments, depth)) in self.held.iter_mut().zip(&ids) {
+            if (held.0, held.1) != (moments, depth) {
+                *held = (moments, depth, Vec::new());
+            }
+        }
+        let mut v = 0;
+        while v < views.len() {
+            let view = &views[v];
+            let (storage, layers) = match view.kind {
+                ShadowViewKind::Spot => (0, 1),
+                ShadowViewKind::PointFace(0) => (1, FACES),
+                _ => {
+                    v += 1;
+                    continue;
+                }
+            };
+            let group = &views[v..(v + layers).min(views.len())];
+            v += layers;
+            let Some(settings) = ctx.lights.view_settings(view) else {
+                continue;
+            };
+            if settings.mode != ShadowMode::Vsm {
+                continue;
+            }
+            let (near, range) = match storage {
+                0 => ctx
+                    .lights
+                    .spot_at(view.light)
+                    .and_then(|s| s.shadow)
+                    .map(|s| (s.near, s.far)),
+                _ => ctx
+                    .lights
+                    .point_at(view.light)
+                    .and_then(|p| p.shadow)
+                    .map(|p| (p.near, p.range)),
+            }
+            .unwrap_or((0.05, 1.0));
+            let versions = &mut self.held[storage].2;
+            let last = group.iter().map(|g| g.slot as usize + 1).max().unwrap_or(0);
+            if versions.len() < last {
+                versions.resize(last, 0);
+            }
+            let fresh = group.iter().all(|g| versions[g.slot as usize] == g.version);
+            if self.cache && fresh {
+                continue;
+            }
+            for g in group {
+                versions[g.slot as usize] = g.version;
+            }
+            let first_of_kind = if storage == 0 {
+                ctx.lights.suns.len()
+            } else {
+                ctx.lights.suns.len() + ctx.lights.spots.len()
+            };
+            self.jobs.push(Job {
+                storage,
+                first: view.slot,
+                layers: group.len() as u32,
+                near,
+                range,
+                blur: settings.vsm_blur,
+                light: (view.light as usize).saturating_sub(first_of_kind),
+            });
+        }
+    }
+}
