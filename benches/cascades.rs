@@ -3,7 +3,8 @@
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
 //! camera culling — with the camera still and moving (`shadow_plugin_frame_*`), and spot-light views with a
 //! brute-force cull of 10k casters per light (`spot_views_and_culling`) and as the engine's
-//! system does it (`spot_shadow_view_system`).
+//! system does it (`spot_shadow_view_system`), and point lights' six faces each as the engine
+//! does them, still and moving (`point_shadow_view_system_*`).
 
 use std::hint::black_box;
 
@@ -16,8 +17,8 @@ use penumbra::ecs::frame_lights::update_frame_lights;
 use penumbra::ecs::shadow_views::{ShadowLightBudget, update_shadow_views};
 use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::{
-    Camera3d, DirectionalLight, GlobalTransform, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, ShadowPlugin,
-    SpotLight, Transform,
+    Camera3d, DirectionalLight, GlobalTransform, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, PointLight,
+    ShadowPlugin, ShadowViews, SpotLight, Transform,
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
@@ -256,44 +257,133 @@ fn spot_views_and_culling(c: &mut Criterion) {
 /// The light systems as the engine runs them, in a scene with spot lights only: collect and
 /// rank the lights under the budget, build each view and cull the 10k casters into its draw
 /// group, for 1, 16 and 64 shadowed spot lights of 30 m range placed over the casters (the
-/// budget raised to fit them).
+/// budget raised to fit them), still (nothing culled again) and moving (every light moves
+/// every frame, so every view is culled again). Throughput is in lights.
 fn spot_shadow_view_system(c: &mut Criterion) {
-    let mut group = c.benchmark_group("spot_shadow_view_system_10k");
-    group.sample_size(20);
-    for lights in [1usize, 16, 64] {
-        let mut app = plugin_app(10_000, false);
-        let world = app.world_mut();
-        world.resource_mut::<ShadowLightBudget>().lights.spot = lights;
-        let mut s = 7u64;
-        for _ in 0..lights {
-            let position = Vec3::new(
-                next_unit(&mut s) * 2000.0 - 1000.0,
-                12.0,
-                next_unit(&mut s) * 2000.0 - 1000.0,
-            );
-            let spot = SpotLight {
-                range: 30.0,
-                outer_angle: 40f32.to_radians(),
-                ..SpotLight::default()
-            };
-            world.spawn((
-                spot,
-                Transform::from_translation(position).looking_at(position - Vec3::Y, Vec3::Z),
-            ));
+    for (name, step) in [
+        ("spot_shadow_view_system_10k", 0.0),
+        ("spot_shadow_view_system_moving_10k", 0.3),
+    ] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(20);
+        for lights in [1usize, 16, 64] {
+            let mut app = plugin_app(10_000, false);
+            let world = app.world_mut();
+            world.resource_mut::<ShadowLightBudget>().lights.spot = lights;
+            let mut s = 7u64;
+            for _ in 0..lights {
+                let position = Vec3::new(
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                    12.0,
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                );
+                let spot = SpotLight {
+                    range: 30.0,
+                    outer_angle: 40f32.to_radians(),
+                    ..SpotLight::default()
+                };
+                world.spawn((
+                    spot,
+                    Transform::from_translation(position).looking_at(position - Vec3::Y, Vec3::Z),
+                ));
+            }
+            app.update();
+            let mut schedule = Schedule::default();
+            schedule.add_systems((update_frame_lights, update_shadow_views).chain());
+            let mut frame = 0u32;
+            group.throughput(Throughput::Elements(lights as u64));
+            group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
+                b.iter(|| {
+                    if step > 0.0 {
+                        move_lights::<SpotLight>(&mut app, &mut frame, step);
+                    }
+                    schedule.run(app.world_mut())
+                })
+            });
         }
-        app.update();
-        let mut schedule = Schedule::default();
-        schedule.add_systems((update_frame_lights, update_shadow_views).chain());
-        group.throughput(Throughput::Elements(lights as u64));
-        group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
-            b.iter(|| schedule.run(app.world_mut()))
-        });
+        group.finish();
     }
-    group.finish();
+}
+
+/// Moves every light with component `L` sideways by `step` metres, alternating direction
+/// (its global transform directly: the bench schedules run without transform propagation).
+fn move_lights<L: bevy_ecs::component::Component>(app: &mut App, frame: &mut u32, step: f32) {
+    let world = app.world_mut();
+    let sign = if frame.is_multiple_of(2) { step } else { -step };
+    let mut q = world.query_filtered::<&mut GlobalTransform, bevy_ecs::query::With<L>>();
+    for mut global in q.iter_mut(world) {
+        let mut affine = global.affine();
+        affine.translation += glam::Vec3A::X * sign;
+        *global = GlobalTransform::from(affine);
+    }
+    *frame += 1;
+}
+
+/// Point lights as the engine runs them, in a scene of 10k casters: collect and rank the
+/// lights under the budget, build each light's six face views, plan their cache versions and
+/// cull the casters into the faces that need it, for 1, 8 and 32 shadowed point lights of
+/// 30 m range over the casters (the budget raised to fit them). Still: nothing moves, so no
+/// face is culled or re-versioned (the bench asserts it). Moving: every light moves every
+/// frame, so every face is culled again. Throughput is in lights.
+fn point_shadow_view_system(c: &mut Criterion) {
+    for (name, step) in [
+        ("point_shadow_view_system_still_10k", 0.0),
+        ("point_shadow_view_system_moving_10k", 0.3),
+    ] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(20);
+        for lights in [1usize, 8, 32] {
+            let mut app = plugin_app(10_000, false);
+            let world = app.world_mut();
+            world.resource_mut::<ShadowLightBudget>().lights.point = lights;
+            let mut s = 17u64;
+            for _ in 0..lights {
+                let position = Vec3::new(
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                    6.0,
+                    next_unit(&mut s) * 2000.0 - 1000.0,
+                );
+                let point = PointLight {
+                    range: 30.0,
+                    ..PointLight::default()
+                };
+                world.spawn((point, Transform::from_translation(position)));
+            }
+            app.update();
+            let mut schedule = Schedule::default();
+            schedule.add_systems((update_frame_lights, update_shadow_views).chain());
+            schedule.run(app.world_mut());
+            let versions = |app: &App| -> Vec<u64> {
+                app.world()
+                    .resource::<ShadowViews>()
+                    .views
+                    .iter()
+                    .map(|v| v.version)
+                    .collect()
+            };
+            let before = versions(&app);
+            assert_eq!(before.len(), 6 * lights);
+            let mut frame = 0u32;
+            group.throughput(Throughput::Elements(lights as u64));
+            group.bench_with_input(BenchmarkId::from_parameter(lights), &lights, |b, _| {
+                b.iter(|| {
+                    if step > 0.0 {
+                        move_lights::<PointLight>(&mut app, &mut frame, step);
+                    }
+                    schedule.run(app.world_mut())
+                })
+            });
+            if step == 0.0 {
+                assert_eq!(versions(&app), before, "a still scene re-versioned a face");
+            }
+        }
+        group.finish();
+    }
 }
 
 criterion_group!(
     benches,
+    point_shadow_view_system,
     spot_shadow_view_system,
     cascades_and_culling,
     cascade_and_culling_systems,

@@ -1,6 +1,6 @@
 // Variance shadow maps: turns one light's depth layers into the moments `(z, z²)` of its
 // normalised distance (`resolve`), then pre-filters them with a separable Gaussian
-// (`blur`, once along each axis). Spot lights store the distance along the light's axis over
+// (`blur`, once along each axis: from the moments into a one-light scratch, and back). Spot lights store the distance along the light's axis over
 // its range; point lights the distance from the light over its range, so the six faces of a
 // cube agree along their shared edges, and their blur samples the cube along the face's axes:
 // a tap past a face edge reads the neighbouring face (no seam).
@@ -9,8 +9,11 @@
 // −Y, +Z, −Z), MOMENTS_FP32 (the moments are `rg32float`, else `rgba16float`).
 
 struct MomentsJob {
-    // First layer of the light (its cube's first face for a point light).
-    first_layer: u32,
+    // First layer of the light in the source (depth, moments or scratch) and in the
+    // destination (moments or scratch: the scratch holds one light, from layer 0); a point
+    // light's layers start at its cube's first face.
+    src_layer: u32,
+    dst_layer: u32,
     // Texels per side of a layer.
     side: u32,
     // Blur radius in texels (the Gaussian's sigma is half of it).
@@ -21,7 +24,6 @@ struct MomentsJob {
     near: f32,
     range: f32,
     padding_a: f32,
-    padding_b: f32,
 }
 
 @group(0) @binding(0) var depth_layers: texture_depth_2d_array;
@@ -68,8 +70,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= job.side || id.y >= job.side {
         return;
     }
-    let layer = job.first_layer + id.z;
-    let depth = clamp(textureLoad(depth_layers, id.xy, layer, 0), 0.0, 1.0);
+    let depth = clamp(textureLoad(depth_layers, id.xy, job.src_layer + id.z, 0), 0.0, 1.0);
     let near = job.near;
     let range = job.range;
 #ifdef MOMENTS_POINT
@@ -83,7 +84,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = near / (range - near);
     let z = a * range / (depth + a) / range;
 #endif
-    store(id.xy, layer, vec2<f32>(z, z * z));
+    store(id.xy, job.dst_layer + id.z, vec2<f32>(z, z * z));
 }
 
 // Gaussian weight of a tap `k` texels away for a radius of `radius` texels (sigma = radius / 2).
@@ -105,7 +106,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
     var weights = 0.0;
 #ifdef MOMENTS_POINT
     let face = id.z;
-    let cube = i32(job.first_layer / 6u);
+    let cube = i32(job.src_layer / 6u);
     let st = texel_st(id.xy);
     let centre = face_direction(face, st);
     // The face's s or t axis in world space: a step of one texel along it.
@@ -117,7 +118,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
         weights += w;
     }
 #else
-    let layer = job.first_layer + id.z;
+    let layer = job.src_layer + id.z;
     let uv = (vec2<f32>(id.xy) + 0.5) / f32(job.side);
     let step = select(vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), job.axis == 1u) / f32(job.side);
     for (var k = -r; k <= r; k++) {
@@ -126,5 +127,5 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
         weights += w;
     }
 #endif
-    store(id.xy, job.first_layer + id.z, sum / weights);
+    store(id.xy, job.dst_layer + id.z, sum / weights);
 }

@@ -108,9 +108,9 @@ struct RenderArgs {
 #[derive(Args)]
 struct BenchArgs {
     /// Scene files (default: the contact-hardening pillars, the benchmark field, the thin
-    /// casters under a grazing sun and the spot-light scene). A scene with no directional
-    /// light and a shadowed spot light is scored on its first shadowed spot light, any other
-    /// on its first sun.
+    /// casters under a grazing sun, the spot-light and the point-light scenes). A scene with
+    /// no directional light is scored on its first shadowed spot light, else its first
+    /// shadowed point light; any other on its first sun.
     #[arg(long, num_args = 1..)]
     scenes: Vec<PathBuf>,
     /// Folder for report.md and plot.png.
@@ -348,6 +348,7 @@ fn bench(args: BenchArgs) -> Result<(), String> {
             "assets/bench/field.ron",
             "assets/scenes/thin.ron",
             "assets/scenes/spot.ron",
+            "assets/scenes/point.ron",
         ]
         .map(PathBuf::from)
         .to_vec()

@@ -1,6 +1,6 @@
 //! A static scene costs no heap allocation per frame: once the instances are built and the
 //! draw-group vectors have grown, cascades and culling reuse their buffers, and so do the
-//! spot-light shadow views.
+//! spot- and point-light shadow views (still or moving).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -132,4 +132,82 @@ fn spot_shadow_views_reuse_their_buffers() {
         "every light sees casters"
     );
     assert_eq!(per_frame, 0.0, "spot shadow views allocate {per_frame} times per frame");
+}
+
+#[test]
+fn point_shadow_views_reuse_their_buffers_still_and_moving() {
+    use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
+    use penumbra::ecs::frame_lights::update_frame_lights;
+    use penumbra::ecs::shadow_views::update_shadow_views;
+    use penumbra::ecs::{GlobalTransform, PointLight, ShadowViews};
+
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    let world = app.world_mut();
+    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::ONE));
+    let material = world.resource_mut::<Materials>().add(Material::default());
+    world.spawn((
+        Camera3d::default(),
+        Transform::from_translation(Vec3::new(0.0, 2.0, 0.0)).looking_at(Vec3::new(5.0, 0.0, -10.0), Vec3::Y),
+    ));
+    for i in 0..10_000 {
+        let p = Vec3::new((i % 100) as f32 * 3.0 - 150.0, 0.5, (i / 100) as f32 * -3.0);
+        world.spawn((Transform::from_translation(p), Mesh3d(mesh), MeshMaterial3d(material)));
+    }
+    // Eight point lights over the grid, all within the budget.
+    world.resource_mut::<penumbra::ecs::ShadowLightBudget>().lights.point = 8;
+    for k in 0..8 {
+        let p = Vec3::new(k as f32 * 30.0 - 120.0, 4.0, -30.0 * (k % 4) as f32);
+        let light = PointLight {
+            range: 12.0,
+            ..PointLight::default()
+        };
+        world.spawn((light, Transform::from_translation(p)));
+    }
+    for _ in 0..3 {
+        app.update();
+    }
+    let mut schedule = Schedule::default();
+    schedule.add_systems((update_frame_lights, update_shadow_views).chain());
+    // NOTE: the lights move back and forth by 30 cm, so every face is culled again each frame
+    // (through a query made once: making one allocates).
+    let mut lights = app.world_mut().query::<(&PointLight, &mut GlobalTransform)>();
+    let mut step = |world: &mut bevy_ecs::world::World, frame: i32| {
+        let offset = Vec3::X * if frame % 2 == 0 { 0.3 } else { -0.3 };
+        for (_, mut global) in lights.iter_mut(world) {
+            *global = GlobalTransform::from_translation(global.translation() + offset);
+        }
+    };
+    for frame in 0..4 {
+        step(app.world_mut(), frame);
+        schedule.run(app.world_mut());
+    }
+    let versions = |app: &App| -> Vec<u64> {
+        let views = app.world().resource::<ShadowViews>();
+        views.views.iter().map(|v| v.version).collect()
+    };
+    for moving in [false, true] {
+        let first = versions(&app);
+        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        for frame in 0..10 {
+            if moving {
+                step(app.world_mut(), frame);
+            }
+            schedule.run(app.world_mut());
+        }
+        let per_frame = (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / 10.0;
+        // Still, every face keeps its version; moving, every face got a new one.
+        let last = versions(&app);
+        let changed = first.iter().zip(&last).filter(|(a, b)| a != b).count();
+        assert_eq!(changed, if moving { 48 } else { 0 }, "moving: {moving}");
+        let views = app.world().resource::<ShadowViews>();
+        assert_eq!(views.views.len(), 48, "six faces per light");
+        let faces_with_casters = views.groups.iter().filter(|g| g.instance_count() > 0).count();
+        assert!(faces_with_casters >= 8, "only {faces_with_casters} faces see casters");
+        assert_eq!(
+            per_frame, 0.0,
+            "point shadow views (moving: {moving}) allocate {per_frame} times per frame"
+        );
+    }
 }

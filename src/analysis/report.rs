@@ -143,7 +143,7 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
     if single_view {
         writeln!(
             out,
-            "`—`: no penumbra pixel in that cascade. `n/a`: the scored light has no such view (a spot light has one, shown as cascade 0).\n"
+            "`—`: no penumbra pixel in that cascade. `n/a`: the scored light has no such view (a spot light has one, and a point light's six faces count as one; each shown as cascade 0).\n"
         )?;
     } else {
         writeln!(out, "`—`: no penumbra pixel in that cascade.\n")?;

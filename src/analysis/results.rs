@@ -26,15 +26,23 @@ pub enum ScoredLight {
         /// Radius of the emitter sphere, metres.
         radius: f32,
     },
+    /// A point light, against the visible fraction of its emitter sphere; its six cube faces
+    /// are reported together as cascade 0.
+    Point {
+        /// Its number among the scene's point lights, in the renderer's order.
+        index: usize,
+        /// Radius of the emitter sphere, metres.
+        radius: f32,
+    },
 }
 
 impl ScoredLight {
     /// How many of the per-cascade columns can hold this light's errors: 4 for a sun (a
-    /// cascade it does not have shows as empty), 1 for a spot light.
+    /// cascade it does not have shows as empty), 1 for a spot or point light.
     pub fn views(&self) -> usize {
         match self {
             Self::Sun { .. } => 4,
-            Self::Spot { .. } => 1,
+            Self::Spot { .. } | Self::Point { .. } => 1,
         }
     }
 
@@ -47,6 +55,9 @@ impl ScoredLight {
             ),
             Self::Spot { index, radius } => format!(
                 "spot light {index}, radius {radius:.2} m, against the sphere-light reference (the visible fraction of the emitter sphere, casters only up to the light), over the points inside its shadow view"
+            ),
+            Self::Point { index, radius } => format!(
+                "point light {index}, radius {radius:.2} m, against the sphere-light reference (the visible fraction of the emitter sphere, casters only up to the light), over the points within its range"
             ),
         }
     }

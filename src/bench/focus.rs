@@ -1,15 +1,15 @@
 //! Which light the benchmark scores on a scene, and the reference it is scored with.
 //!
-//! The rule ([`choose_focus`]): a scene with no directional light and at least one shadowed
-//! spot light scores its first shadowed spot light, against the visible fraction of the
-//! light's emitter sphere; every other scene scores its first directional light against the
-//! visible fraction of the sun's disc, as the benchmark did before it knew spot lights.
+//! The rule ([`choose_focus`]): a scene with no directional light scores its first shadowed
+//! spot light, or without one its first shadowed point light, against the visible fraction of
+//! the light's emitter sphere; every other scene scores its first directional light against
+//! the visible fraction of the sun's disc, as the benchmark did before it knew other lights.
 
 use bevy_ecs::entity::Entity;
 use glam::Vec3;
 
 use crate::analysis::results::ScoredLight;
-use crate::ecs::frame_lights::{FrameLights, SpotLightView};
+use crate::ecs::frame_lights::{FrameLights, PointLightView, SpotLightView};
 use crate::math::light_budget::LightKind;
 use crate::reference::{
     ReferencePoint, ReferenceScene, ReferenceSettings, SphereLight, SunDisc, Visibility, sphere_light_visibility,
@@ -23,6 +23,8 @@ pub enum FocusKind {
     Sun,
     /// A spot light: one perspective view, the sphere-light reference.
     Spot,
+    /// A point light: a cube of six views, the sphere-light reference.
+    Point,
 }
 
 /// The light a scene scores, by entity (so it is found again whatever the order of the
@@ -35,20 +37,26 @@ pub struct Focus {
     pub entity: Entity,
 }
 
-/// The light the benchmark scores among `lights`: the first shadowed spot light (in the
-/// renderer's order) when there is no directional light, else the first directional light.
-/// A spot light counts as shadowed when it asks for shadows and has a shadow view this frame.
-/// None when the scene has neither.
+/// The light the benchmark scores among `lights`: when there is no directional light, the
+/// first shadowed spot light (in the renderer's order), else the first shadowed point light;
+/// otherwise the first directional light. A light counts as shadowed when it asks for
+/// shadows and has its shadow views this frame. None when the scene has none of these.
 pub fn choose_focus(lights: &FrameLights) -> Option<Focus> {
     if lights.suns.is_empty() {
         let spot = lights
             .spots
             .iter()
-            .find(|s| s.light.shadows_enabled && s.shadow.is_some())?;
-        return Some(Focus {
-            kind: FocusKind::Spot,
-            entity: spot.entity,
-        });
+            .find(|s| s.light.shadows_enabled && s.shadow.is_some())
+            .map(|s| (FocusKind::Spot, s.entity));
+        let point = || {
+            lights
+                .points
+                .iter()
+                .find(|p| p.light.shadows_enabled && p.shadow.is_some())
+                .map(|p| (FocusKind::Point, p.entity))
+        };
+        let (kind, entity) = spot.or_else(point)?;
+        return Some(Focus { kind, entity });
     }
     lights.sun().map(|sun| Focus {
         kind: FocusKind::Sun,
@@ -61,7 +69,7 @@ pub fn choose_focus(lights: &FrameLights) -> Option<Focus> {
 pub enum FocusReference {
     /// The sun's disc.
     Sun(SunDisc),
-    /// A spot light's emitter sphere.
+    /// A spot or point light's emitter sphere.
     Sphere(SphereLight),
 }
 
@@ -91,6 +99,14 @@ impl Focus {
         lights.spots.iter().enumerate().find(|(_, s)| s.entity == self.entity)
     }
 
+    /// The focus point light this frame (None for another focus, or when it is gone).
+    fn point<'a>(&self, lights: &'a FrameLights) -> Option<(usize, &'a PointLightView)> {
+        if self.kind != FocusKind::Point {
+            return None;
+        }
+        lights.points.iter().enumerate().find(|(_, p)| p.entity == self.entity)
+    }
+
     /// Its index in the renderer's light list (suns, then spots, then points), for
     /// [`Renderer::set_focus_light`](crate::render::Renderer::set_focus_light).
     pub fn light_index(&self, lights: &FrameLights) -> Option<usize> {
@@ -100,6 +116,7 @@ impl Focus {
                 Some(lights.light_index(LightKind::Directional, i))
             }
             FocusKind::Spot => Some(lights.light_index(LightKind::Spot, self.spot(lights)?.0)),
+            FocusKind::Point => Some(lights.light_index(LightKind::Point, self.point(lights)?.0)),
         }
     }
 
@@ -117,6 +134,13 @@ impl Focus {
                 Some(ScoredLight::Spot {
                     index,
                     radius: spot.light.radius,
+                })
+            }
+            FocusKind::Point => {
+                let (index, point) = self.point(lights)?;
+                Some(ScoredLight::Point {
+                    index,
+                    radius: point.light.radius,
                 })
             }
         }
@@ -140,13 +164,21 @@ impl Focus {
                     radius: spot.light.radius,
                 }))
             }
+            FocusKind::Point => {
+                let (_, point) = self.point(lights)?;
+                Some(FocusReference::Sphere(SphereLight {
+                    center: point.position,
+                    radius: point.light.radius,
+                }))
+            }
         }
     }
 
     /// The world size of one shadow-map texel, the step of the stability paths: cascade 0's
     /// texel for a sun; for a spot light, its map's texel at the distance of `target` (the
-    /// camera's target, relative to the render origin) along the light's axis. 1 cm where
-    /// neither is known.
+    /// camera's target, relative to the render origin) along the light's axis; for a point
+    /// light, its face's texel at the distance of `target` along the face's axis. 1 cm where
+    /// none is known.
     pub fn texel(&self, lights: &FrameLights, target: Vec3) -> f32 {
         const FALLBACK: f32 = 0.01;
         let texel = match self.kind {
@@ -160,6 +192,10 @@ impl Focus {
                 let view = spot.shadow?;
                 Some(view.texel_size_at((target - spot.position).dot(spot.direction)))
             }),
+            FocusKind::Point => self.point(lights).and_then(|(_, point)| {
+                let view = point.shadow?;
+                Some(view.texel_per_metre * (target - point.position).abs().max_element())
+            }),
         };
         texel.filter(|t| t.is_finite() && *t > 0.0).unwrap_or(FALLBACK)
     }
@@ -172,8 +208,9 @@ mod tests {
     use super::*;
     use crate::ecs::components::DirectionalLight;
     use crate::ecs::frame_lights::SunView;
-    use crate::ecs::lights::SpotLight;
+    use crate::ecs::lights::{PointLight, SpotLight};
     use crate::math::cascades::CascadeSet;
+    use crate::math::point::point_view;
     use crate::math::spot::{SpotInput, spot_view};
     use crate::settings::ShadowSettings;
 
@@ -252,6 +289,60 @@ mod tests {
         lights.spots[2].shadow = None;
         assert_eq!(choose_focus(&lights), None);
         assert_eq!(choose_focus(&FrameLights::default()), None);
+    }
+
+    /// A point light 3 m up with a 512² cube when `shadowed`.
+    fn point(entity: Entity, radius: f32, shadowed: bool) -> PointLightView {
+        let position = Vec3::new(0.0, 3.0, 0.0);
+        let light = PointLight {
+            radius,
+            ..PointLight::default()
+        };
+        PointLightView {
+            entity,
+            position,
+            light,
+            settings: ShadowSettings::default(),
+            shadow: point_view(position, 0.05, light.range, 512).filter(|_| shadowed),
+        }
+    }
+
+    #[test]
+    fn a_scene_without_suns_or_shadowed_spots_scores_its_first_shadowed_point_light() {
+        let mut world = World::new();
+        let [s, a, b] = [(); 3].map(|_| world.spawn_empty().id());
+        let mut lights = FrameLights {
+            spots: vec![spot(s, 0.1, false)],
+            points: vec![point(a, 0.1, false), point(b, 0.2, true)],
+            ..FrameLights::default()
+        };
+        let focus = choose_focus(&lights).expect("a shadowed point light");
+        assert_eq!(
+            focus,
+            Focus {
+                kind: FocusKind::Point,
+                entity: b
+            }
+        );
+        // After the spot light in the renderer's list: spot 0, point 0, point 1.
+        assert_eq!(focus.light_index(&lights), Some(2));
+        assert_eq!(
+            focus.scored_light(&lights),
+            Some(ScoredLight::Point { index: 1, radius: 0.2 })
+        );
+        assert_eq!(
+            focus.reference(&lights),
+            Some(FocusReference::Sphere(SphereLight {
+                center: Vec3::new(0.0, 3.0, 0.0),
+                radius: 0.2
+            }))
+        );
+        // The face texel at the target's distance along its face's axis (3 m down): 2 · 3 / 512.
+        let texel = focus.texel(&lights, Vec3::new(1.0, 0.0, 0.5));
+        assert!((texel - 6.0 / 512.0).abs() < 1e-5, "{texel}");
+        // A shadowed spot light comes first.
+        lights.spots[0].shadow = spot(s, 0.1, true).shadow;
+        assert_eq!(choose_focus(&lights).map(|f| f.kind), Some(FocusKind::Spot));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The presets the benchmark scores: each a small change on top of the scored light's own
 //! settings. Every preset runs on every scene; those that only change cascade blending render
-//! a spot light (one view, nothing to blend) as their base preset does.
+//! a spot or point light (nothing to blend) as their base preset does, and the VSM presets
+//! render a sun (which has no moments) with PCF.
 
 use crate::settings::{PcssQuality, ShadowMode, ShadowSettings};
 
@@ -25,8 +26,13 @@ fn pcss(s: &mut ShadowSettings, quality: PcssQuality) {
     s.pcss_quality = quality;
 }
 
-/// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, and receiver-plane bias
-/// and cascade blending switched off on the mid presets.
+fn vsm(s: &mut ShadowSettings, blur: u32) {
+    s.mode = ShadowMode::Vsm;
+    s.vsm_blur = blur;
+}
+
+/// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, receiver-plane bias and
+/// cascade blending switched off on the mid presets, and VSM without and with pre-blur.
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -105,6 +111,16 @@ pub fn presets() -> Vec<Preset> {
                 pcss(s, PcssQuality::Medium);
                 s.blend_width = 0.0;
             },
+        },
+        Preset {
+            name: "vsm",
+            description: "VSM, bilinear moments only (spot and point lights)",
+            apply: |s| vsm(s, 0),
+        },
+        Preset {
+            name: "vsm-blur4",
+            description: "VSM with a 4-texel Gaussian pre-blur (spot and point lights)",
+            apply: |s| vsm(s, 4),
         },
     ]
 }

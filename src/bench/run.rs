@@ -257,8 +257,8 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
     })
 }
 
-/// What a scene scored; for a spot light, that the cascade-blending presets score as their
-/// base presets.
+/// What a scene scored; for a spot or point light, that the cascade-blending presets score
+/// as their base presets; for a sun, that the VSM presets score as PCF.
 fn scene_light_notes(scene: &str, scores: &SceneScores) -> Vec<String> {
     let mut notes = vec![format!(
         "Scene {scene}: {} ({} points scored; shimmer step {:.1} mm).",
@@ -266,10 +266,16 @@ fn scene_light_notes(scene: &str, scores: &SceneScores) -> Vec<String> {
         scores.points,
         scores.texel * 1e3
     )];
-    if matches!(scores.light, ScoredLight::Spot { .. }) {
-        notes.push(format!(
+    match scores.light {
+        ScoredLight::Spot { .. } => notes.push(format!(
             "Scene {scene}: a spot light has one view and nothing to blend, so the -no-blend presets render as their base presets there."
-        ));
+        )),
+        ScoredLight::Point { .. } => notes.push(format!(
+            "Scene {scene}: a point light's cube faces are filtered across their edges and have nothing to blend, so the -no-blend presets render as their base presets there."
+        )),
+        ScoredLight::Sun { .. } => notes.push(format!(
+            "Scene {scene}: a sun has no VSM (its moment technique is EVSM, to come), so the vsm presets render with the scene's PCF there."
+        )),
     }
     notes
 }

@@ -120,12 +120,14 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
     let focus = session.focus().ok_or_else(|| BenchError::NoLight(name.clone()))?;
     renderer.set_focus_light(session.focus_light_index());
     let first = analysis_frame(&mut session, &mut renderer);
-    // NOTE: a spot light's shadow exists only inside its view (the analysis "cascade" 0);
-    // outside it the light is dark and its shadow factor is 1 by definition, so only the
-    // points inside are scored. A sun's points are all scored, as before spot lights.
+    // NOTE: a spot light's shadow exists only inside its view (the analysis "cascade" 0),
+    // a point light's within its range (a cube face, "cascade" 0–5); outside, the light is
+    // dark and its shadow factor is 1 by definition, so only the points inside are scored. A
+    // sun's points are all scored, as before other lights.
     let points = match focus.kind {
         FocusKind::Sun => evaluated_points(&first),
         FocusKind::Spot => evaluated_points_where(&first, |i| first.cascade[i] == 0),
+        FocusKind::Point => evaluated_points_where(&first, |i| first.cascade[i] < 6),
     };
     let lights = session.lights();
     let (target, light) = focus
@@ -180,7 +182,15 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
         session.apply_settings(preset.apply);
         let image = analysis_frame(&mut session, &mut renderer);
         let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
-        let cascade: Vec<u8> = points.pixels.iter().map(|&i| image.cascade[i]).collect();
+        // NOTE: a point light's faces are reported together, as its one view.
+        let cascade: Vec<u8> = points
+            .pixels
+            .iter()
+            .map(|&i| match focus.kind {
+                FocusKind::Point => u8::from(image.cascade[i] >= 6) * 255,
+                _ => image.cascade[i],
+            })
+            .collect();
         let all = |_: usize| true;
         let errors = error_metrics(&technique, &reference_values, all, &thresholds);
         let per_cascade = per_cascade(&technique, &reference_values, &cascade, all, &thresholds);

@@ -48,17 +48,20 @@ impl SceneSession {
         session.camera = session.camera_transform();
         session.app.update();
         session.focus = choose_focus(session.lights());
-        if let Some(focus) = session.focus.filter(|f| f.kind == FocusKind::Spot) {
-            // NOTE: a spot light's presets start from its own settings. One without a
-            // settings component gets the settings it is drawn with (the defaults at the
-            // budget's spot resolution) now, so that the presets change a component in place
-            // and never move the light to another archetype (which could reorder the lights).
+        if let Some(focus) = session.focus.filter(|f| f.kind != FocusKind::Sun) {
+            // NOTE: a spot or point light's presets start from its own settings. One without
+            // a settings component gets the settings it is drawn with (the defaults at the
+            // budget's resolution for its kind) now, so that the presets change a component in
+            // place and never move the light to another archetype (which could reorder the
+            // lights).
             let world = session.app.world_mut();
             let own = world.get::<ShadowSettings>(focus.entity).copied();
+            let budget = world.get_resource::<ShadowLightBudget>().copied().unwrap_or_default();
             let base = own.unwrap_or_else(|| ShadowSettings {
-                resolution: world
-                    .get_resource::<ShadowLightBudget>()
-                    .map_or(ShadowLightBudget::default().spot_resolution, |b| b.spot_resolution),
+                resolution: match focus.kind {
+                    FocusKind::Point => budget.point_resolution,
+                    _ => budget.spot_resolution,
+                },
                 ..ShadowSettings::default()
             });
             if own.is_none() {
@@ -71,8 +74,8 @@ impl SceneSession {
     }
 
     /// The light the benchmark scores on this scene (see [`choose_focus`]), chosen when the
-    /// session started; None when the scene has neither a directional nor a shadowed spot
-    /// light.
+    /// session started; None when the scene has neither a directional light nor a shadowed
+    /// spot or point light.
     pub fn focus(&self) -> Option<Focus> {
         self.focus
     }
@@ -107,13 +110,13 @@ impl SceneSession {
     }
 
     /// Sets the scored light's settings to its own from the scene, changed by `apply`: for a
-    /// spot light in focus, that light's settings; otherwise every directional light's (the
-    /// scene's `shadows`, changed).
+    /// spot or point light in focus, that light's settings; otherwise every directional
+    /// light's (the scene's `shadows`, changed).
     pub fn apply_settings(&mut self, apply: fn(&mut ShadowSettings)) {
         let mut settings = self.base;
         apply(&mut settings);
         let world = self.app.world_mut();
-        if let Some(focus) = self.focus.filter(|f| f.kind == FocusKind::Spot) {
+        if let Some(focus) = self.focus.filter(|f| f.kind != FocusKind::Sun) {
             if let Some(mut s) = world.get_mut::<ShadowSettings>(focus.entity) {
                 *s = settings;
             }

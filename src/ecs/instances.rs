@@ -223,9 +223,12 @@ fn rebuild<'a>(
         .collect()
 }
 
-/// Position of `p` along a 3D Morton (Z-order) curve over `bounds`, 10 bits per axis.
+/// Position of `p` along a 3D Morton (Z-order) curve over the cube around `bounds` (its
+/// largest side on every axis), 10 bits per axis. A cube, not the box: in a flat scene (a
+/// 2 km field 40 m high) the box's scale would spend a third of the bits on the thin axis,
+/// and runs of consecutive instances would spread hundreds of metres across.
 fn morton_code(bounds: &Aabb, p: Vec3) -> u32 {
-    let size = (bounds.max - bounds.min).max(Vec3::splat(1e-6));
+    let size = Vec3::splat((bounds.max - bounds.min).max_element().max(1e-6));
     let q = ((p - bounds.min) / size * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
     let spread = |v: f32| {
         let mut x = v as u32 & 0x3ff;

@@ -51,7 +51,8 @@ pub struct CachedView {
 pub struct ViewCache {
     /// One entry per view of the last frame (then of this frame, after [`ViewCache::plan`]).
     pub entries: Vec<CachedView>,
-    spare: Vec<CachedView>,
+    /// Last frame's entries while this frame's are matched to them (taken ones are None).
+    spare: Vec<Option<CachedView>>,
     next_version: u64,
     /// The entries' identities changed order or count this frame.
     pub reordered: bool,
@@ -111,17 +112,29 @@ impl ViewCache {
         versions: &mut Vec<u64>,
     ) {
         // NOTE: moved, not swapped, so both vectors keep the capacity they grew to.
-        self.spare.append(&mut self.entries);
+        self.spare.extend(self.entries.drain(..).map(Some));
         versions.clear();
         let mut reordered = false;
+        // NOTE: views come in last frame's order when nothing was added or removed, so the
+        // first entry not yet taken is tried first: matching is linear, not quadratic, in the
+        // number of views (a point light has six).
+        let mut next = 0;
         for view in views {
-            let found = self
-                .spare
-                .iter()
-                .position(|e| e.entity == view.entity && e.kind == view.kind);
-            reordered |= found != Some(0);
-            let mut entry = match found {
-                Some(k) => self.spare.remove(k),
+            while self.spare.get(next).is_some_and(Option::is_none) {
+                next += 1;
+            }
+            let matches = |e: &Option<CachedView>| {
+                e.as_ref()
+                    .is_some_and(|e| e.entity == view.entity && e.kind == view.kind)
+            };
+            let found = if self.spare.get(next).is_some_and(matches) {
+                Some(next)
+            } else {
+                self.spare.iter().position(matches)
+            };
+            reordered |= found != Some(next);
+            let mut entry = match found.and_then(|k| self.spare[k].take()) {
+                Some(entry) => entry,
                 None => CachedView {
                     entity: view.entity,
                     kind: view.kind,
@@ -163,7 +176,7 @@ impl ViewCache {
             versions.push(entry.version);
             self.entries.push(entry);
         }
-        reordered |= !self.spare.is_empty();
+        reordered |= self.spare.iter().any(Option::is_some);
         self.spare.clear();
         // NOTE: grown now, so the next frame's move allocates nothing.
         self.spare.reserve(self.entries.len());

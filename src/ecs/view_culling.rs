@@ -1,7 +1,8 @@
 //! Culling casters into the draw groups of the shadow views that need it
 //! ([`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views)): a sun's cascades
 //! in one pass over the casters (with each cascade's footprint and shadow LODs), a spot light
-//! against its frustum; and each sun's single-pass list.
+//! against its frustum, a point light's faces against theirs from the casters within its
+//! reach; and each sun's single-pass list.
 
 use bevy_ecs::entity::Entity;
 
@@ -12,11 +13,11 @@ use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::{DrawKey, RenderInstances};
 use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
-use crate::ecs::shadow_views::{CullVolume, ShadowView, ShadowViews};
+use crate::ecs::shadow_views::{CullVolume, ShadowView, ShadowViewKind, ShadowViews};
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
 use crate::math::cascades::Cascade;
-use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked};
+use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked, cull_spheres_sphere_chunked};
 use crate::math::footprint::{ClipProjector, TileMask};
 use crate::settings::{MAX_CASCADES, ShadowSettings};
 
@@ -38,6 +39,10 @@ pub struct ViewScratch {
     pub(crate) single_pass: bool,
     /// Per mesh handle, the mesh each cascade of the sun being culled draws.
     pub(crate) lods: Vec<[MeshHandle; MAX_CASCADES]>,
+    /// The casters within reach of one point light (the candidates of its faces), and the
+    /// light they belong to this frame.
+    pub(crate) point_candidates: Vec<u32>,
+    pub(crate) candidates_of: Option<u32>,
 }
 
 /// Appends each sun's single-pass list after the view groups (none while they are off).
@@ -144,6 +149,7 @@ pub(crate) fn cull_views(
             *owner = None;
         }
     }
+    scratch.candidates_of = None;
     for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {
         let CullVolume::Frustum(frustum) = &view.cull else {
             continue;
@@ -153,14 +159,30 @@ pub(crate) fn cull_views(
         }
         culled = true;
         start_cull(entry);
-        cull_spheres_frustum_chunked(
-            frustum,
-            &instances.caster_centers,
-            &instances.caster_radii,
-            &instances.caster_chunks,
-            &mut scratch.visible,
-            &mut scratch.chunk_scratch,
-        );
+        let (centers, radii) = (&instances.caster_centers, &instances.caster_radii);
+        match (view.kind, lights.point_at(view.light)) {
+            // NOTE: a point light's faces are culled from the casters within its reach, found
+            // once for the six of them.
+            (ShadowViewKind::PointFace(_), Some(point)) => {
+                if scratch.candidates_of != Some(view.light) {
+                    let (center, range) = (point.position, point.light.range);
+                    let candidates = &mut scratch.point_candidates;
+                    cull_spheres_sphere_chunked(center, range, centers, radii, &instances.caster_chunks, candidates);
+                    scratch.candidates_of = Some(view.light);
+                }
+                scratch.visible.clear();
+                let inside = |&&k: &&u32| frustum.intersects_sphere(centers[k as usize], radii[k as usize]);
+                scratch.visible.extend(scratch.point_candidates.iter().filter(inside));
+            }
+            _ => cull_spheres_frustum_chunked(
+                frustum,
+                centers,
+                radii,
+                &instances.caster_chunks,
+                &mut scratch.visible,
+                &mut scratch.chunk_scratch,
+            ),
+        }
         // NOTE: visible casters come in ascending order, so a chunk's members are a run.
         let projector = ClipProjector::new(&view.clip_from_world);
         for run in scratch

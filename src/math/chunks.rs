@@ -164,6 +164,50 @@ pub fn cull_spheres_frustum_chunked(
     }
 }
 
+/// Clears `out` and fills it, in ascending order, with the indices of the spheres that touch
+/// the sphere of `range` around `center` (a point light's reach): chunks wholly outside are
+/// skipped, chunks wholly inside taken whole. Non-finite spheres are rejected. The candidates
+/// a point light's six faces are then culled from.
+pub fn cull_spheres_sphere_chunked(
+    center: Vec3,
+    range: f32,
+    centers: &[Vec3],
+    radii: &[f32],
+    chunks: &SphereChunks,
+    out: &mut Vec<u32>,
+) {
+    out.clear();
+    let n = centers.len().min(radii.len());
+    if !(center.is_finite() && range.is_finite()) {
+        return;
+    }
+    let touches = |c: Vec3, r: f32| c.is_finite() && r.is_finite() && c.distance(center) <= range + r.max(0.0);
+    for (k, (&chunk_center, &chunk_radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
+        let start = k * CHUNK;
+        if start >= n {
+            break;
+        }
+        let end = (start + CHUNK).min(n);
+        if chunk_radius.is_finite() {
+            let distance = chunk_center.distance(center);
+            if distance > range + chunk_radius {
+                continue;
+            }
+            // NOTE: every member lies inside the chunk's sphere, so a chunk within the range
+            // less its radius is inside whole.
+            if distance + chunk_radius <= range {
+                out.extend(start as u32..end as u32);
+                continue;
+            }
+        }
+        out.extend(
+            (start..end)
+                .filter(|&i| touches(centers[i], radii[i]))
+                .map(|i| i as u32),
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -172,6 +216,25 @@ mod tests {
     use crate::math::frustum::CameraView;
     use crate::settings::CascadeFit;
     use glam::{Mat4, Quat};
+
+    #[test]
+    fn the_range_cull_keeps_exactly_the_spheres_that_touch_the_light_sphere() {
+        let (centers, mut radii) = grid();
+        radii[5] = f32::NAN;
+        let chunks = SphereChunks::build(&centers, &radii);
+        let mut out = Vec::new();
+        for (center, range) in [(Vec3::new(0.0, 2.0, 0.0), 30.0), (Vec3::new(-150.0, 5.0, 60.0), 80.0)] {
+            cull_spheres_sphere_chunked(center, range, &centers, &radii, &chunks, &mut out);
+            let brute: Vec<u32> = (0..centers.len())
+                .filter(|&i| radii[i].is_finite() && centers[i].distance(center) <= range + radii[i])
+                .map(|i| i as u32)
+                .collect();
+            assert_eq!(out, brute);
+            assert!(!out.is_empty() && out.len() < centers.len());
+        }
+        cull_spheres_sphere_chunked(Vec3::NAN, 5.0, &centers, &radii, &chunks, &mut out);
+        assert!(out.is_empty());
+    }
 
     /// A grid of spheres over a 400 m square, in row order (spatially coherent chunks).
     fn grid() -> (Vec<Vec3>, Vec<f32>) {

@@ -12,16 +12,20 @@ pub fn scene(text: &str) -> SceneDesc {
     SceneDesc::from_str(text, "test.ron").unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Evaluates the focus light's shadow at `probes` (position, normal) after one frame of `desc`.
+/// Evaluates the focus light's shadow at `probes` (position, normal) after one frame of `desc`;
+/// each probe is seen at its own pixel (so filter patterns rotate from probe to probe).
 pub fn evaluate(desc: &SceneDesc, probes: &[(Vec3, Vec3)]) -> Vec<f32> {
-    evaluate_with(desc, probes, None)
+    evaluate_with(desc, probes, None, None)
 }
 
-/// [`evaluate`] with VSM moments stored in `moments_format` instead of the device's choice.
+/// [`evaluate`] with VSM moments stored in `moments_format` instead of the device's choice,
+/// and every probe seen at `pixel` where given (one rotation of the filter patterns: no
+/// per-pixel noise between probes).
 pub fn evaluate_with(
     desc: &SceneDesc,
     probes: &[(Vec3, Vec3)],
     moments_format: Option<wgpu::TextureFormat>,
+    pixel: Option<(u32, u32)>,
 ) -> Vec<f32> {
     let (w, h) = (64, 48);
     let mut session = SceneSession::new(desc, w, h).unwrap_or_else(|e| panic!("{e}"));
@@ -38,7 +42,7 @@ pub fn evaluate_with(
     let probes: Vec<ProbeGpu> = probes
         .iter()
         .enumerate()
-        .map(|(k, &(p, n))| ProbeGpu::new(p, n, (k as u32 % 64, k as u32 / 64)))
+        .map(|(k, &(p, n))| ProbeGpu::new(p, n, pixel.unwrap_or((k as u32 % 64, k as u32 / 64))))
         .collect();
     renderer.evaluate_probes(&input, &probes)
 }

@@ -1,7 +1,7 @@
 //! Variance-shadow-map storage: the moments `(z, z²)` of every layer of one depth storage (spot
 //! lights: a 2D array; point lights: a cube array), in the device's
-//! [`moments_format`](crate::render::GpuContext::moments_format), and a scratch array of the
-//! same size for the separable blur. Allocated only while a light of that storage filters with
+//! [`moments_format`](crate::render::GpuContext::moments_format), and a scratch of one light's
+//! layers (a cube, or one layer) for the separable blur, which runs one light at a time. Allocated only while a light of that storage filters with
 //! VSM; a 1×1 stand-in is bound otherwise.
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -69,7 +69,7 @@ impl MomentTexture {
 pub struct MomentArray {
     /// The moments the materials sample.
     pub moments: MomentTexture,
-    /// Where the first blur axis writes.
+    /// Where the first blur axis writes: one light's layers.
     pub scratch: MomentTexture,
     /// Texels per side of a layer.
     pub side: u32,
@@ -100,7 +100,7 @@ impl MomentArray {
         };
         Self {
             moments: MomentTexture::new(device, label, format, side, layers, cube),
-            scratch: MomentTexture::new(device, label, format, side, layers, cube),
+            scratch: MomentTexture::new(device, label, format, side, if cube { 6 } else { 1 }, cube),
             side,
             layers,
             cube,
@@ -129,6 +129,7 @@ impl MomentArray {
             return 0;
         }
         let texel = self.moments.texture.format().block_copy_size(None).unwrap_or(8);
-        2 * u64::from(self.side).pow(2) * u64::from(texel) * u64::from(self.layers)
+        let scratch = if self.cube { 6 } else { 1 };
+        u64::from(self.side).pow(2) * u64::from(texel) * u64::from(self.layers + scratch)
     }
 }

@@ -2,7 +2,7 @@
 //! point light that filters with VSM and whose depth changed gets its moments made again —
 //! one compute pass per light (`shadow moments spot k`, `shadow moments point k`) that turns
 //! its depth layers into moments `(z, z²)` of its normalised distance and, with
-//! `vsm_blur > 0`, blurs them along x into the scratch array and along y back. A point
+//! `vsm_blur > 0`, blurs them along x into the scratch (one light's layers) and along y back. A point
 //! light's six faces are made together, so the blur can cross their edges. Like the depth
 //! pass, it remembers which content version each layer's moments hold, so a still light costs
 //! nothing.
@@ -26,13 +26,14 @@ use crate::shader::ShaderLibrary;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct MomentsJobGpu {
-    first_layer: u32,
+    src_layer: u32,
+    dst_layer: u32,
     side: u32,
     radius: u32,
     axis: u32,
     near: f32,
     range: f32,
-    _pad: [u32; 58],
+    _pad: [u32; 57],
 }
 
 /// One light whose moments are made this frame.
@@ -224,16 +225,23 @@ impl RenderNode for MomentsPass {
             } else {
                 ctx.shadows.points.side
             };
-            let stages = if job.blur > 0 { 3 } else { 1 };
-            for axis in 0..stages as u32 {
+            // NOTE: resolve depth → moments; blur x moments → scratch (layer 0 on); blur y
+            // scratch → moments.
+            let stages: &[(u32, u32, u32)] = if job.blur > 0 {
+                &[(job.first, job.first, 0), (job.first, 0, 0), (0, job.first, 1)]
+            } else {
+                &[(job.first, job.first, 0)]
+            };
+            for &(src_layer, dst_layer, axis) in stages {
                 self.data.push(MomentsJobGpu {
-                    first_layer: job.first,
+                    src_layer,
+                    dst_layer,
                     side,
                     radius: job.blur,
-                    axis: axis.saturating_sub(1),
+                    axis,
                     near: job.near,
                     range: job.range,
-                    _pad: [0; 58],
+                    _pad: [0; 57],
                 });
             }
         }
