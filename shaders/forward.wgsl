@@ -1,15 +1,18 @@
 // Forward shading of receivers: Lambert diffuse from every light of the frame times its
 // shadow, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
-// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or cube face of a point light), ANALYSIS_OUTPUTS (also write the
-// focus light's shadow factor, world position and normal of every pixel, for scoring against
-// a reference), SHADOW_LOCAL (spot- and point-light shadows) and the filter defs of penumbra::shadows.
+// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or a point light's cube face),
+// ANALYSIS_OUTPUTS (also write the focus light's shadow factor, world position and normal of
+// every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
+// point-light shadows) and the filter defs of penumbra::shadows.
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
-#ifdef SHADOW_LOCAL
+#ifdef SHADOW_POINT
 #import penumbra::shadows::point::{point_debug_color, point_face}
+#endif
+#ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_covers
 #endif
 #import penumbra::shadows::types::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT}
@@ -91,7 +94,7 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         if light.kind == LIGHT_DIRECTIONAL {
             tint = cascade_debug_color(light, view_depth);
         }
-#ifdef SHADOW_LOCAL
+#ifdef SHADOW_POINT
         if light.kind == LIGHT_POINT {
             tint = point_debug_color(light, surface);
         }
@@ -108,10 +111,12 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         if light.kind == LIGHT_DIRECTIONAL {
             focus_cascade = cascade_index(light, view_depth);
         }
-#ifdef SHADOW_LOCAL
+#ifdef SHADOW_SPOT
         if light.kind == LIGHT_SPOT && spot_covers(light, surface) {
             focus_cascade = 0;
         }
+#endif
+#ifdef SHADOW_POINT
         if light.kind == LIGHT_POINT {
             focus_cascade = point_face(light, surface);
         }

@@ -15,15 +15,17 @@
 // written against these functions keeps compiling, and keeps its shadows, when new lights,
 // filters or shadow layouts are added. It reads group 3 (the shadow bind group) and the
 // frame uniforms of group 0; a material uses groups 1 and 2 as `forward.wgsl` does. The
-// renderer composes it with the defs of the frame's variant (SHADOW_LOCAL when a spot or
-// point light casts, the PCSS defs when a light filters with PCSS); a material only forwards them.
+// renderer composes it with the defs of the frame's variant (SHADOW_SPOT when a spot light
+// casts, SHADOW_POINT when a point light does, the PCSS defs when a light filters with PCSS); a material only forwards them.
 #define_import_path penumbra::lights
 
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::{lights, resolved_visibility}
 #import penumbra::shadows::cascades::directional_visibility
-#ifdef SHADOW_LOCAL
+#ifdef SHADOW_POINT
 #import penumbra::shadows::point::point_visibility
+#endif
+#ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_visibility
 #endif
 #import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE}
@@ -94,10 +96,12 @@ fn filtered_visibility(light: Light, surface: Surface) -> f32 {
     if light.kind == LIGHT_DIRECTIONAL {
         return directional_visibility(light, surface);
     }
-#ifdef SHADOW_LOCAL
+#ifdef SHADOW_SPOT
     if light.kind == LIGHT_SPOT {
         return spot_visibility(light, surface);
     }
+#endif
+#ifdef SHADOW_POINT
     if light.kind == LIGHT_POINT {
         return point_visibility(light, surface);
     }

@@ -9,8 +9,9 @@ use serde::{Deserialize, Serialize};
 
 /// The most cascades a directional light can have.
 pub const MAX_CASCADES: usize = 4;
-/// Smallest shadow-map resolution accepted (texels per side).
-pub const MIN_RESOLUTION: u32 = 512;
+/// Smallest shadow-map resolution accepted (texels per side): 256, the seed's point-light
+/// face size.
+pub const MIN_RESOLUTION: u32 = 256;
 /// Largest shadow-map resolution accepted (texels per side).
 pub const MAX_RESOLUTION: u32 = 4096;
 /// Largest PCF kernel radius: 5 gives an 11×11 grid.
@@ -100,7 +101,8 @@ pub struct ShadowSettings {
     pub mode: ShadowMode,
     /// Number of cascades, 1–4.
     pub cascade_count: u32,
-    /// Shadow-map resolution per cascade in texels, 512–4096.
+    /// Shadow-map resolution per cascade (or spot map, or point-light cube face) in texels,
+    /// 256–4096.
     pub resolution: u32,
     /// PSSM split blend: 0 is linear, 1 is logarithmic. Views wider than 120° pull the splits
     /// in towards the logarithmic ones ([`crate::math::splits::wide_view_splits`]).
@@ -258,7 +260,7 @@ impl ShadowSettings {
             &mut s.resolution,
             MIN_RESOLUTION,
             MAX_RESOLUTION,
-            "texels per side from 512 to 4096",
+            "texels per side from 256 to 4096",
         );
         check_f32(
             &mut p,

@@ -193,7 +193,7 @@ fn resolution_out_of_range() {
     let msg = error(&[("resolution: 2048", "resolution: 100")]);
     assert_eq!(
         msg,
-        "scenes/test.ron:4:45: expected texels per side from 512 to 4096 for \
+        "scenes/test.ron:4:45: expected texels per side from 256 to 4096 for \
          `shadows.resolution`, found 100"
     );
 }
@@ -278,7 +278,7 @@ fn every_problem_is_listed_in_file_order() {
     let prefixes = [
         "scenes/test.ron:2:80: expected a distance greater than `near` (0.1) for `camera.far`",
         "scenes/test.ron:3:22: expected a finite, non-zero direction",
-        "scenes/test.ron:4:27: expected texels per side from 512 to 4096 for `shadows.resolution`",
+        "scenes/test.ron:4:27: expected texels per side from 256 to 4096 for `shadows.resolution`",
         "scenes/test.ron:4:47: expected an integer from 1 to 4 for `shadows.cascade_count`",
         "scenes/test.ron:7:30: expected an alpha cutoff greater than 0 and at most 1",
         "scenes/test.ron:12:32: expected a radius greater than 0 (metres) for `objects[2].shape",

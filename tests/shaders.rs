@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        64,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, debug view, alpha mask and analysis outputs"
+        128,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, debug view, alpha mask and analysis outputs"
     );
     for variant in variants {
         let module = library

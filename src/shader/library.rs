@@ -208,13 +208,14 @@ impl ShaderLibrary {
     /// `penumbra::lights` and the other library modules). It must keep the forward shader's
     /// interface: `vs_main` and `fs_main`, bind groups 0–3 as in `forward.wgsl`, and the
     /// `ALPHA_MASK` / `ANALYSIS_OUTPUTS` defs. The source is composed and validated for the
-    /// opaque and masked PCF variants, with and without spot shadows, first; if that fails, the error is returned and the
+    /// opaque and masked PCF variants, with and without spot and point shadows, first; if that fails, the error is returned and the
     /// current shader stays in use.
     pub fn set_forward_source(&mut self, file: &str, source: &str) -> Result<(), ShaderError> {
         for alpha_mask in [false, true] {
             for local_shadows in [false, true] {
                 let variant = ForwardVariant {
-                    local_shadows,
+                    spot_shadows: local_shadows,
+                    point_shadows: local_shadows,
                     ..ForwardVariant::for_settings(&Default::default(), alpha_mask)
                 };
                 self.compose(file, source, variant.shader_defs())?;

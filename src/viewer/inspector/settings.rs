@@ -8,8 +8,8 @@ use crate::settings::{
     CascadeFit, MAX_CASCADES, MAX_PCF_RADIUS, MAX_VSM_BLUR, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings,
 };
 
-/// The shadow-map resolutions offered (the seed's runtime table).
-pub(crate) const RESOLUTIONS: [u32; 4] = [512, 1024, 2048, 4096];
+/// The shadow-map resolutions offered (the seed's runtime table, and 256 for point-light faces).
+pub(crate) const RESOLUTIONS: [u32; 5] = [256, 512, 1024, 2048, 4096];
 
 /// Draws the controls for `s`; the caller writes the copy back when it changed.
 pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
