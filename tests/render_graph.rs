@@ -301,3 +301,46 @@ fn the_compute_resolve_matches_the_lighting_pass_filters() {
         );
     }
 }
+
+#[test]
+fn the_lighting_pass_without_filters_shows_the_resolved_shadows() {
+    // Without analysis targets, a resolved frame's lighting pass is built without the filters
+    // (it only reads the resolved visibility): its image matches a frame that filters in the
+    // lighting pass. Spot and point lights in every filter mode, and suns.
+    for scene in [
+        "assets/scenes/night.ron",
+        "assets/scenes/point.ron",
+        "assets/scenes/lights.ron",
+    ] {
+        let image = |resolve: bool| {
+            let gpu = Renderer::headless(160, 90).expect(
+                "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)",
+            );
+            let mut app = still_scene(gpu, scene);
+            *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
+                depth_prepass: DepthPrepass::On,
+                visibility_resolve: resolve,
+                ..RenderOptions::default()
+            };
+            app.update();
+            let r = renderer(&app);
+            assert_eq!(r.graph_order().contains(&"visibility resolve"), resolve, "{scene}");
+            r.read_image()
+        };
+        let (resolved, direct) = (image(true), image(false));
+        let pixels = (resolved.width() * resolved.height()) as usize;
+        let colour_off = resolved
+            .pixels()
+            .zip(direct.pixels())
+            .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 8))
+            .count();
+        // The frames judged something: most pixels are geometry, not sky.
+        let sky = resolved.get_pixel(0, 0).0;
+        let drawn = resolved.pixels().filter(|p| p.0 != sky).count();
+        assert!(drawn > pixels / 3, "{scene}: only {drawn} pixels of geometry");
+        assert!(
+            colour_off * 200 <= pixels,
+            "{scene}: {colour_off} of {pixels} colours differ by > 8/255"
+        );
+    }
+}

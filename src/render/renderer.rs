@@ -314,7 +314,7 @@ impl Renderer {
         // NOTE: one timed pass per shadow view, plus the prepass, the resolve and the forward
         // pass.
         self.timer
-            .begin_frame(&self.gpu.device, self.frames, input.shadow_views.views.len() + 3);
+            .begin_frame(&self.gpu.device, self.frames, timed_passes(input));
         let mut encoder = self
             .gpu
             .device
@@ -444,4 +444,10 @@ impl Renderer {
             None => RgbaImage::new(1, 1),
         }
     }
+}
+
+/// The most passes a frame of `input` can time: one per shadow view, one per VSM light's
+/// moments, the prepass, the resolve and the lighting pass.
+fn timed_passes(input: &FrameInputs<'_>) -> usize {
+    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + 3
 }
