@@ -10,7 +10,7 @@ use penumbra::ecs::{
     ViewDrawGroups,
 };
 use penumbra::mesh::{cuboid, plane};
-use penumbra::settings::ShadowSettings;
+use penumbra::settings::{MIN_RESOLUTION, ShadowSettings};
 
 /// An app with a camera, a sun and a row of `n` boxes receding from the camera.
 fn app_with_boxes(n: usize, settings: ShadowSettings) -> App {
@@ -99,7 +99,7 @@ fn invalid_settings_are_clamped_with_a_warning() {
     let world = app.world();
     let sun = world.resource::<FrameLights>().sun().expect("the light is still used");
     assert_eq!(sun.settings.cascade_count, 4);
-    assert_eq!(sun.settings.resolution, 512);
+    assert_eq!(sun.settings.resolution, MIN_RESOLUTION);
     assert!(sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
     let warnings = &world.resource::<ShadowDiagnostics>().current;
     for field in ["cascade_count", "split_lambda", "resolution"] {

@@ -170,31 +170,10 @@ fn a_point_pcss_penumbra_widens_with_the_gap_to_the_caster() {
 #[test]
 fn the_bench_scores_the_point_scene_against_the_sphere_light() {
     use penumbra::analysis::ScoredLight;
-    use penumbra::bench::{BenchConfig, presets, run_bench};
-    use penumbra::reference::ReferenceSettings;
+    use penumbra::bench::run_bench;
 
     let wanted = ["hard", "pcss-high", "vsm", "vsm-blur4"];
-    let config = BenchConfig {
-        scenes: vec![std::path::PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/assets/scenes/point.ron"
-        ))],
-        presets: presets().into_iter().filter(|p| wanted.contains(&p.name)).collect(),
-        width: 64,
-        height: 36,
-        analysis_width: 160,
-        analysis_height: 90,
-        timing_frames: 1,
-        warmup_frames: 0,
-        reference: ReferenceSettings {
-            max_samples: 32,
-            min_samples: 16,
-            seed: 1,
-        },
-        shimmer_steps: 2,
-        max_probes: 200,
-        progress: false,
-    };
+    let config = common::small_bench("scenes/point.ron", &wanted);
     let report = run_bench(&config).unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = report.presets.iter().map(|p| p.preset.as_str()).collect();
     assert_eq!(names, wanted);

@@ -4,14 +4,13 @@
 //! as the perspective estimate says, and `penumbra bench` scores the spot-light scene against
 //! the sphere-light reference.
 
-use std::path::PathBuf;
+mod common;
 
 use glam::Vec3;
 use image::RgbaImage;
 use penumbra::analysis::ScoredLight;
+use penumbra::bench::run_bench;
 use penumbra::bench::session::SceneSession;
-use penumbra::bench::{BenchConfig, presets, run_bench};
-use penumbra::reference::ReferenceSettings;
 use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
@@ -279,27 +278,7 @@ fn a_spot_pcss_penumbra_widens_with_the_gap_to_the_caster() {
 #[test]
 fn the_bench_scores_the_spot_scene_against_the_sphere_light() {
     let wanted = ["hard", "pcf2", "pcf2-no-blend", "pcss-high"];
-    let config = BenchConfig {
-        scenes: vec![PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/assets/scenes/spot.ron"
-        ))],
-        presets: presets().into_iter().filter(|p| wanted.contains(&p.name)).collect(),
-        width: 64,
-        height: 36,
-        analysis_width: 160,
-        analysis_height: 90,
-        timing_frames: 1,
-        warmup_frames: 0,
-        reference: ReferenceSettings {
-            max_samples: 32,
-            min_samples: 16,
-            seed: 1,
-        },
-        shimmer_steps: 2,
-        max_probes: 200,
-        progress: false,
-    };
+    let config = common::small_bench("scenes/spot.ron", &wanted);
     let report = run_bench(&config).unwrap_or_else(|e| panic!("{e}"));
     // Every preset runs on every scene, so each preset's means are over the same scenes.
     let names: Vec<&str> = report.presets.iter().map(|p| p.preset.as_str()).collect();

@@ -83,14 +83,8 @@ fn steady_state_frames_do_not_allocate() {
     );
 }
 
-#[test]
-fn spot_shadow_views_reuse_their_buffers() {
-    use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
-    use penumbra::ecs::frame_lights::update_frame_lights;
-    use penumbra::ecs::shadow_views::update_shadow_views;
-    use penumbra::ecs::{ShadowViews, SpotLight};
-
-    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+/// An app with `ShadowPlugin`, a camera and 10k unit boxes on a 3 m grid (nothing run yet).
+fn grid_app() -> App {
     let mut app = App::new();
     app.add_plugins(ShadowPlugin);
     let world = app.world_mut();
@@ -104,6 +98,19 @@ fn spot_shadow_views_reuse_their_buffers() {
         let p = Vec3::new((i % 100) as f32 * 3.0 - 150.0, 0.5, (i / 100) as f32 * -3.0);
         world.spawn((Transform::from_translation(p), Mesh3d(mesh), MeshMaterial3d(material)));
     }
+    app
+}
+
+#[test]
+fn spot_shadow_views_reuse_their_buffers() {
+    use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
+    use penumbra::ecs::frame_lights::update_frame_lights;
+    use penumbra::ecs::shadow_views::update_shadow_views;
+    use penumbra::ecs::{ShadowViews, SpotLight};
+
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+    let mut app = grid_app();
+    let world = app.world_mut();
     // Twelve spot lights over the grid, all within the budget (a light over it is reported
     // with a message every frame, which allocates).
     world.resource_mut::<penumbra::ecs::ShadowLightBudget>().lights.spot = 12;
@@ -142,19 +149,8 @@ fn point_shadow_views_reuse_their_buffers_still_and_moving() {
     use penumbra::ecs::{GlobalTransform, PointLight, ShadowViews};
 
     let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
-    let mut app = App::new();
-    app.add_plugins(ShadowPlugin);
+    let mut app = grid_app();
     let world = app.world_mut();
-    let mesh = world.resource_mut::<Meshes>().add(cuboid(Vec3::ONE));
-    let material = world.resource_mut::<Materials>().add(Material::default());
-    world.spawn((
-        Camera3d::default(),
-        Transform::from_translation(Vec3::new(0.0, 2.0, 0.0)).looking_at(Vec3::new(5.0, 0.0, -10.0), Vec3::Y),
-    ));
-    for i in 0..10_000 {
-        let p = Vec3::new((i % 100) as f32 * 3.0 - 150.0, 0.5, (i / 100) as f32 * -3.0);
-        world.spawn((Transform::from_translation(p), Mesh3d(mesh), MeshMaterial3d(material)));
-    }
     // Eight point lights over the grid, all within the budget.
     world.resource_mut::<penumbra::ecs::ShadowLightBudget>().lights.point = 8;
     for k in 0..8 {

@@ -31,6 +31,36 @@ pub fn still_scene(renderer: Renderer, scene: &str) -> App {
     app
 }
 
+/// A bench run small enough for software Vulkan: one shipped scene (a path under `assets/`),
+/// the named presets, a 64×36 timing target, 160×90 analysis, 16–32 rays, one timed frame.
+pub fn small_bench(scene: &str, presets: &[&str]) -> penumbra::bench::BenchConfig {
+    penumbra::bench::BenchConfig {
+        scenes: vec![
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("assets")
+                .join(scene),
+        ],
+        presets: penumbra::bench::presets()
+            .into_iter()
+            .filter(|p| presets.contains(&p.name))
+            .collect(),
+        width: 64,
+        height: 36,
+        analysis_width: 160,
+        analysis_height: 90,
+        timing_frames: 1,
+        warmup_frames: 0,
+        reference: penumbra::reference::ReferenceSettings {
+            max_samples: 32,
+            min_samples: 16,
+            seed: 1,
+        },
+        shimmer_steps: 2,
+        max_probes: 200,
+        progress: false,
+    }
+}
+
 /// Adds a box of `size` metres with a plain `color` material at `at`; returns its entity.
 pub fn spawn_box(world: &mut World, size: Vec3, color: Vec4, at: Vec3) -> Entity {
     let mesh = world.resource_mut::<Meshes>().add(cuboid(size));
