@@ -47,7 +47,7 @@ pub struct SceneGpu {
     material_generation: (u64, u64),
 }
 
-fn instances_group(
+pub(crate) fn instances_group(
     device: &wgpu::Device,
     layouts: &Layouts,
     instances: &wgpu::Buffer,

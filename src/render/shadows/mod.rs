@@ -11,6 +11,7 @@ pub mod depth_pass;
 pub mod gpu;
 pub mod moment_storage;
 pub mod moments_pass;
+pub mod standalone;
 pub mod storage;
 pub mod visibility;
 

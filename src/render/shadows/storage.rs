@@ -122,22 +122,7 @@ impl DepthArray {
     /// Copies layer `layer` to the CPU (row by row, `side`² reverse-Z depths; None past the
     /// last layer). For tests and debugging: it waits for the GPU.
     pub fn read_layer(&self, device: &wgpu::Device, queue: &wgpu::Queue, layer: u32) -> Option<Vec<f32>> {
-        if layer >= self.layers() {
-            return None;
-        }
-        let source = wgpu::TexelCopyTextureInfo {
-            texture: &self.texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
-            aspect: wgpu::TextureAspect::DepthOnly,
-        };
-        let bytes = read_texture_layer(device, queue, source, 4);
-        Some(
-            bytes
-                .chunks_exact(4)
-                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect(),
-        )
+        read_depth_layer(device, queue, &self.texture, layer)
     }
 
     /// Bytes of GPU memory the array occupies (0 for the stand-in).
@@ -147,4 +132,30 @@ impl DepthArray {
         }
         u64::from(self.side) * u64::from(self.side) * 4 * u64::from(self.layers())
     }
+}
+
+/// Copies layer `layer` of a `Depth32Float` texture to the CPU (row by row; None past the
+/// last layer). For tests, tools and debugging: it waits for the GPU.
+pub fn read_depth_layer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    layer: u32,
+) -> Option<Vec<f32>> {
+    if layer >= texture.depth_or_array_layers() {
+        return None;
+    }
+    let source = wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+        aspect: wgpu::TextureAspect::DepthOnly,
+    };
+    let bytes = read_texture_layer(device, queue, source, 4);
+    Some(
+        bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect(),
+    )
 }
