@@ -6,6 +6,8 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::render::shadows::storage::layered_texture;
+
 /// Numbers every array ever created, so the moments pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
 
@@ -28,22 +30,9 @@ impl MomentTexture {
         layers: u32,
         cube: bool,
     ) -> Self {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: side,
-                height: side,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let usage =
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let texture = layered_texture(device, label, side, layers, format, usage);
         let view = |dimension| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(label),

@@ -41,7 +41,7 @@ use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::instances_group;
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::gpu::CasterViewGpu;
-use crate::render::shadows::storage::SHADOW_FORMAT;
+use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT, layered_texture};
 use crate::settings::ShadowSettings;
 use crate::shader::ShaderLibrary;
 
@@ -324,20 +324,5 @@ fn buffer(gpu: &GpuContext, label: &str, contents: &[u8], usage: wgpu::BufferUsa
 /// A `Depth32Float` texture of `layers` `side`² layers to render into, sample and copy.
 fn depth_texture(gpu: &GpuContext, label: &str, side: u32, layers: u32) -> wgpu::Texture {
     let side = side.clamp(1, gpu.limits.max_texture_side.max(1));
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: side,
-            height: side,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: SHADOW_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    })
+    layered_texture(&gpu.device, label, side, layers, SHADOW_FORMAT, DEPTH_USAGE)
 }

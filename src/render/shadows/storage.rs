@@ -44,22 +44,7 @@ impl DepthArray {
         } else {
             layers.max(1)
         };
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: side,
-                height: side,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let texture = layered_texture(device, label, side, layers, SHADOW_FORMAT, DEPTH_USAGE);
         let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(label),
             dimension: Some(if cube {
@@ -132,6 +117,36 @@ impl DepthArray {
         }
         u64::from(self.side) * u64::from(self.side) * 4 * u64::from(self.layers())
     }
+}
+
+/// What shadow depth textures are used for: rendered into, sampled, copied back.
+pub(crate) const DEPTH_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
+    .union(wgpu::TextureUsages::TEXTURE_BINDING)
+    .union(wgpu::TextureUsages::COPY_SRC);
+
+/// A 2D texture of `layers` square layers of `side` texels, one mip level.
+pub(crate) fn layered_texture(
+    device: &wgpu::Device,
+    label: &str,
+    side: u32,
+    layers: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: side,
+            height: side,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 /// Copies layer `layer` of a `Depth32Float` texture to the CPU (row by row; None past the
