@@ -221,6 +221,80 @@ fn run_compute(module: naga::Module, count: usize) -> Vec<f32> {
 }
 
 #[test]
+fn the_evsm_tests_in_wgsl_match_their_cpu_mirror() {
+    use penumbra::math::evsm::{MomentPrecision, evsm2_visibility, evsm4_visibility, negative_warp, positive_warp};
+    use penumbra::math::moments::moments_of;
+    // (depths of the footprint, receiver depth, exponent) cases: lit, flat umbra, stacked
+    // occluders, a penumbra; with both formats' exponents.
+    let fp16 = MomentPrecision::Fp16.exponent();
+    let fp32 = MomentPrecision::Fp32.exponent();
+    let cases: [(&[f32], f32, f32); 5] = [
+        (&[0.4], 0.39, fp32),
+        (&[0.4], 0.45, fp32),
+        (&[0.2, 0.7], 0.8, fp16),
+        (&[0.3, 0.31, 0.6], 0.5, fp16),
+        (&[0.5, 0.52], 0.6, 20.0),
+    ];
+    let (floor, bleed) = (1e-6, 0.1);
+    let mut body = String::new();
+    let mut cpu = Vec::new();
+    for (i, &(depths, receiver, c)) in cases.iter().enumerate() {
+        let weights = vec![1.0; depths.len()];
+        let p: Vec<f32> = depths.iter().map(|&d| positive_warp(d, c)).collect();
+        let n: Vec<f32> = depths.iter().map(|&d| negative_warp(d, c)).collect();
+        let (mp, mn) = (moments_of(&p, &weights), moments_of(&n, &weights));
+        let m4 = glam::Vec4::new(mp.x, mp.y, mn.x, mn.y);
+        let v = i * 4;
+        body += &format!(
+            "    out[{v}] = evsm2_visibility(vec2<f32>({:?}, {:?}), {receiver:?}, {c:?}, {floor:?}, {bleed:?});
+",
+            mp.x, mp.y
+        );
+        body += &format!(
+            "    out[{}] = evsm4_visibility(vec4<f32>({:?}, {:?}, {:?}, {:?}), {receiver:?}, {c:?}, {c:?}, {floor:?}, {bleed:?});
+",
+            v + 1,
+            m4.x,
+            m4.y,
+            m4.z,
+            m4.w
+        );
+        body += &format!(
+            "    out[{}] = positive_warp({receiver:?}, {c:?});
+",
+            v + 2
+        );
+        body += &format!(
+            "    out[{}] = negative_warp({receiver:?}, {c:?});
+",
+            v + 3
+        );
+        cpu.extend([
+            evsm2_visibility(mp, receiver, c, floor, bleed),
+            evsm4_visibility(m4, receiver, c, c, floor, bleed),
+            positive_warp(receiver, c),
+            negative_warp(receiver, c),
+        ]);
+    }
+    let source = format!(
+        "#import penumbra::shadows::moments::{{evsm2_visibility, evsm4_visibility, negative_warp, positive_warp}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    );
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library
+        .compose("evsm_test.wgsl", &source, Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let gpu = run_compute(module, cpu.len());
+    for (k, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
+        let tolerance = 1e-4 * c.abs().max(1.0);
+        assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
+    }
+    // The cases span lit, dark and between.
+    let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 4]).collect();
+    assert!(visibilities.contains(&1.0) && visibilities.iter().any(|&v| v < 0.05));
+    assert!(visibilities.iter().any(|&v| v > 0.05 && v < 0.95), "{visibilities:?}");
+}
+
+#[test]
 fn the_moment_tests_in_wgsl_match_their_cpu_mirror() {
     use penumbra::math::moments::{chebyshev_upper_bound, moments_of, moments_visibility, reduce_light_bleeding};
     // (moments, depth, floor, bleed) cases: lit, penumbra, flat occluder, stacked occluders.

@@ -29,3 +29,35 @@ fn reduce_light_bleeding(p_max: f32, amount: f32) -> f32 {
 fn moments_visibility(moments: vec2<f32>, depth: f32, min_variance: f32, bleed: f32) -> f32 {
     return reduce_light_bleeding(chebyshev_upper_bound(moments, depth, min_variance), bleed);
 }
+
+// Exponential warps (EVSM; `src/math/evsm.rs` mirrors them) of a depth growing away from the
+// light (0..1): the positive warp exp(c·d) and the negative warp −exp(−c·d). The exponent is
+// bounded by the moment format (the second moment reaches exp(2c)).
+fn positive_warp(depth: f32, c: f32) -> f32 {
+    return exp(c * depth);
+}
+
+fn negative_warp(depth: f32, c: f32) -> f32 {
+    return -exp(-c * depth);
+}
+
+// Chebyshev's bound in one warped space, the variance floor (depth units squared) scaled by
+// the warp's derivative `slope` at the receiver.
+fn warped_bound(moments: vec2<f32>, warped: f32, slope: f32, min_variance: f32) -> f32 {
+    return chebyshev_upper_bound(moments, warped, min_variance * slope * slope);
+}
+
+// EVSM2: visibility from filtered positive-warp moments (w, w²).
+fn evsm2_visibility(moments: vec2<f32>, depth: f32, c: f32, min_variance: f32, bleed: f32) -> f32 {
+    let w = positive_warp(depth, c);
+    return reduce_light_bleeding(warped_bound(moments, w, c * w, min_variance), bleed);
+}
+
+// EVSM4: the smaller of the positive and negative warps' bounds, from (w+, w+², w−, w−²).
+fn evsm4_visibility(moments: vec4<f32>, depth: f32, c_positive: f32, c_negative: f32, min_variance: f32, bleed: f32) -> f32 {
+    let p = positive_warp(depth, c_positive);
+    let n = negative_warp(depth, c_negative);
+    let positive = warped_bound(moments.xy, p, c_positive * p, min_variance);
+    let negative = warped_bound(moments.zw, n, -c_negative * n, min_variance);
+    return reduce_light_bleeding(min(positive, negative), bleed);
+}

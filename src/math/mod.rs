@@ -12,6 +12,7 @@ pub mod aabb;
 pub mod cascades;
 pub mod chunks;
 pub mod culling;
+pub mod evsm;
 pub mod footprint;
 pub mod frustum;
 pub mod light_budget;
