@@ -325,18 +325,22 @@ impl ShadowResources {
             }
         }
         for (k, kind) in [ShadowStorage::Spots, ShadowStorage::Points].into_iter().enumerate() {
-            let uses_vsm = views.views.iter().any(|v| {
-                v.kind.storage() == kind && lights.view_settings(v).is_some_and(|s| s.mode == ShadowMode::Vsm)
-            });
+            let vsm = views
+                .views
+                .iter()
+                .filter(|v| v.kind.storage() == kind)
+                .filter_map(|v| lights.view_settings(v))
+                .filter(|s| s.mode == ShadowMode::Vsm);
+            let (uses_vsm, blur) = vsm.fold((false, false), |(_, b), s| (true, b || s.vsm_blur > 0));
             let (side, layers) = if uses_vsm { views.extent(kind) } else { (0, 0) };
             let moments = if k == 0 {
                 &mut self.spot_moments
             } else {
                 &mut self.point_moments
             };
-            if moments.needs(side, layers) {
+            if moments.needs(side, layers, blur) {
                 let format = moments.moments.texture.format();
-                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, side, layers, k == 1);
+                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, (side, layers), k == 1, blur);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

@@ -58,8 +58,11 @@ impl MomentTexture {
 pub struct MomentArray {
     /// The moments the materials sample.
     pub moments: MomentTexture,
-    /// Where the first blur axis writes: one light's layers.
+    /// Where the first blur axis writes: one light's layers (1×1 texels while no light of
+    /// the storage blurs).
     pub scratch: MomentTexture,
+    /// Texels per side of the scratch: `side`, or 1 without a blur.
+    pub scratch_side: u32,
     /// Texels per side of a layer.
     pub side: u32,
     /// Layers (whole cubes for point lights).
@@ -73,23 +76,27 @@ pub struct MomentArray {
 }
 
 impl MomentArray {
-    /// Allocates `layers` layers of `side`² texels (rounded up to whole cubes with `cube`).
+    /// Allocates `layers` layers of `side`² texels (rounded up to whole cubes with `cube`),
+    /// with a full-size scratch only when a light will `blur`.
     pub fn new(
         device: &wgpu::Device,
         label: &str,
         format: wgpu::TextureFormat,
-        side: u32,
-        layers: u32,
+        (side, layers): (u32, u32),
         cube: bool,
+        blur: bool,
     ) -> Self {
         let layers = if cube {
             layers.max(1).div_ceil(6) * 6
         } else {
             layers.max(1)
         };
+        let scratch_side = if blur { side } else { 1 };
+        let scratch_layers = if cube { 6 } else { 1 };
         Self {
             moments: MomentTexture::new(device, label, format, side, layers, cube),
-            scratch: MomentTexture::new(device, label, format, side, if cube { 6 } else { 1 }, cube),
+            scratch: MomentTexture::new(device, label, format, scratch_side, scratch_layers, cube),
+            scratch_side,
             side,
             layers,
             cube,
@@ -102,14 +109,15 @@ impl MomentArray {
     pub fn placeholder(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, cube: bool) -> Self {
         Self {
             placeholder: true,
-            ..Self::new(device, label, format, 1, 1, cube)
+            ..Self::new(device, label, format, (1, 1), cube, false)
         }
     }
 
-    /// True when `layers` layers of `side` texels need a new allocation (none needed for 0
-    /// layers: the array is kept).
-    pub fn needs(&self, side: u32, layers: u32) -> bool {
-        layers > 0 && (self.placeholder || self.side != side || self.layers < layers)
+    /// True when `layers` layers of `side` texels (and a scratch, for a `blur`) need a new
+    /// allocation (none needed for 0 layers: the array is kept).
+    pub fn needs(&self, side: u32, layers: u32, blur: bool) -> bool {
+        let scratch_short = blur && self.scratch_side != side;
+        layers > 0 && (self.placeholder || self.side != side || self.layers < layers || scratch_short)
     }
 
     /// Bytes of GPU memory (moments and scratch; 0 for the stand-in).
@@ -117,8 +125,8 @@ impl MomentArray {
         if self.placeholder {
             return 0;
         }
-        let texel = self.moments.texture.format().block_copy_size(None).unwrap_or(8);
+        let texel = u64::from(self.moments.texture.format().block_copy_size(None).unwrap_or(8));
         let scratch = if self.cube { 6 } else { 1 };
-        u64::from(self.side).pow(2) * u64::from(texel) * u64::from(self.layers + scratch)
+        texel * (u64::from(self.side).pow(2) * u64::from(self.layers) + u64::from(self.scratch_side).pow(2) * scratch)
     }
 }
