@@ -42,6 +42,39 @@ impl MomentPrecision {
     }
 }
 
+/// Each cascade's warp exponent, so the warp is the same in world units in every cascade: a
+/// cascade's depth `d` (0..1) spans `depth_ranges[i]` metres, so `exp(c_i·d)` is
+/// `exp(k·z)` in metres `z` with `c_i = k·depth_ranges[i]`. `k` is the largest the format
+/// allows for the deepest cascade (`max_exponent` there); shallower cascades get smaller
+/// exponents. Non-finite or non-positive ranges get `max_exponent`.
+pub fn cascade_exponents(depth_ranges: &[f32], max_exponent: f32) -> Vec<f32> {
+    let deepest = depth_ranges
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite() && *r > 0.0)
+        .fold(0.0, f32::max);
+    depth_ranges
+        .iter()
+        .map(|&r| {
+            if deepest > 0.0 && r.is_finite() && r > 0.0 {
+                max_exponent * r / deepest
+            } else {
+                max_exponent
+            }
+        })
+        .collect()
+}
+
+/// The blur radius in texels of a cascade whose texel is `texel_world_size` metres wide, for
+/// a blur of `world_radius` metres (the same softness in every cascade), at most
+/// `max_texels`; 0 for a non-finite or non-positive texel.
+pub fn cascade_blur_texels(world_radius: f32, texel_world_size: f32, max_texels: f32) -> f32 {
+    if !(texel_world_size.is_finite() && texel_world_size > 0.0 && world_radius.is_finite()) {
+        return 0.0;
+    }
+    (world_radius.max(0.0) / texel_world_size).min(max_texels)
+}
+
 /// The positive warp of a depth `d` (0..1, growing away from the light): `exp(c·d)`.
 pub fn positive_warp(depth: f32, c: f32) -> f32 {
     (c * depth).exp()
@@ -127,6 +160,32 @@ mod tests {
         }
         assert!((MomentPrecision::Fp16.exponent() - 5.2).abs() < 0.05);
         assert_eq!(MomentPrecision::Fp32.exponent(), 42.0);
+    }
+
+    #[test]
+    fn cascade_exponents_keep_the_warp_constant_in_metres_and_within_the_format() {
+        let ranges = [40.0, 90.0, 250.0, 600.0];
+        let c = cascade_exponents(&ranges, 42.0);
+        assert_eq!(c[3], 42.0, "the deepest cascade uses the whole exponent");
+        for (ci, r) in c.iter().zip(ranges) {
+            assert!(*ci <= 42.0);
+            // The same world distance warps alike: c_i / range_i is one constant.
+            assert!((ci / r - 42.0 / 600.0).abs() < 1e-6);
+            // And the second moment of any depth stays within the format.
+            assert!(evsm2_moments(1.0, *ci).y <= f32::MAX);
+        }
+        assert_eq!(cascade_exponents(&[f32::NAN, 10.0], 5.2), [5.2, 5.2]);
+        assert_eq!(cascade_exponents(&[], 5.2), Vec::<f32>::new());
+    }
+
+    #[test]
+    fn cascade_blur_radii_keep_the_softness_constant_in_metres() {
+        // A 5 cm blur: 4 texels of 1.25 cm, 1 texel of 5 cm, capped at 8.
+        assert_eq!(cascade_blur_texels(0.05, 0.0125, 8.0), 4.0);
+        assert_eq!(cascade_blur_texels(0.05, 0.05, 8.0), 1.0);
+        assert_eq!(cascade_blur_texels(0.05, 0.001, 8.0), 8.0);
+        assert_eq!(cascade_blur_texels(0.05, 0.0, 8.0), 0.0);
+        assert_eq!(cascade_blur_texels(f32::NAN, 0.01, 8.0), 0.0);
     }
 
     #[test]
