@@ -1,7 +1,7 @@
 //! CPU mirror of the exponential variance shadow maps' math (`shaders/shadows/moments.wgsl`):
 //! the exponential warps of a depth that grows away from the light (0 at the light's side of
 //! the view, 1 at its far side), the exponent each moment format can hold, and the EVSM2 and
-//! EVSM4 tests built on [`chebyshev_upper_bound`](crate::math::moments::chebyshev_upper_bound).
+//! EVSM4 tests built on [`chebyshev_upper_bound`].
 //!
 //! The warp `w = exp(c·d)` pushes a receiver behind its occluders far away from them in warped
 //! space, so the bound collapses and the light bleeding of plain VSM mostly goes; its strength
