@@ -56,11 +56,11 @@ pub struct HeadlessTarget {
     pub views: TargetViews,
 }
 
-/// A single-level 2D texture.
+/// A single-level 2D texture of `layers` array layers.
 pub fn texture_2d(
     device: &wgpu::Device,
     label: &str,
-    (width, height): (u32, u32),
+    (width, height, layers): (u32, u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
@@ -69,7 +69,7 @@ pub fn texture_2d(
         size: wgpu::Extent3d {
             width,
             height,
-            depth_or_array_layers: 1,
+            depth_or_array_layers: layers,
         },
         mip_level_count: 1,
         sample_count: 1,
@@ -165,10 +165,10 @@ impl HeadlessTarget {
     /// Allocates a `width`×`height` target; with `analysis`, also the three analysis targets.
     pub fn new(device: &wgpu::Device, width: u32, height: u32, analysis: bool) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let color = texture_2d(device, "headless colour", (width, height), HEADLESS_FORMAT, usage);
+        let color = texture_2d(device, "headless colour", (width, height, 1), HEADLESS_FORMAT, usage);
         let analysis = analysis.then(|| {
             ["analysis shadow", "analysis position", "analysis normal"]
-                .map(|label| texture_2d(device, label, (width, height), ANALYSIS_FORMAT, usage))
+                .map(|label| texture_2d(device, label, (width, height, 1), ANALYSIS_FORMAT, usage))
         });
         let mut views = TargetViews::for_color(view(&color), HEADLESS_FORMAT, width, height);
         views.analysis = analysis.as_ref().map(|textures| textures.each_ref().map(view));

@@ -6,6 +6,7 @@ use std::collections::HashMap;
 
 use crate::render::graph::declare::{BufferId, PoolKey, TextureId};
 use crate::render::graph::schedule::Schedule;
+use crate::render::target::texture_2d;
 
 /// Frames a pooled resource may go unused before it is freed (a resized window leaves its
 /// old depth buffer behind).
@@ -35,20 +36,7 @@ fn create(device: &wgpu::Device, key: PoolKey) -> Physical {
             format,
             usage,
         } => {
-            let texture = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("graph transient"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: layers,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            });
+            let texture = texture_2d(device, "graph transient", (width, height, layers), format, usage);
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             Physical::Texture(texture, view)
         }

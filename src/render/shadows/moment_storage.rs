@@ -6,7 +6,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::render::shadows::storage::layered_texture;
+use crate::render::target::texture_2d;
 
 /// Numbers every array ever created, so the moments pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
@@ -32,7 +32,7 @@ impl MomentTexture {
     ) -> Self {
         let usage =
             wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let texture = layered_texture(device, label, side, layers, format, usage);
+        let texture = texture_2d(device, label, (side, side, layers), format, usage);
         let view = |dimension| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(label),

@@ -41,7 +41,8 @@ use crate::render::layouts::Layouts;
 use crate::render::scene_gpu::instances_group;
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::gpu::CasterViewGpu;
-use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT, layered_texture};
+use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
+use crate::render::target::texture_2d;
 use crate::settings::ShadowSettings;
 use crate::shader::ShaderLibrary;
 
@@ -185,7 +186,7 @@ impl StandaloneShadows {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("standalone shadow"),
         });
-        for (layer, _) in views.iter().enumerate() {
+        for layer in 0..views.len() {
             let target = texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("standalone shadow layer"),
                 dimension: Some(wgpu::TextureViewDimension::D2),
@@ -324,5 +325,5 @@ fn buffer(gpu: &GpuContext, label: &str, contents: &[u8], usage: wgpu::BufferUsa
 /// A `Depth32Float` texture of `layers` `side`² layers to render into, sample and copy.
 fn depth_texture(gpu: &GpuContext, label: &str, side: u32, layers: u32) -> wgpu::Texture {
     let side = side.clamp(1, gpu.limits.max_texture_side.max(1));
-    layered_texture(&gpu.device, label, side, layers, SHADOW_FORMAT, DEPTH_USAGE)
+    texture_2d(&gpu.device, label, (side, side, layers), SHADOW_FORMAT, DEPTH_USAGE)
 }

@@ -8,7 +8,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::render::target::read_texture_layer;
+use crate::render::target::{read_texture_layer, texture_2d};
 
 /// Numbers every array ever created, so a pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
@@ -44,7 +44,7 @@ impl DepthArray {
         } else {
             layers.max(1)
         };
-        let texture = layered_texture(device, label, side, layers, SHADOW_FORMAT, DEPTH_USAGE);
+        let texture = texture_2d(device, label, (side, side, layers), SHADOW_FORMAT, DEPTH_USAGE);
         let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(label),
             dimension: Some(if cube {
@@ -123,31 +123,6 @@ impl DepthArray {
 pub(crate) const DEPTH_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
     .union(wgpu::TextureUsages::TEXTURE_BINDING)
     .union(wgpu::TextureUsages::COPY_SRC);
-
-/// A 2D texture of `layers` square layers of `side` texels, one mip level.
-pub(crate) fn layered_texture(
-    device: &wgpu::Device,
-    label: &str,
-    side: u32,
-    layers: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: side,
-            height: side,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
 
 /// Copies layer `layer` of a `Depth32Float` texture to the CPU (row by row; None past the
 /// last layer). For tests, tools and debugging: it waits for the GPU.

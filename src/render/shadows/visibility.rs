@@ -5,6 +5,8 @@
 //! nothing is resolved (and in the group the resolve itself binds, which cannot sample what
 //! it writes).
 
+use crate::render::target::texture_2d;
+
 /// Format of the resolved visibility (storage-writable in core WebGPU).
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -22,20 +24,8 @@ impl VisibilityTarget {
     /// A `width`×`height` target of `layers` layers (each at least 1).
     pub fn new(device: &wgpu::Device, (width, height, layers): (u32, u32, u32)) -> Self {
         let extent = (width.max(1), height.max(1), layers.max(1));
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("resolved visibility"),
-            size: wgpu::Extent3d {
-                width: extent.0,
-                height: extent.1,
-                depth_or_array_layers: extent.2,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: VISIBILITY_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
-            view_formats: &[],
-        });
+        let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
+        let texture = texture_2d(device, "resolved visibility", extent, VISIBILITY_FORMAT, usage);
         let array = || wgpu::TextureViewDescriptor {
             label: Some("resolved visibility"),
             dimension: Some(wgpu::TextureViewDimension::D2Array),
