@@ -87,6 +87,18 @@ fn storage_label(storage: ShadowStorage) -> &'static str {
     }
 }
 
+/// Whether a view of `storage` this frame filters with VSM, and whether one of those blurs
+/// its moments.
+pub(crate) fn vsm_use(lights: &FrameLights, views: &ShadowViews, storage: ShadowStorage) -> (bool, bool) {
+    views
+        .views
+        .iter()
+        .filter(|v| v.kind.storage() == storage)
+        .filter_map(|v| lights.view_settings(v))
+        .filter(|s| s.mode == ShadowMode::Vsm)
+        .fold((false, false), |(_, blur), s| (true, blur || s.vsm_blur > 0))
+}
+
 /// Labels of the spot and point lights' moment arrays.
 const MOMENT_LABELS: [&str; 2] = ["spot shadow moments", "point shadow moments"];
 
@@ -325,13 +337,7 @@ impl ShadowResources {
             }
         }
         for (k, kind) in [ShadowStorage::Spots, ShadowStorage::Points].into_iter().enumerate() {
-            let vsm = views
-                .views
-                .iter()
-                .filter(|v| v.kind.storage() == kind)
-                .filter_map(|v| lights.view_settings(v))
-                .filter(|s| s.mode == ShadowMode::Vsm);
-            let (uses_vsm, blur) = vsm.fold((false, false), |(_, b), s| (true, b || s.vsm_blur > 0));
+            let (uses_vsm, blur) = vsm_use(lights, views, kind);
             let (side, layers) = if uses_vsm { views.extent(kind) } else { (0, 0) };
             let moments = if k == 0 {
                 &mut self.spot_moments

@@ -19,6 +19,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::layouts::entry;
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::vsm_use;
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
 
@@ -66,6 +67,11 @@ pub struct MomentsPass {
     pipelines: Option<Pipelines>,
     /// The per-job uniforms, and how many jobs it holds.
     jobs_buffer: Option<(wgpu::Buffer, usize)>,
+    /// Bumped whenever `jobs_buffer` is replaced.
+    buffer_generation: u64,
+    /// Per storage (spot, point lights): its bind groups, kept while nothing behind them
+    /// changes.
+    groups: [Option<StorageGroups>; 2],
     /// Per storage (spot, point lights): the moments and depth allocations `versions` refer
     /// to, and the content version of each layer's moments.
     held: [(u64, u64, Vec<u64>); 2],
@@ -75,15 +81,15 @@ pub struct MomentsPass {
     name: String,
 }
 
-/// True when a view of `storage` in this frame filters with VSM.
-fn uses_vsm(inputs: &FrameInputs<'_>, storage: ShadowStorage) -> bool {
-    inputs.shadow_views.views.iter().any(|v| {
-        v.kind.storage() == storage
-            && inputs
-                .lights
-                .view_settings(v)
-                .is_some_and(|s| s.mode == ShadowMode::Vsm)
-    })
+/// One storage's resolve and blur groups (x: moments → scratch, y: scratch → moments), with
+/// the depth and moments allocations and the buffer generation they were made for.
+type StorageGroups = ((u64, u64, u64), [wgpu::BindGroup; 3]);
+
+impl Job {
+    /// Dispatches of its pass: the resolve, then with a blur both axes.
+    fn stages(&self) -> usize {
+        if self.blur > 0 { 3 } else { 1 }
+    }
 }
 
 fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
@@ -197,11 +203,12 @@ impl RenderNode for MomentsPass {
     /// with none, nothing (the node is culled).
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
-        if uses_vsm(inputs, ShadowStorage::Spots) {
+        let uses_vsm = |storage| vsm_use(inputs.lights, inputs.shadow_views, storage).0;
+        if uses_vsm(ShadowStorage::Spots) {
             pass.read(frame.spot_maps);
             pass.write(frame.spot_moments);
         }
-        if uses_vsm(inputs, ShadowStorage::Points) {
+        if uses_vsm(ShadowStorage::Points) {
             pass.read(frame.point_maps);
             pass.write(frame.point_moments);
         }
@@ -217,7 +224,8 @@ impl RenderNode for MomentsPass {
         let pipelines = self
             .pipelines
             .get_or_insert_with(|| create_pipelines(device, ctx.library, format));
-        // NOTE: one uniform entry per dispatch: the resolve and, with a blur, both axes.
+        // NOTE: one uniform entry per dispatch: resolve depth → moments; blur x moments →
+        // scratch (layer 0 on); blur y scratch → moments.
         self.data.clear();
         for job in &self.jobs {
             let side = if job.storage == 0 {
@@ -225,14 +233,8 @@ impl RenderNode for MomentsPass {
             } else {
                 ctx.shadows.points.side
             };
-            // NOTE: resolve depth → moments; blur x moments → scratch (layer 0 on); blur y
-            // scratch → moments.
-            let stages: &[(u32, u32, u32)] = if job.blur > 0 {
-                &[(job.first, job.first, 0), (job.first, 0, 0), (0, job.first, 1)]
-            } else {
-                &[(job.first, job.first, 0)]
-            };
-            for &(src_layer, dst_layer, axis) in stages {
+            let stages = [(job.first, job.first, 0), (job.first, 0, 0), (0, job.first, 1)];
+            for &(src_layer, dst_layer, axis) in &stages[..job.stages()] {
                 self.data.push(MomentsJobGpu {
                     src_layer,
                     dst_layer,
@@ -255,6 +257,7 @@ impl RenderNode for MomentsPass {
                 mapped_at_creation: false,
             });
             self.jobs_buffer = Some((buffer, capacity));
+            self.buffer_generation += 1;
         }
         let Some((buffer, _)) = &self.jobs_buffer else {
             return;
@@ -264,10 +267,20 @@ impl RenderNode for MomentsPass {
             (&ctx.shadows.spots, &ctx.shadows.spot_moments),
             (&ctx.shadows.points, &ctx.shadows.point_moments),
         ];
-        let groups = stores.map(|(depth, moments)| bind_groups(device, pipelines, buffer, depth, moments));
+        // NOTE: the groups are made again only when an allocation behind them changed.
+        for (k, (depth, moments)) in stores.into_iter().enumerate() {
+            let key = (depth.id, moments.id, self.buffer_generation);
+            let used = self.jobs.iter().any(|j| j.storage == k);
+            if used && self.groups[k].as_ref().is_none_or(|(held, _)| *held != key) {
+                let sampler = &ctx.layouts.moments_sampler;
+                self.groups[k] = Some((key, bind_groups(device, pipelines, buffer, sampler, depth, moments)));
+            }
+        }
         let mut entry = 0;
         for job in &self.jobs {
-            let [resolve, blur_x, blur_y] = &groups[job.storage];
+            let Some((_, groups)) = &self.groups[job.storage] else {
+                continue;
+            };
             let side = self.data[entry].side;
             self.name.clear();
             let kind = if job.storage == 0 { "spot" } else { "point" };
@@ -277,16 +290,12 @@ impl RenderNode for MomentsPass {
                 label: Some(&self.name),
                 timestamp_writes: ctx.timer.compute_pass(&self.name),
             });
-            let stages: &[(&wgpu::ComputePipeline, &wgpu::BindGroup)] = if job.blur > 0 {
-                &[
-                    (&pipelines.resolve[job.storage], resolve),
-                    (&pipelines.blur[job.storage], blur_x),
-                    (&pipelines.blur[job.storage], blur_y),
-                ]
-            } else {
-                &[(&pipelines.resolve[job.storage], resolve)]
-            };
-            for &(pipeline, group) in stages {
+            for (stage, group) in groups.iter().enumerate().take(job.stages()) {
+                let pipeline = if stage == 0 {
+                    &pipelines.resolve[job.storage]
+                } else {
+                    &pipelines.blur[job.storage]
+                };
                 let offset = (entry * size_of::<MomentsJobGpu>()) as u32;
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, group, &[offset]);
@@ -303,6 +312,7 @@ fn bind_groups(
     device: &wgpu::Device,
     pipelines: &Pipelines,
     buffer: &wgpu::Buffer,
+    sampler: &wgpu::Sampler,
     depth: &DepthArray,
     moments: &MomentArray,
 ) -> [wgpu::BindGroup; 3] {
@@ -330,12 +340,6 @@ fn bind_groups(
         ],
     });
     let layout = &pipelines.blur_layouts[usize::from(moments.cube)];
-    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("shadow moments blur"),
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        ..Default::default()
-    });
     let blur = |from: &wgpu::TextureView, to: &wgpu::TextureView| {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow moments blur"),
@@ -345,7 +349,7 @@ fn bind_groups(
                 job.clone(),
                 wgpu::BindGroupEntry {
                     binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
+                    resource: wgpu::BindingResource::Sampler(sampler),
                 },
                 view(4, from),
             ],
@@ -430,5 +434,43 @@ impl MomentsPass {
                 light: (view.light as usize).saturating_sub(first_of_kind),
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+
+    #[test]
+    fn the_job_uniform_matches_the_wgsl_layout() {
+        let mut library = ShaderLibrary::new().unwrap();
+        let module = library.shadow_moments(true, true).unwrap();
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.starts_with("MomentsJob")))
+            .expect("MomentsJob in the moments shader");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("MomentsJob is not a struct")
+        };
+        let wgsl: Vec<(&str, usize)> = members
+            .iter()
+            .take(7)
+            .map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize))
+            .collect();
+        let rust = [
+            ("src_layer", offset_of!(MomentsJobGpu, src_layer)),
+            ("dst_layer", offset_of!(MomentsJobGpu, dst_layer)),
+            ("side", offset_of!(MomentsJobGpu, side)),
+            ("radius", offset_of!(MomentsJobGpu, radius)),
+            ("axis", offset_of!(MomentsJobGpu, axis)),
+            ("near", offset_of!(MomentsJobGpu, near)),
+            ("range", offset_of!(MomentsJobGpu, range)),
+        ];
+        assert_eq!(wgsl, rust);
+        // Padded to the dynamic-offset alignment every adapter accepts.
+        assert_eq!(size_of::<MomentsJobGpu>(), 256);
     }
 }
