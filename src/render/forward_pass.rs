@@ -11,7 +11,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::layouts::Layouts;
 use crate::render::prepass::camera_depth;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
-use crate::shader::{ForwardVariant, ShaderLibrary, ShadowFilter};
+use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Name of the forward pass in GPU timings.
 pub const FORWARD_PASS_NAME: &str = "forward";
@@ -213,18 +213,9 @@ impl RenderNode for ForwardPass {
                 analysis,
                 ..ForwardVariant::for_lights(lights, alpha_mask)
             };
-            // NOTE: when the frame resolved every shadowed light's visibility, the lighting
-            // pass only reads it: the filters' code is left out, so its registers do not
-            // weigh on the pass (compiled in, point-light PCSS made it 20 % slower on the
-            // H100). The debug tint and the analysis outputs still need their modules.
             let variant = match visibility {
-                Some(_) if !analysis => ForwardVariant {
-                    filter: ShadowFilter::Pcf,
-                    spot_shadows: false,
-                    point_shadows: variant.point_shadows && variant.debug_cascades,
-                    ..variant
-                },
-                _ => variant,
+                Some(_) => variant.reading_resolved(),
+                None => variant,
             };
             self.pipeline(
                 ctx,
