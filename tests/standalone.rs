@@ -8,9 +8,8 @@ mod common;
 use bevy_app::App;
 use bevy_ecs::query::Without;
 use common::still_scene;
-use penumbra::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR};
+use penumbra::ecs::shadow_views::POINT_NEAR;
 use penumbra::ecs::{FrameLights, GlobalTransform, Mesh3d, Meshes, NotShadowCaster, ShadowStorage};
-use penumbra::math::spot::SpotInput;
 use penumbra::mesh::MeshData;
 use penumbra::render::shadows::standalone::{ShadowCaster, StandaloneShadows, read_depth_layer};
 use penumbra::render::{GpuContext, Renderer};
@@ -63,14 +62,7 @@ fn standalone_spot_and_point_maps_equal_the_engines() {
     let mut pass = StandaloneShadows::new(&gpu);
     // The first spot light (PCSS, 1024²).
     let spot = &lights.spots[0];
-    let input = SpotInput {
-        position: spot.position,
-        direction: spot.direction,
-        outer_angle: spot.light.outer_angle,
-        range: spot.light.range,
-        near: SPOT_NEAR,
-        resolution: spot.settings.resolution,
-    };
+    let input = spot.shadow_input();
     let map = pass
         .render_spot(&gpu, &casters, &input, &spot.settings)
         .expect("a spot view");

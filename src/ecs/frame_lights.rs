@@ -68,6 +68,22 @@ pub struct SpotLightView {
     pub shadow: Option<SpotView>,
 }
 
+impl SpotLightView {
+    /// What its shadow view is made from: its placement, cone, range, the near plane
+    /// [`SPOT_NEAR`] and its map's side (also what a standalone pass takes,
+    /// [`StandaloneShadows::render_spot`](crate::render::shadows::standalone::StandaloneShadows::render_spot)).
+    pub fn shadow_input(&self) -> SpotInput {
+        SpotInput {
+            position: self.position,
+            direction: self.direction,
+            outer_angle: self.light.outer_angle,
+            range: self.light.range,
+            near: SPOT_NEAR,
+            resolution: self.settings.resolution,
+        }
+    }
+}
+
 /// A point light this frame. Its position is relative to the [`RenderOrigin`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLightView {
@@ -331,15 +347,7 @@ pub fn update_frame_lights(
             continue;
         }
         let spot = &mut lights.spots[id - lights.suns.len()];
-        let input = SpotInput {
-            position: spot.position,
-            direction: spot.direction,
-            outer_angle: spot.light.outer_angle,
-            range: spot.light.range,
-            near: SPOT_NEAR,
-            resolution: spot.settings.resolution,
-        };
-        spot.shadow = spot_view(&input);
+        spot.shadow = spot_view(&spot.shadow_input());
         if spot.shadow.is_none() {
             diagnostics.warn(format!(
                 "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
