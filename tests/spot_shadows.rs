@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::rays::Aabb;
 use glam::Vec3;
 use image::RgbaImage;
 use penumbra::analysis::ScoredLight;
@@ -33,43 +34,6 @@ fn render(desc: &SceneDesc, focus: usize, (w, h): (u32, u32)) -> (AnalysisImage,
         renderer.read_analysis().expect("analysis targets"),
         renderer.read_image(),
     )
-}
-
-/// An axis-aligned box.
-#[derive(Clone, Copy)]
-struct Aabb {
-    min: Vec3,
-    max: Vec3,
-}
-
-impl Aabb {
-    fn cube(center: Vec3, size: Vec3) -> Self {
-        Self {
-            min: center - size * 0.5,
-            max: center + size * 0.5,
-        }
-    }
-
-    /// True when the segment from `a` to `b` passes through the box (slab test).
-    fn blocks(&self, a: Vec3, b: Vec3) -> bool {
-        let d = b - a;
-        let (mut t0, mut t1) = (0.0f32, 1.0f32);
-        for i in 0..3 {
-            let inv = 1.0 / d[i];
-            let (mut near, mut far) = ((self.min[i] - a[i]) * inv, (self.max[i] - a[i]) * inv);
-            if near > far {
-                std::mem::swap(&mut near, &mut far);
-            }
-            if d[i] == 0.0 && !(self.min[i]..=self.max[i]).contains(&a[i]) {
-                return false;
-            }
-            if d[i] != 0.0 {
-                t0 = t0.max(near);
-                t1 = t1.min(far);
-            }
-        }
-        t0 <= t1
-    }
 }
 
 /// Ground pixels the light's shadow was evaluated at, with what a ray says: (rendered
@@ -120,7 +84,7 @@ const TWO_SUNS: &str = r#"Scene(
 #[test]
 fn two_suns_each_cast_their_own_shadow() {
     let desc = scene(TWO_SUNS);
-    let pillar = [Aabb::cube(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.6, 4.0, 0.6))];
+    let pillar = [Aabb::cuboid(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.6, 4.0, 0.6))];
     let size = (160, 120);
     let mut regions = Vec::new();
     let mut images = Vec::new();
@@ -194,8 +158,8 @@ const SPOT: &str = r#"Scene(
 fn a_spot_shadow_lands_where_a_ray_to_the_light_is_blocked() {
     let desc = scene(SPOT);
     let boxes = [
-        Aabb::cube(Vec3::new(0.0, 0.5, 0.0), Vec3::ONE),
-        Aabb::cube(Vec3::new(-1.5, 1.0, 1.0), Vec3::new(0.4, 2.0, 0.4)),
+        Aabb::cuboid(Vec3::new(0.0, 0.5, 0.0), Vec3::ONE),
+        Aabb::cuboid(Vec3::new(-1.5, 1.0, 1.0), Vec3::new(0.4, 2.0, 0.4)),
     ];
     let light = Vec3::new(1.5, 5.0, 1.0);
     let (a, _) = render(&desc, 0, (160, 120));

@@ -55,10 +55,16 @@ pub struct Aabb {
 }
 
 impl Aabb {
+    /// A cube of side `size` metres around `center`.
     pub fn cube(center: Vec3, size: f32) -> Self {
+        Self::cuboid(center, Vec3::splat(size))
+    }
+
+    /// A box of `size` metres around `center`.
+    pub fn cuboid(center: Vec3, size: Vec3) -> Self {
         Self {
-            min: center - Vec3::splat(size * 0.5),
-            max: center + Vec3::splat(size * 0.5),
+            min: center - size * 0.5,
+            max: center + size * 0.5,
         }
     }
 
