@@ -2,8 +2,6 @@
 //! ranges they are valid in, and the two ways of handling a bad value: reject it (scene files)
 //! or clamp it with a warning (values set at run time by code or an inspector).
 
-use std::fmt;
-
 use bevy_ecs::component::Component;
 use serde::{Deserialize, Serialize};
 
@@ -18,6 +16,11 @@ pub const MAX_RESOLUTION: u32 = 4096;
 pub const MAX_PCF_RADIUS: u32 = 5;
 /// Largest VSM pre-blur radius, texels.
 pub const MAX_VSM_BLUR: u32 = 8;
+/// Largest blur radius of a sun's moments in any cascade, texels: a `moment_blur` wider than
+/// this many of a cascade's texels is cut to it there.
+pub const MAX_MOMENT_BLUR_TEXELS: f32 = 8.0;
+/// Largest EVSM warp exponent (what 32-bit moments hold).
+pub const MAX_EVSM_EXPONENT: f32 = 42.0;
 
 /// How the shadow map is filtered when a receiver samples it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -29,9 +32,52 @@ pub enum ShadowMode {
     Pcss,
     /// Variance shadow map (spot and point lights): the first two moments of the depth are
     /// pre-filtered once per redrawn map (`vsm_blur`), and a pixel's shadow is one filtered
-    /// fetch and Chebyshev's bound, whatever the penumbra width. A sun asked for it is
-    /// filtered with PCF (its moment technique is EVSM, to come).
+    /// fetch and Chebyshev's bound, whatever the penumbra width. A sun asked for it uses
+    /// [`Evsm`](Self::Evsm), its moment technique.
     Vsm,
+    /// Exponentially warped variance shadow map, two moments (EVSM2; suns): each redrawn
+    /// cascade's depth is warped `exp(c·d)` and its moments `(w, w²)` pre-blurred by
+    /// `moment_blur` metres; a pixel's shadow is one filtered fetch, whatever the penumbra
+    /// width. A spot or point light asked for it uses [`Vsm`](Self::Vsm).
+    Evsm,
+    /// EVSM4 (suns): the positive and the negative warp, four moments, the smaller of the two
+    /// bounds: less light bleeding than EVSM2 for twice the memory.
+    Evsm4,
+    /// Moment shadow map (suns; Peters & Klein 2015): four power moments of the depth, stored
+    /// with an optimised quantisation, and the Hamburger reconstruction of the occluders'
+    /// depth distribution.
+    Msm,
+}
+
+impl ShadowMode {
+    /// The mode a light of this kind is filtered with (`sun`: a directional light): suns have
+    /// no plain VSM (it means EVSM2 there), spot and point lights no warped or 4-moment
+    /// techniques (they mean VSM there).
+    pub fn effective(self, sun: bool) -> ShadowMode {
+        match self {
+            ShadowMode::Vsm if sun => ShadowMode::Evsm,
+            ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm if !sun => ShadowMode::Vsm,
+            mode => mode,
+        }
+    }
+
+    /// True for the techniques that filter pre-blurred moments of a sun's cascades.
+    pub fn is_sun_moments(self) -> bool {
+        matches!(self, ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm)
+    }
+}
+
+/// How a sun's moments are stored (EVSM, MSM).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum MomentFormat {
+    /// 32-bit floats where the device filters them (`FLOAT32_FILTERABLE`), else 16-bit.
+    #[default]
+    Auto,
+    /// 16-bit floats: half the memory and bandwidth; EVSM's warp exponent is limited to 5.2.
+    Fp16,
+    /// 32-bit floats (16-bit where the device cannot filter them, with a warning): a warp
+    /// exponent up to 42.
+    Fp32,
 }
 
 /// Sample counts for PCSS (blocker search taps / filter taps).
@@ -93,11 +139,12 @@ pub enum ShadowDebugView {
 /// [`DirectionalLight`](crate::ecs::DirectionalLight), [`SpotLight`](crate::ecs::SpotLight) or
 /// [`PointLight`](crate::ecs::PointLight); lights without it use the defaults (positional
 /// lights at the [`ShadowLightBudget`](crate::ecs::ShadowLightBudget)'s resolution). The
-/// cascade fields only apply to suns, the `vsm_*` fields only to spot and point lights.
+/// cascade and `moment_*` fields only apply to suns, the `vsm_*` fields only to spot and point
+/// lights.
 #[derive(Component, Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShadowSettings {
-    /// Filtering mode (PCF or PCSS).
+    /// Filtering mode.
     pub mode: ShadowMode,
     /// Number of cascades, 1–4.
     pub cascade_count: u32,
@@ -148,6 +195,22 @@ pub struct ShadowSettings {
     /// VSM: smallest variance, as a fraction of the light's range squared, 0–0.01; hides the
     /// moments' quantisation on flat receivers.
     pub vsm_min_variance: f32,
+    /// EVSM, MSM: how the moments are stored.
+    pub moment_precision: MomentFormat,
+    /// EVSM: the warp exponent of the deepest cascade, 0–42; 0 takes the largest the format
+    /// holds (5.2 for 16 bits, 42 for 32). Larger values are cut to the format's limit;
+    /// shallower cascades scale it by their depth range, so the warp is the same in metres.
+    pub evsm_exponent: f32,
+    /// EVSM, MSM: radius in metres (0–1) of the separable Gaussian pre-blur of the moments,
+    /// the same in every cascade (at most 8 of a cascade's texels); 0 keeps only the bilinear
+    /// filter.
+    pub moment_blur: f32,
+    /// EVSM, MSM: light-bleed reduction, 0–0.95 (as `vsm_bleed_reduction`).
+    pub moment_bleed_reduction: f32,
+    /// EVSM: smallest variance of the occluders' depth, square metres, 0–0.01 (scaled by the
+    /// warp's slope; the receiver plane's slope across a texel adds to it when
+    /// `receiver_plane_bias` is on, which removes most acne without a fixed bias).
+    pub moment_min_variance: f32,
 }
 
 impl Default for ShadowSettings {
@@ -174,199 +237,18 @@ impl Default for ShadowSettings {
             vsm_blur: 2,
             vsm_bleed_reduction: 0.3,
             vsm_min_variance: 1e-6,
+            moment_precision: MomentFormat::Auto,
+            evsm_exponent: 0.0,
+            moment_blur: 0.03,
+            moment_bleed_reduction: 0.15,
+            moment_min_variance: 1e-5,
         }
     }
 }
 
-/// One out-of-range value found in a [`ShadowSettings`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct SettingsProblem {
-    /// Field name, as written in a scene file.
-    pub field: &'static str,
-    /// The value that was given, formatted.
-    pub found: String,
-    /// What a valid value looks like.
-    pub expected: &'static str,
-}
+mod checks;
 
-impl fmt::Display for SettingsProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "`{}` is {}, expected {}", self.field, self.found, self.expected)
-    }
-}
-
-/// Checks a float against an inclusive range; NaN and infinities always fail.
-fn check_f32(
-    problems: &mut Vec<SettingsProblem>,
-    field: &'static str,
-    value: &mut f32,
-    lo: f32,
-    hi: f32,
-    fallback: f32,
-    expected: &'static str,
-) {
-    if !(value.is_finite() && *value >= lo && *value <= hi) {
-        problems.push(SettingsProblem {
-            field,
-            found: format!("{value}"),
-            expected,
-        });
-        *value = if value.is_finite() {
-            value.clamp(lo, hi)
-        } else {
-            fallback
-        };
-    }
-}
-
-/// Checks an integer against an inclusive range.
-fn check_u32(
-    problems: &mut Vec<SettingsProblem>,
-    field: &'static str,
-    value: &mut u32,
-    lo: u32,
-    hi: u32,
-    expected: &'static str,
-) {
-    if !(lo..=hi).contains(value) {
-        problems.push(SettingsProblem {
-            field,
-            found: value.to_string(),
-            expected,
-        });
-        *value = (*value).clamp(lo, hi);
-    }
-}
-
-impl ShadowSettings {
-    /// Returns a copy with every out-of-range value clamped into its range (NaN replaced by
-    /// the default), and the list of values that had to change. An empty list means the
-    /// settings were valid as given.
-    pub fn sanitized(&self) -> (ShadowSettings, Vec<SettingsProblem>) {
-        let d = ShadowSettings::default();
-        let mut s = *self;
-        let mut p = Vec::new();
-        check_u32(
-            &mut p,
-            "cascade_count",
-            &mut s.cascade_count,
-            1,
-            MAX_CASCADES as u32,
-            "an integer from 1 to 4",
-        );
-        check_u32(
-            &mut p,
-            "resolution",
-            &mut s.resolution,
-            MIN_RESOLUTION,
-            MAX_RESOLUTION,
-            "texels per side from 256 to 4096",
-        );
-        check_f32(
-            &mut p,
-            "split_lambda",
-            &mut s.split_lambda,
-            0.0,
-            1.0,
-            d.split_lambda,
-            "a number from 0 (linear) to 1 (logarithmic)",
-        );
-        check_f32(
-            &mut p,
-            "max_distance",
-            &mut s.max_distance,
-            0.1,
-            1.0e6,
-            d.max_distance,
-            "metres from 0.1 to 1e6",
-        );
-        check_f32(
-            &mut p,
-            "slope_bias",
-            &mut s.slope_bias,
-            0.0,
-            10.0,
-            d.slope_bias,
-            "a number from 0 to 10",
-        );
-        check_f32(
-            &mut p,
-            "bias_clamp",
-            &mut s.bias_clamp,
-            0.0,
-            0.05,
-            d.bias_clamp,
-            "a number from 0 to 0.05",
-        );
-        check_f32(
-            &mut p,
-            "normal_offset",
-            &mut s.normal_offset,
-            0.0,
-            5.0,
-            d.normal_offset,
-            "shadow texels from 0 to 5",
-        );
-        check_u32(
-            &mut p,
-            "pcf_radius",
-            &mut s.pcf_radius,
-            0,
-            MAX_PCF_RADIUS,
-            "an integer from 0 to 5",
-        );
-        check_f32(
-            &mut p,
-            "blend_width",
-            &mut s.blend_width,
-            0.0,
-            0.5,
-            d.blend_width,
-            "a fraction from 0 to 0.5",
-        );
-        check_f32(
-            &mut p,
-            "distance_fade_width",
-            &mut s.distance_fade_width,
-            0.0,
-            0.5,
-            d.distance_fade_width,
-            "a fraction from 0 to 0.5",
-        );
-        check_u32(
-            &mut p,
-            "vsm_blur",
-            &mut s.vsm_blur,
-            0,
-            MAX_VSM_BLUR,
-            "texels from 0 to 8",
-        );
-        check_f32(
-            &mut p,
-            "vsm_bleed_reduction",
-            &mut s.vsm_bleed_reduction,
-            0.0,
-            0.95,
-            d.vsm_bleed_reduction,
-            "a fraction from 0 to 0.95",
-        );
-        check_f32(
-            &mut p,
-            "vsm_min_variance",
-            &mut s.vsm_min_variance,
-            0.0,
-            0.01,
-            d.vsm_min_variance,
-            "a fraction of the range squared from 0 to 0.01",
-        );
-        (s, p)
-    }
-
-    /// The problems [`sanitized`](Self::sanitized) would fix; empty when all values are valid.
-    pub fn problems(&self) -> Vec<SettingsProblem> {
-        self.sanitized().1
-    }
-}
+pub use checks::SettingsProblem;
 
 #[cfg(test)]
 mod tests {
@@ -398,6 +280,21 @@ mod tests {
             problems[0].to_string(),
             "`cascade_count` is 0, expected an integer from 1 to 4"
         );
+    }
+
+    #[test]
+    fn each_light_kind_maps_the_moment_modes_to_its_own_technique() {
+        assert_eq!(ShadowMode::Vsm.effective(true), ShadowMode::Evsm);
+        assert_eq!(ShadowMode::Vsm.effective(false), ShadowMode::Vsm);
+        for mode in [ShadowMode::Evsm, ShadowMode::Evsm4, ShadowMode::Msm] {
+            assert_eq!(mode.effective(true), mode);
+            assert_eq!(mode.effective(false), ShadowMode::Vsm);
+            assert!(mode.is_sun_moments());
+        }
+        for mode in [ShadowMode::Pcf, ShadowMode::Pcss] {
+            assert_eq!((mode.effective(true), mode.effective(false)), (mode, mode));
+            assert!(!mode.is_sun_moments());
+        }
     }
 
     #[test]

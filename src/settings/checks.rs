@@ -1,0 +1,232 @@
+//! Range checks of [`ShadowSettings`]: every out-of-range value is reported as a
+//! [`SettingsProblem`] and clamped (NaN replaced by the default).
+
+use std::fmt;
+
+use crate::settings::{MAX_CASCADES, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION, ShadowSettings};
+
+/// One out-of-range value found in a [`ShadowSettings`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettingsProblem {
+    /// Field name, as written in a scene file.
+    pub field: &'static str,
+    /// The value that was given, formatted.
+    pub found: String,
+    /// What a valid value looks like.
+    pub expected: &'static str,
+}
+
+impl fmt::Display for SettingsProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "`{}` is {}, expected {}", self.field, self.found, self.expected)
+    }
+}
+
+/// Checks a float against an inclusive range; NaN and infinities always fail.
+fn check_f32(
+    problems: &mut Vec<SettingsProblem>,
+    field: &'static str,
+    value: &mut f32,
+    lo: f32,
+    hi: f32,
+    fallback: f32,
+    expected: &'static str,
+) {
+    if !(value.is_finite() && *value >= lo && *value <= hi) {
+        problems.push(SettingsProblem {
+            field,
+            found: format!("{value}"),
+            expected,
+        });
+        *value = if value.is_finite() {
+            value.clamp(lo, hi)
+        } else {
+            fallback
+        };
+    }
+}
+
+/// Checks an integer against an inclusive range.
+fn check_u32(
+    problems: &mut Vec<SettingsProblem>,
+    field: &'static str,
+    value: &mut u32,
+    lo: u32,
+    hi: u32,
+    expected: &'static str,
+) {
+    if !(lo..=hi).contains(value) {
+        problems.push(SettingsProblem {
+            field,
+            found: value.to_string(),
+            expected,
+        });
+        *value = (*value).clamp(lo, hi);
+    }
+}
+
+impl ShadowSettings {
+    /// Returns a copy with every out-of-range value clamped into its range (NaN replaced by
+    /// the default), and the list of values that had to change. An empty list means the
+    /// settings were valid as given.
+    pub fn sanitized(&self) -> (ShadowSettings, Vec<SettingsProblem>) {
+        let d = ShadowSettings::default();
+        let mut s = *self;
+        let mut p = Vec::new();
+        check_u32(
+            &mut p,
+            "cascade_count",
+            &mut s.cascade_count,
+            1,
+            MAX_CASCADES as u32,
+            "an integer from 1 to 4",
+        );
+        check_u32(
+            &mut p,
+            "resolution",
+            &mut s.resolution,
+            MIN_RESOLUTION,
+            MAX_RESOLUTION,
+            "texels per side from 256 to 4096",
+        );
+        check_f32(
+            &mut p,
+            "split_lambda",
+            &mut s.split_lambda,
+            0.0,
+            1.0,
+            d.split_lambda,
+            "a number from 0 (linear) to 1 (logarithmic)",
+        );
+        check_f32(
+            &mut p,
+            "max_distance",
+            &mut s.max_distance,
+            0.1,
+            1.0e6,
+            d.max_distance,
+            "metres from 0.1 to 1e6",
+        );
+        check_f32(
+            &mut p,
+            "slope_bias",
+            &mut s.slope_bias,
+            0.0,
+            10.0,
+            d.slope_bias,
+            "a number from 0 to 10",
+        );
+        check_f32(
+            &mut p,
+            "bias_clamp",
+            &mut s.bias_clamp,
+            0.0,
+            0.05,
+            d.bias_clamp,
+            "a number from 0 to 0.05",
+        );
+        check_f32(
+            &mut p,
+            "normal_offset",
+            &mut s.normal_offset,
+            0.0,
+            5.0,
+            d.normal_offset,
+            "shadow texels from 0 to 5",
+        );
+        check_u32(
+            &mut p,
+            "pcf_radius",
+            &mut s.pcf_radius,
+            0,
+            MAX_PCF_RADIUS,
+            "an integer from 0 to 5",
+        );
+        check_f32(
+            &mut p,
+            "blend_width",
+            &mut s.blend_width,
+            0.0,
+            0.5,
+            d.blend_width,
+            "a fraction from 0 to 0.5",
+        );
+        check_f32(
+            &mut p,
+            "distance_fade_width",
+            &mut s.distance_fade_width,
+            0.0,
+            0.5,
+            d.distance_fade_width,
+            "a fraction from 0 to 0.5",
+        );
+        check_u32(
+            &mut p,
+            "vsm_blur",
+            &mut s.vsm_blur,
+            0,
+            MAX_VSM_BLUR,
+            "texels from 0 to 8",
+        );
+        check_f32(
+            &mut p,
+            "vsm_bleed_reduction",
+            &mut s.vsm_bleed_reduction,
+            0.0,
+            0.95,
+            d.vsm_bleed_reduction,
+            "a fraction from 0 to 0.95",
+        );
+        check_f32(
+            &mut p,
+            "vsm_min_variance",
+            &mut s.vsm_min_variance,
+            0.0,
+            0.01,
+            d.vsm_min_variance,
+            "a fraction of the range squared from 0 to 0.01",
+        );
+        check_f32(
+            &mut p,
+            "evsm_exponent",
+            &mut s.evsm_exponent,
+            0.0,
+            MAX_EVSM_EXPONENT,
+            d.evsm_exponent,
+            "a number from 0 (the format's largest) to 42",
+        );
+        check_f32(
+            &mut p,
+            "moment_blur",
+            &mut s.moment_blur,
+            0.0,
+            1.0,
+            d.moment_blur,
+            "metres from 0 to 1",
+        );
+        check_f32(
+            &mut p,
+            "moment_bleed_reduction",
+            &mut s.moment_bleed_reduction,
+            0.0,
+            0.95,
+            d.moment_bleed_reduction,
+            "a fraction from 0 to 0.95",
+        );
+        check_f32(
+            &mut p,
+            "moment_min_variance",
+            &mut s.moment_min_variance,
+            0.0,
+            0.01,
+            d.moment_min_variance,
+            "square metres from 0 to 0.01",
+        );
+        (s, p)
+    }
+
+    /// The problems [`sanitized`](Self::sanitized) would fix; empty when all values are valid.
+    pub fn problems(&self) -> Vec<SettingsProblem> {
+        self.sanitized().1
+    }
+}
