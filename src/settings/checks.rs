@@ -3,7 +3,9 @@
 
 use std::fmt;
 
-use crate::settings::{MAX_CASCADES, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION, ShadowSettings};
+use crate::settings::{
+    MAX_CASCADES, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION, ShadowSettings,
+};
 
 /// One out-of-range value found in a [`ShadowSettings`].
 #[derive(Clone, Debug, PartialEq)]

@@ -5,6 +5,8 @@
 use bevy_ecs::component::Component;
 use serde::{Deserialize, Serialize};
 
+use crate::math::evsm::MomentPrecision;
+
 /// The most cascades a directional light can have.
 pub const MAX_CASCADES: usize = 4;
 /// Smallest shadow-map resolution accepted (texels per side): 256, the seed's point-light
@@ -78,6 +80,18 @@ pub enum MomentFormat {
     /// 32-bit floats (16-bit where the device cannot filter them, with a warning): a warp
     /// exponent up to 42.
     Fp32,
+}
+
+impl MomentFormat {
+    /// The precision used on a device that does (`fp32_filterable`) or does not filter
+    /// 32-bit floats.
+    pub fn resolve(self, fp32_filterable: bool) -> MomentPrecision {
+        match self {
+            MomentFormat::Fp16 => MomentPrecision::Fp16,
+            MomentFormat::Auto | MomentFormat::Fp32 if fp32_filterable => MomentPrecision::Fp32,
+            MomentFormat::Auto | MomentFormat::Fp32 => MomentPrecision::Fp16,
+        }
+    }
 }
 
 /// Sample counts for PCSS (blocker search taps / filter taps).
