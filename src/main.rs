@@ -12,7 +12,7 @@ use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
-use penumbra::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
 #[derive(Parser)]
 #[command(name = "penumbra", version, about = "Cascaded soft shadows, rendered and measured")]
@@ -25,6 +25,17 @@ struct Cli {
 enum Mode {
     Pcf,
     Pcss,
+    Vsm,
+    Evsm,
+    Evsm4,
+    Msm,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Precision {
+    Auto,
+    Fp16,
+    Fp32,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -64,6 +75,12 @@ struct RenderArgs {
     /// PCF radius 0-5 (default: the scene's).
     #[arg(long)]
     pcf_radius: Option<u32>,
+    /// Storage of a sun's EVSM or MSM moments (default: the scene's).
+    #[arg(long)]
+    moment_precision: Option<Precision>,
+    /// The sun's angular diameter in degrees, 0-30 (default: the scene's).
+    #[arg(long, value_parser = sun_degrees)]
+    sun_diameter: Option<f32>,
     /// Tint pixels by the cascade they sample.
     #[arg(long)]
     debug_cascades: bool,
@@ -143,6 +160,9 @@ struct BenchArgs {
     /// Override every scene's hardware slope bias, for tuning.
     #[arg(long)]
     slope_bias: Option<f32>,
+    /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
+    #[arg(long, value_parser = sun_degrees)]
+    sun_diameter: Option<f32>,
 }
 
 #[derive(Subcommand)]
@@ -178,6 +198,14 @@ fn side() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
 }
 
+/// A sun's angular diameter on the command line: degrees from 0 to 30, as in scene files.
+fn sun_degrees(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(d) if (0.0..=30.0).contains(&d) => Ok(d),
+        _ => Err(format!("expected degrees from 0 to 30, found `{text}`")),
+    }
+}
+
 fn render(args: RenderArgs) -> Result<(), RenderError> {
     let RenderArgs {
         scene,
@@ -187,6 +215,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         mode,
         quality,
         pcf_radius,
+        moment_precision,
+        sun_diameter,
         debug_cascades,
         asset_root,
         max_instances,
@@ -206,12 +236,26 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         asset_root,
         max_instances,
     };
-    let desc = SceneDesc::load_with(&scene, &limits)?;
+    let mut desc = SceneDesc::load_with(&scene, &limits)?;
+    if let (Some(d), Some(sun)) = (sun_diameter, desc.sun.as_mut()) {
+        sun.angular_diameter = d;
+    }
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
             s.mode = match m {
                 Mode::Pcf => ShadowMode::Pcf,
                 Mode::Pcss => ShadowMode::Pcss,
+                Mode::Vsm => ShadowMode::Vsm,
+                Mode::Evsm => ShadowMode::Evsm,
+                Mode::Evsm4 => ShadowMode::Evsm4,
+                Mode::Msm => ShadowMode::Msm,
+            };
+        }
+        if let Some(p) = moment_precision {
+            s.moment_precision = match p {
+                Precision::Auto => MomentFormat::Auto,
+                Precision::Fp16 => MomentFormat::Fp16,
+                Precision::Fp32 => MomentFormat::Fp32,
             };
         }
         if let Some(q) = quality {
@@ -395,6 +439,7 @@ fn bench(args: BenchArgs) -> Result<(), String> {
     let overrides = penumbra::bench::SettingsOverrides {
         normal_offset: args.normal_offset,
         slope_bias: args.slope_bias,
+        sun_diameter: args.sun_diameter,
     };
     for name in ["report.md", "plot.png"] {
         prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;

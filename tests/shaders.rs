@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        128,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, debug view, alpha mask and analysis outputs"
+        256,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, alpha mask and analysis outputs"
     );
     for variant in variants {
         let module = library
@@ -55,6 +55,22 @@ fn the_moments_shader_validates_for_spot_and_point_lights_in_both_formats() {
             let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
             assert_eq!(entry_points, ["resolve", "blur"]);
         }
+    }
+}
+
+#[test]
+fn the_cascade_moments_shader_validates_in_every_moments_format() {
+    let mut library = ShaderLibrary::new().unwrap();
+    for format in [
+        wgpu::TextureFormat::Rg32Float,
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureFormat::Rgba16Float,
+    ] {
+        let module = library
+            .cascade_moments(format)
+            .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["resolve", "blur"]);
     }
 }
 
@@ -338,4 +354,55 @@ fn the_moment_tests_in_wgsl_match_their_cpu_mirror() {
     let bounds: Vec<f32> = (0..cases.len()).map(|i| gpu[i * 3]).collect();
     assert!(bounds.contains(&1.0) && bounds.iter().any(|&p| p > 0.05 && p < 0.95));
     assert_eq!(gpu[3 * 3 + 2], 0.0, "bleed reduction darkens the stacked umbra");
+}
+
+#[test]
+fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
+    use penumbra::math::msm::{MSM_BIAS_16, MSM_BIAS_32, dequantize, hamburger_visibility, msm_moments, quantize};
+    // (depths of the footprint, receiver depth, bias): lit, flat umbra, stacked occluders, a
+    // half-covered footprint, a single depth (the degenerate case).
+    let cases: [(&[f32], f32, f32); 5] = [
+        (&[0.4], 0.39, MSM_BIAS_32),
+        (&[0.3, 0.31], 0.6, MSM_BIAS_16),
+        (&[0.2, 0.5], 0.8, MSM_BIAS_16),
+        (&[0.3, 1.0], 0.9, MSM_BIAS_32),
+        (&[0.5], 0.7, 0.0),
+    ];
+    let mut body = String::new();
+    let mut cpu = Vec::new();
+    for (i, &(depths, receiver, bias)) in cases.iter().enumerate() {
+        let mean = depths.iter().map(|&d| msm_moments(d)).sum::<glam::Vec4>() / depths.len() as f32;
+        let stored = quantize(mean);
+        let v = i * 2;
+        body += &format!(
+            "    out[{v}] = msm_visibility(vec4<f32>({:?}, {:?}, {:?}, {:?}), {receiver:?}, {bias:?});\n",
+            mean.x, mean.y, mean.z, mean.w
+        );
+        // The quantisation round trip, summed so one value checks all four channels.
+        body += &format!(
+            "    out[{}] = dot(msm_dequantize(msm_quantize(msm_moments({:?}))), vec4<f32>(1.0, 10.0, 100.0, 1000.0));\n",
+            v + 1,
+            depths[0]
+        );
+        cpu.push(hamburger_visibility(mean, receiver, bias));
+        let trip = dequantize(quantize(msm_moments(depths[0])));
+        cpu.push(trip.dot(glam::Vec4::new(1.0, 10.0, 100.0, 1000.0)));
+        assert!(stored.is_finite());
+    }
+    let source = format!(
+        "#import penumbra::shadows::msm::{{msm_dequantize, msm_moments, msm_quantize, msm_visibility}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    );
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library
+        .compose("msm_test.wgsl", &source, Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let gpu = run_compute(module, cpu.len());
+    for (k, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
+        let tolerance = 1e-3 * c.abs().max(1.0);
+        assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
+    }
+    // The cases span lit, dark and between.
+    let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 2]).collect();
+    assert!(visibilities.iter().any(|&v| v > 0.99) && visibilities.iter().any(|&v| v < 0.01));
+    assert!(visibilities.iter().any(|&v| v > 0.3 && v < 0.7), "{visibilities:?}");
 }

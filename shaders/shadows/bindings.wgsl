@@ -28,3 +28,7 @@
 @group(3) @binding(9) var spot_moments: texture_2d_array<f32>;
 @group(3) @binding(10) var point_moments: texture_cube_array<f32>;
 @group(3) @binding(11) var moments_sampler: sampler;
+// The suns' cascades as EVSM or MSM moments, a layer per cascade (a 1×1 stand-in while no
+// sun filters moments): (w, w²) for EVSM2, (w+, w+², w−, w−²) for EVSM4, the quantised
+// power moments for MSM.
+@group(3) @binding(12) var cascade_moments: texture_2d_array<f32>;

@@ -4,17 +4,22 @@
 // penumbra::lights::shadow_visibility for a sun.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path (variants with a PCSS light);
-// without it a PCSS light is filtered with PCF.
+// without it a PCSS light is filtered with PCF. SHADOW_SUN_MOMENTS compiles the moment
+// techniques (EVSM2, EVSM4, MSM: one filtered fetch of the pre-blurred moments); without it
+// such a light is filtered with PCF.
 #define_import_path penumbra::shadows::cascades
 
-#import penumbra::shadows::bindings::{cascade_maps, shadow_views}
+#import penumbra::shadows::bindings::{cascade_maps, cascade_moments, moments_sampler, shadow_views}
 #import penumbra::shadows::common::{
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row,
     normal_offset_metres, poisson_rotation,
 }
 #import penumbra::shadows::filters::{MapSample, find_blockers, pcf_grid, pcss_filter}
+#import penumbra::shadows::moments::{evsm2_visibility, evsm4_visibility, reduce_light_bleeding}
+#import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
 #import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+    Light, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
+    SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -139,6 +144,31 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
 }
 #endif
 
+#ifdef SHADOW_SUN_MOMENTS
+// EVSM2, EVSM4 or MSM in a cascade: one bilinear fetch of the pre-blurred moments and the
+// technique's bound, at the receiver's depth d = 1 − z (0 at the box's light side). EVSM's
+// variance floor is the light's minimum (square metres, in the cascade's depth units) plus
+// the receiver plane's depth change across a texel (zero without the receiver-plane
+// gradient), so sloped receivers do not shadow themselves.
+fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
+    let view = shadow_views.items[light.first_view + index];
+    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
+    let depth = 1.0 - p.depth;
+    let bleed = light.cone.w;
+    if light.shadow_filter == SHADOW_FILTER_MSM {
+        let power = select(moments, msm_dequantize(moments), light.cone.y > 0.5);
+        return reduce_light_bleeding(msm_visibility(power, depth, light.cone.x), bleed);
+    }
+    let range = max(view.range.z, 1e-6);
+    let slope = p.dz_duv_true * p.texel;
+    let min_variance = light.cone.z / (range * range) + 0.25 * dot(slope, slope);
+    if light.shadow_filter == SHADOW_FILTER_EVSM4 {
+        return evsm4_visibility(moments, depth, view.exponents.x, view.exponents.y, min_variance, bleed);
+    }
+    return evsm2_visibility(moments.xy, depth, view.exponents.x, min_variance, bleed);
+}
+#endif
+
 // Shadow factor from one cascade with the light's filter.
 fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
     let p = project_to_cascade(light, index, surface.position, surface.normal);
@@ -150,6 +180,11 @@ fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
 #ifdef SHADOW_FILTER_PCSS
     if light.shadow_filter == SHADOW_FILTER_PCSS {
         return cascade_pcss(light, index, p, surface.frag_coord);
+    }
+#endif
+#ifdef SHADOW_SUN_MOMENTS
+    if light.shadow_filter >= SHADOW_FILTER_EVSM2 {
+        return cascade_moments_visibility(light, index, p);
     }
 #endif
     return pcf_grid(cascade_maps, p, light.pcf_radius);

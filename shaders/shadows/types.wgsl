@@ -13,6 +13,9 @@ const LIGHT_POINT: u32 = 2u;
 const SHADOW_FILTER_PCF: u32 = 0u;
 const SHADOW_FILTER_PCSS: u32 = 1u;
 const SHADOW_FILTER_VSM: u32 = 2u;
+const SHADOW_FILTER_EVSM2: u32 = 3u;
+const SHADOW_FILTER_EVSM4: u32 = 4u;
+const SHADOW_FILTER_MSM: u32 = 5u;
 
 // Capacity of the light and shadow-view lists (uniform arrays: the constant cache makes the
 // per-pixel reads cheap). The renderer reports an error for anything past them.
@@ -43,6 +46,8 @@ struct Light {
     size: f32,
     // Spot cone: x = cos(outer angle), y = 1 / (cos(inner) - cos(outer)). VSM (spot, point):
     // z = minimum variance (a fraction of the range squared), w = light-bleed reduction.
+    // Sun moments (EVSM, MSM): x = MSM moment bias, y = 1 where MSM moments are stored
+    // quantised (16-bit), z = minimum variance (square metres), w = light-bleed reduction.
     cone: vec4<f32>,
     // x: normal offset (texels), y: where a sun's shadows end (view depth), z: cascade blend
     // fraction, w: distance fade fraction.
@@ -81,8 +86,8 @@ struct ShadowView {
     layer: u32,
     // 1 / side of the view's shadow map in texels.
     texel_size: f32,
-    padding_a: u32,
-    padding_b: u32,
+    // A sun's moments (EVSM): this cascade's positive and negative warp exponents.
+    exponents: vec2<f32>,
 }
 
 // The Poisson-disk tap patterns (unit disc), two taps per vec4 (xy, then zw). Filled from

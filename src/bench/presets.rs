@@ -1,9 +1,10 @@
 //! The presets the benchmark scores: each a small change on top of the scored light's own
 //! settings. Every preset runs on every scene; those that only change cascade blending render
-//! a spot or point light (nothing to blend) as their base preset does, and the VSM presets
-//! render a sun (which has no moments) with PCF.
+//! a spot or point light (nothing to blend) as their base preset does; the VSM presets render
+//! a sun with EVSM2 and the EVSM and MSM presets render spot and point lights with VSM (each
+//! kind's own moment technique, [`ShadowMode::effective`]).
 
-use crate::settings::{PcssQuality, ShadowMode, ShadowSettings};
+use crate::settings::{MomentFormat, PcssQuality, ShadowMode, ShadowSettings};
 
 /// One named configuration of the shadow filter.
 #[derive(Clone, Copy, Debug)]
@@ -31,8 +32,14 @@ fn vsm(s: &mut ShadowSettings, blur: u32) {
     s.vsm_blur = blur;
 }
 
+fn moments(s: &mut ShadowSettings, mode: ShadowMode, precision: MomentFormat) {
+    s.mode = mode;
+    s.moment_precision = precision;
+}
+
 /// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, receiver-plane bias and
-/// cascade blending switched off on the mid presets, and VSM without and with pre-blur.
+/// cascade blending switched off on the mid presets, VSM without and with pre-blur, and the
+/// suns' EVSM2 (16 and 32 bits), EVSM4 and MSM (16 and 32 bits).
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -121,6 +128,31 @@ pub fn presets() -> Vec<Preset> {
             name: "vsm-blur4",
             description: "VSM with a 4-texel Gaussian pre-blur (spot and point lights)",
             apply: |s| vsm(s, 4),
+        },
+        Preset {
+            name: "evsm-fp16",
+            description: "EVSM2, 16-bit moments (exponent 5.2), suns",
+            apply: |s| moments(s, ShadowMode::Evsm, MomentFormat::Fp16),
+        },
+        Preset {
+            name: "evsm-fp32",
+            description: "EVSM2, 32-bit moments (exponent 42), suns",
+            apply: |s| moments(s, ShadowMode::Evsm, MomentFormat::Fp32),
+        },
+        Preset {
+            name: "evsm4",
+            description: "EVSM4, 32-bit moments where filterable, suns",
+            apply: |s| moments(s, ShadowMode::Evsm4, MomentFormat::Auto),
+        },
+        Preset {
+            name: "msm-fp16",
+            description: "4-moment shadow map, 16-bit quantised moments, suns",
+            apply: |s| moments(s, ShadowMode::Msm, MomentFormat::Fp16),
+        },
+        Preset {
+            name: "msm-fp32",
+            description: "4-moment shadow map, 32-bit moments, suns",
+            apply: |s| moments(s, ShadowMode::Msm, MomentFormat::Fp32),
         },
     ]
 }

@@ -148,13 +148,15 @@ pub(crate) fn short(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().to_string())
 }
 
-/// Bias settings forced onto every scene before the presets apply (for tuning sweeps).
+/// Settings forced onto every scene before the presets apply (for tuning sweeps).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SettingsOverrides {
     /// Normal offset in texels.
     pub normal_offset: Option<f32>,
     /// Hardware slope bias.
     pub slope_bias: Option<f32>,
+    /// The scene sun's angular diameter, degrees (for sweeps of penumbra width).
+    pub sun_diameter: Option<f32>,
 }
 
 impl SettingsOverrides {
@@ -164,6 +166,9 @@ impl SettingsOverrides {
         }
         if let Some(v) = self.slope_bias {
             desc.shadows.slope_bias = v;
+        }
+        if let (Some(v), Some(sun)) = (self.sun_diameter, desc.sun.as_mut()) {
+            sun.angular_diameter = v;
         }
     }
 

@@ -19,7 +19,7 @@ use glam::Vec3;
 
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::instances::RenderInstances;
-use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sanitized_settings};
+use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sanitized_settings, warn_mode};
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
@@ -32,7 +32,7 @@ use crate::math::light_budget::{
 };
 use crate::math::point::{PointView, point_view};
 use crate::math::spot::{SpotInput, SpotView, spot_view};
-use crate::settings::{ShadowMode, ShadowSettings};
+use crate::settings::ShadowSettings;
 
 /// A directional light this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -210,10 +210,8 @@ pub fn update_frame_lights(
         };
         let light = sanitize_sun(entity, light, diagnostics);
         let settings = sanitized_settings(settings, diagnostics);
-        if light.shadows_enabled && settings.mode == ShadowMode::Vsm {
-            diagnostics.warn(format!(
-                "directional light {entity} asks for Vsm, which only spot and point lights have; it is filtered with Pcf"
-            ));
+        if light.shadows_enabled {
+            warn_mode(diagnostics, "directional light", entity, &settings, true);
         }
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
@@ -250,6 +248,7 @@ pub fn update_frame_lights(
         // spot lights does not multiply the sun's 2048² maps.
         let resolution = settings.map_or(budget.spot_resolution, |s| s.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
+        warn_mode(diagnostics, "spot light", entity, &settings, false);
         settings.resolution = resolution.max(1);
         lights.spots.push(SpotLightView {
             entity,
@@ -278,6 +277,7 @@ pub fn update_frame_lights(
         }
         let resolution = settings.map_or(budget.point_resolution, |s| s.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
+        warn_mode(diagnostics, "point light", entity, &settings, false);
         settings.resolution = resolution.max(1);
         lights.points.push(PointLightView {
             entity,

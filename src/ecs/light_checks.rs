@@ -23,6 +23,25 @@ pub fn sanitized_settings(settings: Option<&ShadowSettings>, diagnostics: &mut S
     settings
 }
 
+/// Warns when a light asks for a filter its kind does not have (`sun`: a directional light),
+/// naming the one it gets instead ([`crate::settings::ShadowMode::effective`]).
+pub fn warn_mode(
+    diagnostics: &mut ShadowDiagnostics,
+    what: &str,
+    entity: Entity,
+    settings: &ShadowSettings,
+    sun: bool,
+) {
+    let effective = settings.mode.effective(sun);
+    if effective != settings.mode {
+        let kinds = if sun { "spot and point lights" } else { "suns" };
+        diagnostics.warn(format!(
+            "{what} {entity} asks for {:?}, which only {kinds} have; it is filtered with {effective:?}",
+            settings.mode
+        ));
+    }
+}
+
 /// `value` when `ok`, else `fallback` with a warning naming the light and the field.
 fn checked(
     what: &str,

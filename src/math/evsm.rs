@@ -40,6 +40,26 @@ impl MomentPrecision {
         let limit = 0.5 * (0.5 * self.max_value()).ln();
         limit.min(42.0)
     }
+
+    /// EVSM4's negative warp exponent with this format. Its moments stay within ±1, so range
+    /// is no limit; precision is: 16 bits keep `exp(−2c)` a normal number (c ≤ 4.8), and 32
+    /// bits use 10 (a larger one flattens `−exp(−c·d)` to 0 over the far half of a cascade).
+    pub fn negative_exponent(self) -> f32 {
+        match self {
+            MomentPrecision::Fp16 => 4.8,
+            MomentPrecision::Fp32 => 10.0,
+        }
+    }
+}
+
+/// A cascade's warp exponent for a warp of `max_exponent` over the deepest cascade's depth
+/// range `deepest`: `max_exponent · range / deepest` (see [`cascade_exponents`]).
+pub fn cascade_exponent(range: f32, deepest: f32, max_exponent: f32) -> f32 {
+    if deepest > 0.0 && range.is_finite() && range > 0.0 {
+        max_exponent * (range / deepest).min(1.0)
+    } else {
+        max_exponent
+    }
 }
 
 /// Each cascade's warp exponent, so the warp is the same in world units in every cascade: a
@@ -55,13 +75,7 @@ pub fn cascade_exponents(depth_ranges: &[f32], max_exponent: f32) -> Vec<f32> {
         .fold(0.0, f32::max);
     depth_ranges
         .iter()
-        .map(|&r| {
-            if deepest > 0.0 && r.is_finite() && r > 0.0 {
-                max_exponent * r / deepest
-            } else {
-                max_exponent
-            }
-        })
+        .map(|&r| cascade_exponent(r, deepest, max_exponent))
         .collect()
 }
 
@@ -160,6 +174,9 @@ mod tests {
         }
         assert!((MomentPrecision::Fp16.exponent() - 5.2).abs() < 0.05);
         assert_eq!(MomentPrecision::Fp32.exponent(), 42.0);
+        // EVSM4's negative pair: exp(−2c) stays a normal 16-bit float.
+        let n16 = evsm4_moments(1.0, 5.2, MomentPrecision::Fp16.negative_exponent());
+        assert!(n16.w >= 6.1e-5, "{n16}");
     }
 
     #[test]

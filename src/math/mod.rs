@@ -18,6 +18,7 @@ pub mod frustum;
 pub mod light_budget;
 pub mod light_space;
 pub mod moments;
+pub mod msm;
 pub mod pcss;
 pub mod point;
 pub mod poisson;

@@ -167,6 +167,12 @@ impl GpuContext {
         })
     }
 
+    /// True where the device filters 32-bit float textures (`FLOAT32_FILTERABLE`), which
+    /// 32-bit moments need.
+    pub fn filters_fp32(&self) -> bool {
+        self.moments_format == wgpu::TextureFormat::Rg32Float
+    }
+
     /// The device errors reported since the last call (each a message; a last line counts
     /// those not kept), emptying the list.
     pub fn take_errors(&self) -> Vec<String> {

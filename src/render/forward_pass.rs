@@ -174,6 +174,7 @@ impl RenderNode for ForwardPass {
         pass.read(frame.point_maps);
         pass.read(frame.spot_moments);
         pass.read(frame.point_moments);
+        pass.read(frame.cascade_moments);
         if let Some(visibility) = frame.visibility {
             pass.read(visibility);
         }

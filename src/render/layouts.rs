@@ -126,6 +126,7 @@ impl Layouts {
                 entry(9, fc, moments(wgpu::TextureViewDimension::D2Array)),
                 entry(10, fc, moments(wgpu::TextureViewDimension::CubeArray)),
                 entry(11, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+                entry(12, fc, moments(wgpu::TextureViewDimension::D2Array)),
             ],
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

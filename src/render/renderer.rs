@@ -20,6 +20,7 @@ use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::shadows::ShadowResources;
+use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
 use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
@@ -97,6 +98,7 @@ impl Renderer {
         let mut graph = RenderGraph::default();
         graph.add_node(Box::new(DepthPass::default()));
         graph.add_node(Box::new(MomentsPass::default()));
+        graph.add_node(Box::new(CascadeMomentsPass::default()));
         graph.add_node(Box::new(DepthPrepass::default()));
         graph.add_node(Box::new(VisibilityResolve::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
@@ -398,6 +400,7 @@ impl Renderer {
             point_maps: graph.import_texture("point maps", &self.shadows.points.array_view),
             spot_moments: graph.import_texture("spot moments", &self.shadows.spot_moments.moments.sampled),
             point_moments: graph.import_texture("point moments", &self.shadows.point_moments.moments.sampled),
+            cascade_moments: graph.import_texture("cascade moments", &self.shadows.cascade_moments.moments.sampled),
             depth_prepass,
             depth: None,
             normals: None,
@@ -447,7 +450,8 @@ impl Renderer {
 }
 
 /// The most passes a frame of `input` can time: one per shadow view, one per VSM light's
-/// moments, the prepass, the resolve and the lighting pass.
+/// moments and per cascade's moments, the prepass, the resolve and the lighting pass.
 fn timed_passes(input: &FrameInputs<'_>) -> usize {
-    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + 3
+    let cascades: usize = input.lights.suns.iter().map(|s| s.cascades.count).sum();
+    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + cascades + 3
 }

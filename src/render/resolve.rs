@@ -113,6 +113,7 @@ impl RenderNode for VisibilityResolve {
         pass.read(frame.point_maps);
         pass.read(frame.spot_moments);
         pass.read(frame.point_moments);
+        pass.read(frame.cascade_moments);
         pass.write(visibility);
         self.handles = Some(Handles { depth, normals });
     }

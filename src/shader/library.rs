@@ -38,7 +38,7 @@ struct ModuleSource {
 }
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 13] = [
+const MODULES: [ModuleSource; 14] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -62,6 +62,10 @@ const MODULES: [ModuleSource; 13] = [
     ModuleSource {
         file: "shadows/moments.wgsl",
         source: include_str!("../../shaders/shadows/moments.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/msm.wgsl",
+        source: include_str!("../../shaders/shadows/msm.wgsl"),
     },
     ModuleSource {
         file: "shadows/filters.wgsl",
@@ -115,6 +119,10 @@ const SHADOW_CLEAR: ModuleSource = ModuleSource {
 const SHADOW_MOMENTS: ModuleSource = ModuleSource {
     file: "shadow_moments.wgsl",
     source: include_str!("../../shaders/shadow_moments.wgsl"),
+};
+const CASCADE_MOMENTS: ModuleSource = ModuleSource {
+    file: "shadow_cascade_moments.wgsl",
+    source: include_str!("../../shaders/shadow_cascade_moments.wgsl"),
 };
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
@@ -269,6 +277,21 @@ impl ShaderLibrary {
             }
         }
         self.compose(SHADOW_MOMENTS.file, SHADOW_MOMENTS.source, defs)
+    }
+
+    /// The sun's moments shader (`resolve` and `blur`: EVSM2, EVSM4 or MSM from the depth
+    /// cascades), writing moments in `format` (`Rg32Float`, `Rgba32Float` or `Rgba16Float`).
+    pub fn cascade_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
+        let mut defs = HashMap::new();
+        let def = match format {
+            wgpu::TextureFormat::Rg32Float => Some("MOMENTS_RG32"),
+            wgpu::TextureFormat::Rgba32Float => Some("MOMENTS_RGBA32"),
+            _ => None,
+        };
+        if let Some(name) = def {
+            defs.insert(name.to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
+        }
+        self.compose(CASCADE_MOMENTS.file, CASCADE_MOMENTS.source, defs)
     }
 
     /// The depth-prepass shader (`vs_main` for both pipelines, `fs_masked` for alpha test).

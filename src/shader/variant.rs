@@ -31,6 +31,8 @@ pub struct ForwardVariant {
     /// spot shadows, so a frame without point shadows pays nothing for their code (it made a
     /// spot-light frame's lighting pass 5 % slower on the H100).
     pub point_shadows: bool,
+    /// Compile the suns' moment techniques in (EVSM2, EVSM4, MSM: a shadowed sun uses one).
+    pub sun_moments: bool,
     /// Tint fragments by cascade.
     pub debug_cascades: bool,
     /// Discard fragments below the material's alpha cutoff.
@@ -44,13 +46,14 @@ impl ForwardVariant {
     /// The variant the given settings need for opaque or masked materials.
     pub fn for_settings(settings: &ShadowSettings, alpha_mask: bool) -> Self {
         let filter = match settings.mode {
-            ShadowMode::Pcf | ShadowMode::Vsm => ShadowFilter::Pcf,
             ShadowMode::Pcss => ShadowFilter::Pcss(settings.pcss_quality),
+            _ => ShadowFilter::Pcf,
         };
         Self {
             filter,
             spot_shadows: false,
             point_shadows: false,
+            sun_moments: settings.mode.effective(true).is_sun_moments(),
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
             alpha_mask,
             analysis: false,
@@ -76,6 +79,10 @@ impl ForwardVariant {
             filter: quality.map_or(ShadowFilter::Pcf, ShadowFilter::Pcss),
             spot_shadows: lights.spots.iter().any(|s| s.shadow.is_some()),
             point_shadows: lights.points.iter().any(|p| p.shadow.is_some()),
+            sun_moments: lights
+                .suns
+                .iter()
+                .any(|s| s.cascades.count > 0 && s.settings.mode.effective(true).is_sun_moments()),
             debug_cascades: lights
                 .suns
                 .iter()
@@ -99,6 +106,7 @@ impl ForwardVariant {
             filter: ShadowFilter::Pcf,
             spot_shadows: false,
             point_shadows: self.point_shadows && self.debug_cascades,
+            sun_moments: false,
             ..self
         }
     }
@@ -114,17 +122,20 @@ impl ForwardVariant {
         let mut all = Vec::new();
         for filter in filters {
             for (spot_shadows, point_shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-                for debug_cascades in [false, true] {
-                    for alpha_mask in [false, true] {
-                        for analysis in [false, true] {
-                            all.push(ForwardVariant {
-                                filter,
-                                spot_shadows,
-                                point_shadows,
-                                debug_cascades,
-                                alpha_mask,
-                                analysis,
-                            });
+                for sun_moments in [false, true] {
+                    for debug_cascades in [false, true] {
+                        for alpha_mask in [false, true] {
+                            for analysis in [false, true] {
+                                all.push(ForwardVariant {
+                                    filter,
+                                    spot_shadows,
+                                    point_shadows,
+                                    sun_moments,
+                                    debug_cascades,
+                                    alpha_mask,
+                                    analysis,
+                                });
+                            }
                         }
                     }
                 }
@@ -153,6 +164,9 @@ impl ForwardVariant {
         if self.point_shadows {
             defs.insert("SHADOW_POINT".to_string(), ShaderDefValue::Bool(true));
         }
+        if self.sun_moments {
+            defs.insert("SHADOW_SUN_MOMENTS".to_string(), ShaderDefValue::Bool(true));
+        }
         if self.debug_cascades {
             defs.insert("SHADOW_DEBUG_CASCADES".to_string(), ShaderDefValue::Bool(true));
         }
@@ -177,6 +191,9 @@ impl ForwardVariant {
         if self.point_shadows {
             s.push_str("+point");
         }
+        if self.sun_moments {
+            s.push_str("+moments");
+        }
         if self.debug_cascades {
             s.push_str("+cascades");
         }
@@ -200,13 +217,14 @@ mod tests {
             filter: ShadowFilter::Pcss(PcssQuality::High),
             spot_shadows: true,
             point_shadows: true,
+            sun_moments: true,
             debug_cascades: false,
             alpha_mask: true,
             analysis: false,
         };
         let lean = full.reading_resolved();
         assert_eq!(lean.filter, ShadowFilter::Pcf);
-        assert!(!lean.spot_shadows && !lean.point_shadows);
+        assert!(!lean.spot_shadows && !lean.point_shadows && !lean.sun_moments);
         assert!(lean.alpha_mask, "the material's own defs stay");
         // The cube-face debug tint needs the point module; the analysis outputs need both.
         let debug = ForwardVariant {

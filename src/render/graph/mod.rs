@@ -70,6 +70,8 @@ pub struct FrameResources {
     pub spot_moments: TextureId,
     /// The point lights' VSM moments (imported).
     pub point_moments: TextureId,
+    /// The suns' cascade moments, EVSM or MSM (imported).
+    pub cascade_moments: TextureId,
     /// The frame writes the camera depth in a prepass (decided once per frame by the
     /// renderer from [`RenderOptions::depth_prepass`](crate::render::RenderOptions)).
     pub depth_prepass: bool,

@@ -3,10 +3,11 @@
 //! `render::gpu_types` compares every field with naga's layout of the WGSL.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
+use crate::render::shadows::sun_moments::{cascade_moment_format, cascade_moments, msm_bias, msm_quantised};
 use crate::settings::{ShadowMode, ShadowSettings};
 
 /// Capacity of the light list the materials read (WGSL `MAX_LIGHTS`).
@@ -26,6 +27,12 @@ pub const SHADOW_FILTER_PCF: u32 = 0;
 pub const SHADOW_FILTER_PCSS: u32 = 1;
 /// `Light::shadow_filter`: variance shadow map (spot and point lights).
 pub const SHADOW_FILTER_VSM: u32 = 2;
+/// `Light::shadow_filter`: EVSM2 from the cascades' moments (suns).
+pub const SHADOW_FILTER_EVSM2: u32 = 3;
+/// `Light::shadow_filter`: EVSM4 from the cascades' moments (suns).
+pub const SHADOW_FILTER_EVSM4: u32 = 4;
+/// `Light::shadow_filter`: 4-moment shadow map from the cascades' moments (suns).
+pub const SHADOW_FILTER_MSM: u32 = 5;
 /// PCSS blocker early-out.
 pub const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2;
 /// Receiver-plane depth bias.
@@ -50,7 +57,8 @@ pub struct LightGpu {
     /// Angular diameter (sun) or radius (spot, point).
     pub size: f32,
     /// Spot cone: cos(outer), 1 / (cos(inner) − cos(outer)); VSM (spot, point): minimum
-    /// variance, light-bleed reduction.
+    /// variance, light-bleed reduction. Sun moments: x = MSM bias, y = 1 where MSM moments are
+    /// stored quantised, z = minimum variance (m²), w = light-bleed reduction.
     pub cone: Vec4,
     /// Normal offset (texels), max distance, blend width, fade width.
     pub shadow_params: Vec4,
@@ -86,8 +94,8 @@ pub struct ShadowViewGpu {
     pub layer: u32,
     /// 1 / side of its map.
     pub texel_size: f32,
-    /// Padding to the WGSL size.
-    pub _pad: [u32; 2],
+    /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade.
+    pub exponents: Vec2,
 }
 
 /// Mirror of WGSL `CasterView` in `caster.wgsl`, padded to the 256-byte dynamic-offset
@@ -117,14 +125,16 @@ impl CasterViewGpu {
 /// Views one single-pass (multiview) caster binding covers: a sun's cascades.
 pub const SINGLE_PASS_VIEWS: usize = crate::settings::MAX_CASCADES;
 
-/// The filter and flag bits a light's settings select; VSM only for a light with moments
-/// (`positional`: spot and point lights), PCF for a sun that asks for it.
+/// The filter and flag bits a light's settings select, with the moment technique of its
+/// kind ([`ShadowMode::effective`]; `positional`: spot and point lights).
 fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
-    let filter = match settings.mode {
+    let filter = match settings.mode.effective(!positional) {
         ShadowMode::Pcf => SHADOW_FILTER_PCF,
         ShadowMode::Pcss => SHADOW_FILTER_PCSS,
-        ShadowMode::Vsm if positional => SHADOW_FILTER_VSM,
-        ShadowMode::Vsm => SHADOW_FILTER_PCF,
+        ShadowMode::Vsm => SHADOW_FILTER_VSM,
+        ShadowMode::Evsm => SHADOW_FILTER_EVSM2,
+        ShadowMode::Evsm4 => SHADOW_FILTER_EVSM4,
+        ShadowMode::Msm => SHADOW_FILTER_MSM,
     };
     let mut flags = 0;
     if settings.blocker_early_out {
@@ -140,9 +150,10 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
 }
 
 /// Packs every light (suns, then spots, then points) into `out`, pointing each shadowed one
-/// at its views in `views`.
-pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<LightGpu>) {
+/// at its views in `views`; `fp32_filterable`: the device filters 32-bit moments.
+pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, fp32_filterable: bool, out: &mut Vec<LightGpu>) {
     out.clear();
+    let moments_format = cascade_moment_format(lights, fp32_filterable).unwrap_or(wgpu::TextureFormat::Rgba16Float);
     for sun in &lights.suns {
         let (filter, flags) = filter_and_flags(&sun.settings, false);
         let s = &sun.settings;
@@ -152,6 +163,12 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, out: &mut Vec<Ligh
             kind: LIGHT_DIRECTIONAL,
             direction: sun.direction,
             size: sun.light.angular_diameter,
+            cone: Vec4::new(
+                msm_bias(moments_format),
+                if msm_quantised(moments_format) { 1.0 } else { 0.0 },
+                s.moment_min_variance,
+                s.moment_bleed_reduction,
+            ),
             shadow_params: Vec4::new(
                 s.normal_offset,
                 set.splits[set.count.max(1)],
@@ -241,8 +258,8 @@ pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: bool) -> u32 {
 }
 
 /// The GPU description of `view`, drawn at `view.resolution` texels in the top-left corner of
-/// a layer `side` texels wide.
-pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32) -> ShadowViewGpu {
+/// a layer `side` texels wide (`fp32_filterable` as for [`pack_lights`]).
+pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, fp32_filterable: bool) -> ShadowViewGpu {
     let scale = view.resolution as f32 / side.max(1) as f32;
     let mut gpu = ShadowViewGpu {
         clip_from_world: view.clip_from_world,
@@ -253,12 +270,16 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32) -> ShadowVi
     };
     match view.kind {
         ShadowViewKind::Cascade(c) => {
-            if let Some(c) = lights
-                .sun_at(view.light)
-                .and_then(|s| s.cascades.active().get(c as usize))
-            {
-                gpu.params = Vec4::new(c.texel_world_size, c.light_size_uv, c.pcss_scale, c.uv_scale_y);
-                gpu.range = Vec4::new(c.near, c.far, c.depth_range, 0.0);
+            let Some(sun) = lights.sun_at(view.light) else {
+                return gpu;
+            };
+            if let Some(cascade) = sun.cascades.active().get(c as usize) {
+                let k = cascade;
+                gpu.params = Vec4::new(k.texel_world_size, k.light_size_uv, k.pcss_scale, k.uv_scale_y);
+                gpu.range = Vec4::new(k.near, k.far, k.depth_range, 0.0);
+            }
+            if let Some(m) = cascade_moments(sun, c as usize, fp32_filterable) {
+                gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
             }
         }
         ShadowViewKind::Spot => {
@@ -289,6 +310,9 @@ mod tests {
             ("SHADOW_FILTER_PCF", SHADOW_FILTER_PCF),
             ("SHADOW_FILTER_PCSS", SHADOW_FILTER_PCSS),
             ("SHADOW_FILTER_VSM", SHADOW_FILTER_VSM),
+            ("SHADOW_FILTER_EVSM2", SHADOW_FILTER_EVSM2),
+            ("SHADOW_FILTER_EVSM4", SHADOW_FILTER_EVSM4),
+            ("SHADOW_FILTER_MSM", SHADOW_FILTER_MSM),
             ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),

@@ -1,10 +1,12 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
-//! lights, point-light cubes) and VSM moments for spot and point lights, the frame's lights and shadow views packed into uniform arrays (read through the
-//! constant cache, which made the forward pass faster than storage buffers on the H200; see
-//! docs/benchmarks.md), the casters' per-view matrices, and the shadow bind group (group 3) every material samples through
-//! `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
+//! lights, point-light cubes), VSM moments for spot and point lights and EVSM/MSM moments
+//! for the suns' cascades, the frame's lights and shadow views packed into uniform arrays
+//! (read through the constant cache, which made the forward pass faster than storage buffers
+//! on the H200; see docs/benchmarks.md), the casters' per-view matrices, and the shadow bind
+//! group (group 3) every material samples through `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
 //! ([`depth_pass`]) renders every view.
 
+pub mod cascade_moments_pass;
 pub mod casters;
 pub mod clear;
 pub mod depth_pass;
@@ -13,6 +15,7 @@ pub mod moment_storage;
 pub mod moments_pass;
 pub mod standalone;
 pub mod storage;
+pub mod sun_moments;
 pub mod visibility;
 
 use wgpu::util::DeviceExt;
@@ -31,6 +34,7 @@ use crate::render::shadows::gpu::{
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur};
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
 
@@ -46,6 +50,9 @@ pub struct ShadowResources {
     pub spot_moments: MomentArray,
     /// VSM moments of the point lights' cubes (a stand-in while no point light uses VSM).
     pub point_moments: MomentArray,
+    /// EVSM or MSM moments of the suns' cascades (a stand-in while no sun filters moments),
+    /// in [`cascade_moment_format`].
+    pub cascade_moments: MomentArray,
     lights: wgpu::Buffer,
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
@@ -101,6 +108,8 @@ pub(crate) fn vsm_use(lights: &FrameLights, views: &ShadowViews, storage: Shadow
 
 /// Labels of the spot and point lights' moment arrays.
 const MOMENT_LABELS: [&str; 2] = ["spot shadow moments", "point shadow moments"];
+/// Label of the cascades' moment array.
+const CASCADE_MOMENTS: &str = "cascade shadow moments";
 
 /// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
 /// it wrote.
@@ -119,12 +128,12 @@ fn shadow_group(
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 3],
     maps: [&DepthArray; 3],
-    moments: [&MomentArray; 2],
+    moments: [&MomentArray; 3],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, views, taps] = buffers;
     let [cascades, spots, points] = maps;
-    let [spot_moments, point_moments] = moments;
+    let [spot_moments, point_moments, cascade_moments] = moments;
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("shadows"),
         layout: &layouts.shadows,
@@ -176,6 +185,10 @@ fn shadow_group(
             wgpu::BindGroupEntry {
                 binding: 11,
                 resource: wgpu::BindingResource::Sampler(&layouts.moments_sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 12,
+                resource: wgpu::BindingResource::TextureView(&cascade_moments.moments.sampled),
             },
         ],
     })
@@ -232,13 +245,14 @@ impl ShadowResources {
         let points = DepthArray::placeholder(device, storage_label(ShadowStorage::Points), true);
         let spot_moments = MomentArray::placeholder(device, MOMENT_LABELS[0], moments_format, false);
         let point_moments = MomentArray::placeholder(device, MOMENT_LABELS[1], moments_format, true);
+        let cascade_moments = MomentArray::placeholder(device, CASCADE_MOMENTS, moments_format, false);
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
         let group = shadow_group(
             device,
             layouts,
             [&lights, &views, &poisson_taps],
             [&cascades, &spots, &points],
-            [&spot_moments, &point_moments],
+            [&spot_moments, &point_moments, &cascade_moments],
             &no_visibility,
         );
         let [caster_group, caster_run_group] = caster_groups(device, layouts, &caster_views.buffer);
@@ -250,6 +264,7 @@ impl ShadowResources {
             points,
             spot_moments,
             point_moments,
+            cascade_moments,
             lights,
             views,
             caster_views,
@@ -289,15 +304,16 @@ impl ShadowResources {
     /// Bytes of shadow-map memory (depth and VSM moments).
     pub fn memory_bytes(&self) -> u64 {
         let depth: u64 = ShadowStorage::ALL.iter().map(|&s| self.array(s).memory_bytes()).sum();
-        depth + self.spot_moments.memory_bytes() + self.point_moments.memory_bytes()
+        let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
+        depth + moments.iter().map(|m| m.memory_bytes()).sum::<u64>()
     }
 
-    /// The VSM moments of `storage` (None for the cascades, which have none).
-    pub fn moments(&self, storage: ShadowStorage) -> Option<&MomentArray> {
+    /// The moments of `storage`: VSM for spot and point lights, EVSM or MSM for the cascades.
+    pub fn moments(&self, storage: ShadowStorage) -> &MomentArray {
         match storage {
-            ShadowStorage::Cascades => None,
-            ShadowStorage::Spots => Some(&self.spot_moments),
-            ShadowStorage::Points => Some(&self.point_moments),
+            ShadowStorage::Cascades => &self.cascade_moments,
+            ShadowStorage::Spots => &self.spot_moments,
+            ShadowStorage::Points => &self.point_moments,
         }
     }
 
@@ -351,12 +367,23 @@ impl ShadowResources {
                 rebuild = true;
             }
         }
-        pack_lights(lights, views, &mut self.light_data);
+        let fp32 = gpu.filters_fp32();
+        if let Some(format) = cascade_moment_format(lights, fp32) {
+            let (side, layers) = views.extent(ShadowStorage::Cascades);
+            let blur = sun_moment_blur(lights);
+            let moments = &mut self.cascade_moments;
+            if moments.needs(side, layers, blur) || moments.moments.texture.format() != format {
+                *moments = MomentArray::new(device, CASCADE_MOMENTS, format, (side, layers), false, blur);
+                counters.shadow_maps += 1;
+                rebuild = true;
+            }
+        }
+        pack_lights(lights, views, fp32, &mut self.light_data);
         self.view_data.clear();
         self.caster_data.clear();
         for view in &views.views {
             let side = self.storage(view.kind).side;
-            self.view_data.push(pack_view(lights, view, side));
+            self.view_data.push(pack_view(lights, view, side, fp32));
             let view_bit = match view.kind {
                 ShadowViewKind::Cascade(c) => 1 << c,
                 ShadowViewKind::Spot | ShadowViewKind::PointFace(_) => 0,
@@ -405,7 +432,7 @@ impl ShadowResources {
         let buffers = [&self.lights, &self.views, &self.poisson_taps];
         if rebuild {
             let maps = [&self.cascades, &self.spots, &self.points];
-            let moments = [&self.spot_moments, &self.point_moments];
+            let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
             self.group = shadow_group(device, layouts, buffers, maps, moments, &self.no_visibility);
             counters.shadow_groups += 1;
         }
@@ -418,7 +445,7 @@ impl ShadowResources {
                     kept => {
                         let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
                         let maps = [&self.cascades, &self.spots, &self.points];
-                        let moments = [&self.spot_moments, &self.point_moments];
+                        let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
                         let group = shadow_group(device, layouts, buffers, maps, moments, &target);
                         counters.shadow_groups += 1;
                         Resolved { target, group }

@@ -177,7 +177,7 @@ fn positional_settings_ui(ui: &mut Ui, e: &mut bevy_ecs::world::EntityWorldMut<'
         ..Default::default()
     });
     let before = settings;
-    filter_ui(ui, &mut settings, true);
+    filter_ui(ui, &mut settings, false);
     resolution_ui(ui, &mut settings);
     bias_ui(ui, &mut settings);
     if settings != before {

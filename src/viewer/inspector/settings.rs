@@ -1,11 +1,13 @@
 //! The shadow-settings section: every [`ShadowSettings`] field, with the ranges of the
 //! runtime table (filter mode, cascades, resolution, split λ, max distance, biases, PCF
-//! radius, PCSS quality and switches, blend and fade widths) and the cascade debug view.
+//! radius, PCSS quality and switches, the moment techniques' parameters, blend and fade
+//! widths) and the cascade debug view.
 
 use egui::{ComboBox, Slider, Ui};
 
 use crate::settings::{
-    CascadeFit, MAX_CASCADES, MAX_PCF_RADIUS, MAX_VSM_BLUR, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings,
+    CascadeFit, MAX_CASCADES, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat, PcssQuality,
+    ShadowDebugView, ShadowMode, ShadowSettings,
 };
 
 /// The shadow-map resolutions offered (the seed's runtime table, and 256 for point-light faces).
@@ -13,7 +15,7 @@ pub(crate) const RESOLUTIONS: [u32; 5] = [256, 512, 1024, 2048, 4096];
 
 /// Draws the controls for `s`; the caller writes the copy back when it changed.
 pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
-    filter_ui(ui, s, false);
+    filter_ui(ui, s, true);
     ui.add(Slider::new(&mut s.cascade_count, 1..=MAX_CASCADES as u32).text("cascades"));
     resolution_ui(ui, s);
     ComboBox::from_label("fit")
@@ -60,19 +62,24 @@ pub(crate) fn bias_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     ui.add(Slider::new(&mut s.normal_offset, 0.0..=5.0).text("normal offset"));
 }
 
-/// The filter: PCF with its radius, PCSS with its quality and switches, or (for a light with
-/// `moments`: spot and point lights) VSM with its blur, bleed reduction and variance floor.
-pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, moments: bool) {
+/// The filter: PCF with its radius, PCSS with its quality and switches, and the moment
+/// techniques of the light's kind: for a `sun` EVSM2, EVSM4 and MSM with their precision,
+/// exponent, blur, bleed reduction and variance floor; for spot and point lights VSM with its
+/// blur, bleed reduction and variance floor.
+pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, sun: bool) {
+    let moments: &[ShadowMode] = if sun {
+        &[ShadowMode::Evsm, ShadowMode::Evsm4, ShadowMode::Msm]
+    } else {
+        &[ShadowMode::Vsm]
+    };
     ComboBox::from_label("mode")
-        .selected_text(mode_name(s.mode))
+        .selected_text(mode_name(s.mode.effective(sun)))
         .show_ui(ui, |ui| {
-            ui.selectable_value(&mut s.mode, ShadowMode::Pcf, mode_name(ShadowMode::Pcf));
-            ui.selectable_value(&mut s.mode, ShadowMode::Pcss, mode_name(ShadowMode::Pcss));
-            if moments {
-                ui.selectable_value(&mut s.mode, ShadowMode::Vsm, mode_name(ShadowMode::Vsm));
+            for &mode in [ShadowMode::Pcf, ShadowMode::Pcss].iter().chain(moments) {
+                ui.selectable_value(&mut s.mode, mode, mode_name(mode));
             }
         });
-    match s.mode {
+    match s.mode.effective(sun) {
         ShadowMode::Pcf => {
             let kernel = 2 * s.pcf_radius + 1;
             let text = if s.pcf_radius == 0 {
@@ -104,6 +111,34 @@ pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, moments: bool) {
                     .text("minimum variance"),
             );
         }
+        ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm => sun_moments_ui(ui, s),
+    }
+}
+
+/// A sun's moment parameters (EVSM2, EVSM4, MSM).
+fn sun_moments_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    ComboBox::from_label("precision")
+        .selected_text(format!("{:?}", s.moment_precision))
+        .show_ui(ui, |ui| {
+            for p in [MomentFormat::Auto, MomentFormat::Fp16, MomentFormat::Fp32] {
+                ui.selectable_value(&mut s.moment_precision, p, format!("{p:?}"));
+            }
+        });
+    if s.mode != ShadowMode::Msm {
+        ui.add(Slider::new(&mut s.evsm_exponent, 0.0..=MAX_EVSM_EXPONENT).text("exponent (0: format's)"));
+    }
+    ui.add(
+        Slider::new(&mut s.moment_blur, 0.0..=1.0)
+            .logarithmic(true)
+            .text("blur (m)"),
+    );
+    ui.add(Slider::new(&mut s.moment_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
+    if s.mode != ShadowMode::Msm {
+        ui.add(
+            Slider::new(&mut s.moment_min_variance, 0.0..=0.01)
+                .logarithmic(true)
+                .text("minimum variance (m²)"),
+        );
     }
 }
 
@@ -112,5 +147,8 @@ fn mode_name(mode: ShadowMode) -> &'static str {
         ShadowMode::Pcf => "PCF",
         ShadowMode::Pcss => "PCSS",
         ShadowMode::Vsm => "VSM",
+        ShadowMode::Evsm => "EVSM2",
+        ShadowMode::Evsm4 => "EVSM4",
+        ShadowMode::Msm => "MSM",
     }
 }

@@ -1,0 +1,399 @@
+//! The cascade moments pass (`shaders/shadow_cascade_moments.wgsl`): after the depth pass,
+//! every cascade of a sun that filters moments (EVSM2, EVSM4, MSM) whose depth or moment
+//! parameters changed gets its moments made again — one compute pass per cascade
+//! (`shadow moments sun k cascade c`) that warps its depth into moments and, with a blur,
+//! blurs them along x into the scratch and along y back. No extra rasterisation: the moments
+//! come from the depth cascades. It remembers what each layer's moments were made from, so a
+//! still sun costs nothing.
+
+use std::borrow::Cow;
+use std::fmt::Write;
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::ecs::shadow_views::ShadowViewKind;
+use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::layouts::entry;
+use crate::render::shadows::moment_storage::MomentArray;
+use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::sun_moments::{CascadeMoments, cascade_moment_format, cascade_moments};
+use crate::shader::ShaderLibrary;
+
+/// Mirror of WGSL `CascadeMomentsJob`, padded to the 256-byte dynamic-offset alignment.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct JobGpu {
+    src_layer: u32,
+    dst_layer: u32,
+    size: u32,
+    technique: u32,
+    c_positive: f32,
+    c_negative: f32,
+    radius: f32,
+    axis: u32,
+    _pad: [u32; 56],
+}
+
+/// One cascade whose moments are made this frame.
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    layer: u32,
+    size: u32,
+    moments: CascadeMoments,
+    /// Index of the sun and of the cascade (for the pass name).
+    sun: u32,
+    cascade: u32,
+}
+
+impl Job {
+    /// Dispatches of its pass: the resolve, then with a blur both axes.
+    fn stages(&self) -> usize {
+        if self.moments.blur_texels > 0.0 { 3 } else { 1 }
+    }
+}
+
+/// The pipelines of one moments format.
+struct Pipelines {
+    format: wgpu::TextureFormat,
+    resolve_layout: wgpu::BindGroupLayout,
+    blur_layout: wgpu::BindGroupLayout,
+    resolve: wgpu::ComputePipeline,
+    blur: wgpu::ComputePipeline,
+}
+
+/// What a layer's moments were made from: the depth's content version and the parameters.
+type Held = (u64, [f32; 4]);
+
+/// The cascade moments node.
+#[derive(Default)]
+pub struct CascadeMomentsPass {
+    pipelines: Option<Pipelines>,
+    /// The per-dispatch uniforms, and how many they hold.
+    jobs_buffer: Option<(wgpu::Buffer, usize)>,
+    buffer_generation: u64,
+    /// The resolve and blur groups, with the depth and moments allocations and the buffer
+    /// generation they were made for.
+    groups: Option<((u64, u64, u64), [wgpu::BindGroup; 3])>,
+    /// The depth and moments allocations `held` refers to, and what each layer holds.
+    held_for: (u64, u64),
+    held: Vec<Held>,
+    cache: bool,
+    jobs: Vec<Job>,
+    data: Vec<JobGpu>,
+    name: String,
+}
+
+fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let storage = entry(
+        1,
+        compute,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+        },
+    );
+    let job = entry(
+        2,
+        compute,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(size_of::<JobGpu>() as u64),
+        },
+    );
+    let texture = |binding, sample_type| {
+        entry(
+            binding,
+            compute,
+            wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+        )
+    };
+    let layout = |label, first| {
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &[first, storage, job],
+        })
+    };
+    let resolve_layout = layout("cascade moments resolve", texture(0, wgpu::TextureSampleType::Depth));
+    let blur_layout = layout(
+        "cascade moments blur",
+        texture(3, wgpu::TextureSampleType::Float { filterable: false }),
+    );
+    let module = library
+        .cascade_moments(format)
+        .expect("the shipped cascade moments shader composes (checked by tests)");
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("cascade moments"),
+        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+    });
+    let pipeline = |layout: &wgpu::BindGroupLayout, entry_point: &str| {
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("cascade moments"),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("cascade moments"),
+            layout: Some(&pipeline_layout),
+            module: &shader,
+            entry_point: Some(entry_point),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    Pipelines {
+        format,
+        resolve: pipeline(&resolve_layout, "resolve"),
+        blur: pipeline(&blur_layout, "blur"),
+        resolve_layout,
+        blur_layout,
+    }
+}
+
+impl RenderNode for CascadeMomentsPass {
+    fn name(&self) -> &'static str {
+        "shadow cascade moments"
+    }
+
+    /// Reads the cascades' depth and writes their moments while a sun filters moments; else
+    /// nothing (the node is culled).
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        self.cache = inputs.options.shadow_cache;
+        if cascade_moment_format(inputs.lights, true).is_some() {
+            pass.read(frame.cascade_maps);
+            pass.write(frame.cascade_moments);
+        }
+    }
+
+    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        self.plan(ctx);
+        if self.jobs.is_empty() {
+            return;
+        }
+        let device = &ctx.gpu.device;
+        let moments = &ctx.shadows.cascade_moments;
+        let format = moments.moments.texture.format();
+        if self.pipelines.as_ref().is_none_or(|p| p.format != format) {
+            self.pipelines = Some(create_pipelines(device, ctx.library, format));
+            self.groups = None;
+        }
+        let Some(pipelines) = &self.pipelines else {
+            return;
+        };
+        // NOTE: one uniform entry per dispatch: resolve depth → moments; blur x moments →
+        // scratch (layer 0); blur y scratch → moments.
+        self.data.clear();
+        for job in &self.jobs {
+            let stages = [(job.layer, job.layer, 0), (job.layer, 0, 0), (0, job.layer, 1)];
+            for &(src_layer, dst_layer, axis) in &stages[..job.stages()] {
+                let m = &job.moments;
+                self.data.push(JobGpu {
+                    src_layer,
+                    dst_layer,
+                    size: job.size,
+                    technique: m.technique,
+                    c_positive: m.c_positive,
+                    c_negative: m.c_negative,
+                    radius: m.blur_texels,
+                    axis,
+                    _pad: [0; 56],
+                });
+            }
+        }
+        let needed = self.data.len();
+        if self.jobs_buffer.as_ref().is_none_or(|(_, n)| *n < needed) {
+            let capacity = needed.next_power_of_two().max(8);
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("cascade moments jobs"),
+                size: (capacity * size_of::<JobGpu>()) as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.jobs_buffer = Some((buffer, capacity));
+            self.buffer_generation += 1;
+        }
+        let Some((buffer, _)) = &self.jobs_buffer else {
+            return;
+        };
+        ctx.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.data));
+        let depth = &ctx.shadows.cascades;
+        let key = (depth.id, moments.id, self.buffer_generation);
+        if self.groups.as_ref().is_none_or(|(held, _)| *held != key) {
+            self.groups = Some((key, bind_groups(device, pipelines, buffer, depth, moments)));
+        }
+        let Some((_, groups)) = &self.groups else {
+            return;
+        };
+        let mut entry = 0;
+        for job in &self.jobs {
+            self.name.clear();
+            // NOTE: writing to a String cannot fail.
+            let _ = write!(self.name, "shadow moments sun {} cascade {}", job.sun, job.cascade);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&self.name),
+                timestamp_writes: ctx.timer.compute_pass(&self.name),
+            });
+            for (stage, group) in groups.iter().enumerate().take(job.stages()) {
+                let pipeline = if stage == 0 {
+                    &pipelines.resolve
+                } else {
+                    &pipelines.blur
+                };
+                let offset = (entry * size_of::<JobGpu>()) as u32;
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[offset]);
+                pass.dispatch_workgroups(job.size.div_ceil(8), job.size.div_ceil(8), 1);
+                entry += 1;
+            }
+        }
+    }
+}
+
+/// The resolve group and both blur groups (x: moments → scratch, y: scratch → moments).
+fn bind_groups(
+    device: &wgpu::Device,
+    pipelines: &Pipelines,
+    buffer: &wgpu::Buffer,
+    depth: &DepthArray,
+    moments: &MomentArray,
+) -> [wgpu::BindGroup; 3] {
+    let job = wgpu::BindGroupEntry {
+        binding: 2,
+        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(size_of::<JobGpu>() as u64),
+        }),
+    };
+    let group = |label, layout, (binding, from): (u32, &wgpu::TextureView), to: &wgpu::TextureView| {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(from),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(to),
+                },
+                job.clone(),
+            ],
+        })
+    };
+    let resolve_layout = &pipelines.resolve_layout;
+    let blur_layout = &pipelines.blur_layout;
+    [
+        group(
+            "cascade moments resolve",
+            resolve_layout,
+            (0, &depth.flat_view),
+            &moments.moments.storage,
+        ),
+        group(
+            "cascade moments blur",
+            blur_layout,
+            (3, &moments.moments.sampled),
+            &moments.scratch.storage,
+        ),
+        group(
+            "cascade moments blur",
+            blur_layout,
+            (3, &moments.scratch.sampled),
+            &moments.moments.storage,
+        ),
+    ]
+}
+
+impl CascadeMomentsPass {
+    /// Lists the cascades whose moments must be made this frame (their depth or parameters
+    /// changed, the allocations are new, or the cache is off), and marks what their layers
+    /// hold.
+    fn plan(&mut self, ctx: &FrameContext<'_>) {
+        self.jobs.clear();
+        let ids = (ctx.shadows.cascades.id, ctx.shadows.cascade_moments.id);
+        if self.held_for != ids {
+            self.held_for = ids;
+            self.held.clear();
+        }
+        let fp32 = ctx.gpu.filters_fp32();
+        for view in &ctx.shadow_views.views {
+            let ShadowViewKind::Cascade(c) = view.kind else {
+                continue;
+            };
+            let Some(sun) = ctx.lights.sun_at(view.light) else {
+                continue;
+            };
+            let Some(moments) = cascade_moments(sun, c as usize, fp32) else {
+                continue;
+            };
+            let params = [
+                moments.technique as f32,
+                moments.c_positive,
+                moments.c_negative,
+                moments.blur_texels,
+            ];
+            let slot = view.slot as usize;
+            if self.held.len() <= slot {
+                self.held.resize(slot + 1, (0, [0.0; 4]));
+            }
+            let made = (view.version, params);
+            if self.cache && self.held[slot] == made {
+                continue;
+            }
+            self.held[slot] = made;
+            self.jobs.push(Job {
+                layer: view.slot,
+                size: view.resolution,
+                moments,
+                sun: view.light,
+                cascade: c,
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+
+    #[test]
+    fn the_job_uniform_matches_the_wgsl_layout() {
+        let mut library = ShaderLibrary::new().unwrap();
+        let module = library.cascade_moments(wgpu::TextureFormat::Rgba16Float).unwrap();
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref().is_some_and(|n| n.starts_with("CascadeMomentsJob")))
+            .expect("CascadeMomentsJob in the cascade moments shader");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("CascadeMomentsJob is not a struct")
+        };
+        let wgsl: Vec<(&str, usize)> = members
+            .iter()
+            .map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize))
+            .collect();
+        let rust = [
+            ("src_layer", offset_of!(JobGpu, src_layer)),
+            ("dst_layer", offset_of!(JobGpu, dst_layer)),
+            ("size", offset_of!(JobGpu, size)),
+            ("technique", offset_of!(JobGpu, technique)),
+            ("c_positive", offset_of!(JobGpu, c_positive)),
+            ("c_negative", offset_of!(JobGpu, c_negative)),
+            ("radius", offset_of!(JobGpu, radius)),
+            ("axis", offset_of!(JobGpu, axis)),
+        ];
+        assert_eq!(wgsl, rust);
+        assert_eq!(size_of::<JobGpu>(), 256);
+    }
+}
