@@ -5,7 +5,7 @@
 // away from the light from 0 (the box's light side) to 1 (its far side).
 //
 // Shader defs: MOMENTS_RG32 (the moments are `rg32float`: EVSM2 in 32 bits), MOMENTS_RGBA32
-// (`rgba32float`), else `rgba16float`.
+// (`rgba32float`), MOMENTS_RGBA16_UNORM (`rgba16unorm`: MSM only), else `rgba16float`.
 
 #import penumbra::shadows::moments::{negative_warp, positive_warp}
 #import penumbra::shadows::msm::{msm_moments, msm_quantize}
@@ -36,6 +36,8 @@ struct CascadeMomentsJob {
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rg32float, write>;
 #else ifdef MOMENTS_RGBA32
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba32float, write>;
+#else ifdef MOMENTS_RGBA16_UNORM
+@group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba16unorm, write>;
 #else
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba16float, write>;
 #endif

@@ -161,8 +161,13 @@ struct BenchArgs {
     #[arg(long)]
     slope_bias: Option<f32>,
     /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
-    #[arg(long, value_parser = sun_degrees)]
+    #[arg(long, value_parser = sun_degrees, conflicts_with = "sun_diameters")]
     sun_diameter: Option<f32>,
+    /// Run the whole benchmark once per sun angular diameter (degrees, comma-separated), each
+    /// report in its own folder `sun-<d>`, and write `sweep.md` and `sweep.png`: each
+    /// preset's cost and error against the diameter.
+    #[arg(long, value_delimiter = ',', value_parser = sun_degrees)]
+    sun_diameters: Vec<f32>,
 }
 
 #[derive(Subcommand)]
@@ -296,7 +301,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     }
     write_color_image(&out, &result.image)?;
 
-    let s = &desc.shadows;
+    // The settings the sun was rendered with: the scene's, with the command line's changes.
+    let mut s = desc.shadows;
+    tweak(&mut s);
     println!("scene      {}", scene.display());
     println!("adapter    {}", result.adapter);
     println!(
@@ -313,7 +320,11 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     // NOTE: the scene's `shadows` are the sun's; a scene without a sun (spot lights only)
     // says nothing about cascades.
     let cascades = if desc.sun.is_some() {
-        format!(", sun {:?} with {}² texels per cascade", s.mode, s.resolution)
+        format!(
+            ", sun {:?} with {}² texels per cascade",
+            s.mode.effective(true),
+            s.resolution
+        )
     } else {
         String::new()
     };
@@ -441,11 +452,38 @@ fn bench(args: BenchArgs) -> Result<(), String> {
         slope_bias: args.slope_bias,
         sun_diameter: args.sun_diameter,
     };
+    if !args.sun_diameters.is_empty() {
+        for name in ["sweep.md", "sweep.png"] {
+            prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;
+        }
+        let mut runs = Vec::new();
+        for &d in &args.sun_diameters {
+            let overrides = penumbra::bench::SettingsOverrides {
+                sun_diameter: Some(d),
+                ..overrides
+            };
+            let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
+            let dir = args.out.join(format!("sun-{d}"));
+            let path = penumbra::bench::write_report(&report, &dir).map_err(|e| e.to_string())?;
+            println!("sun        {d}°");
+            print_report(&report, &path);
+            runs.push((d, report));
+        }
+        let path = penumbra::bench::write_sweep(&runs, &args.out).map_err(|e| e.to_string())?;
+        println!("sweep      {}", path.display());
+        return Ok(());
+    }
     for name in ["report.md", "plot.png"] {
         prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;
     }
     let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
     let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
+    print_report(&report, &path);
+    Ok(())
+}
+
+/// Prints a bench report's summary: the adapter and each preset's means.
+fn print_report(report: &penumbra::analysis::BenchReport, path: &std::path::Path) {
     println!("adapter    {} ({}, {})", report.adapter, report.backend, report.driver);
     println!(
         "{:<22} {:>9} {:>9} {:>12} {:>8}",
@@ -464,7 +502,6 @@ fn bench(args: BenchArgs) -> Result<(), String> {
         );
     }
     println!("report     {}", path.display());
-    Ok(())
 }
 
 /// Loads each scene and everything it names (glTF models, textures) exactly as `render`

@@ -50,8 +50,8 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         r.graph_order(),
         ["shadow", "depth prepass", "visibility resolve", "forward"]
     );
-    // No light filters with VSM: the moments node writes nothing and is culled.
-    assert_eq!(r.graph_culled(), ["shadow moments"]);
+    // No light filters moments: the moments nodes write nothing and are culled.
+    assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments"]);
     // Three frames of one size: the camera depth was created once and reused.
     // The camera depth and normals (for the compute resolve), each created once.
     assert_eq!(r.counters().transient_resources, 2, "{:?}", r.counters());
@@ -68,7 +68,15 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         ["depth prepass", "forward"],
         "no shadow view, yet the shadow node ran"
     );
-    assert_eq!(r.graph_culled(), ["shadow", "shadow moments", "visibility resolve"]);
+    assert_eq!(
+        r.graph_culled(),
+        [
+            "shadow",
+            "shadow moments",
+            "shadow cascade moments",
+            "visibility resolve"
+        ]
+    );
     assert_eq!(r.counters().transient_resources, 2);
 }
 
@@ -161,7 +169,7 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
         r.graph_order(),
         ["shadow", "depth prepass", "visibility resolve", "forward", "paint"]
     );
-    assert_eq!(r.graph_culled(), ["shadow moments", "unread"]);
+    assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments", "unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
     // The culled node's transient was never allocated: only the camera depth and normals were.
@@ -229,7 +237,12 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
     assert_eq!(
         renderer(&small).graph_culled(),
-        ["shadow moments", "depth prepass", "visibility resolve"]
+        [
+            "shadow moments",
+            "shadow cascade moments",
+            "depth prepass",
+            "visibility resolve"
+        ]
     );
     let mut large = app();
     large.update();

@@ -64,6 +64,7 @@ fn the_cascade_moments_shader_validates_in_every_moments_format() {
     for format in [
         wgpu::TextureFormat::Rg32Float,
         wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureFormat::Rgba16Unorm,
         wgpu::TextureFormat::Rgba16Float,
     ] {
         let module = library

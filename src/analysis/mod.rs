@@ -4,8 +4,9 @@
 //! and per cascade), [`shimmer`](mod@shimmer) measures temporal stability at fixed world
 //! points over camera poses, [`pareto`] finds the presets that no other beats in both cost and
 //! error, [`results`] holds the results (and which light each scene scores), [`report`] writes
-//! them as Markdown, and [`plot`] draws GPU time against penumbra error as a PNG with an
-//! embedded font, so no system font is needed.
+//! them as Markdown, [`plot`] draws GPU time against penumbra error as a PNG with an
+//! embedded font, so no system font is needed, and [`sweep`](mod@sweep) tabulates and plots
+//! runs at several sun diameters.
 //!
 //! Shadow factors are in `[0, 1]`: 1 is fully lit, 0 fully shadowed.
 
@@ -18,6 +19,7 @@ mod raster;
 pub mod report;
 pub mod results;
 pub mod shimmer;
+pub mod sweep;
 
 pub use metrics::{ErrorMetrics, Thresholds, error_metrics, per_cascade};
 pub use pareto::pareto_front;
@@ -25,3 +27,4 @@ pub use plot::{PlotError, plot_png};
 pub use report::markdown;
 pub use results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 pub use shimmer::{Shimmer, UNSTABLE_SPREAD, shimmer};
+pub use sweep::{SweepRun, sweep_markdown, sweep_png};

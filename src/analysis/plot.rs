@@ -23,7 +23,7 @@ pub(crate) const WIDTH: u32 = 1200;
 /// Image height in pixels.
 pub(crate) const HEIGHT: u32 = 800;
 /// The plot area, in pixels.
-const AREA: Rect = Rect::new(110.0, 90.0, 1160.0, 720.0);
+pub(crate) const AREA: Rect = Rect::new(110.0, 90.0, 1160.0, 720.0);
 
 pub(crate) const BACKGROUND: Rgb<u8> = Rgb([255, 255, 255]);
 pub(crate) const FRONT: Rgb<u8> = Rgb([222, 96, 32]);
@@ -31,7 +31,7 @@ pub(crate) const DOMINATED: Rgb<u8> = Rgb([66, 118, 180]);
 const OUTLINE: Rgb<u8> = Rgb([70, 40, 20]);
 const GRID: Rgb<u8> = Rgb([228, 228, 232]);
 const AXIS: Rgb<u8> = Rgb([90, 90, 96]);
-const INK: Rgb<u8> = Rgb([25, 25, 30]);
+pub(crate) const INK: Rgb<u8> = Rgb([25, 25, 30]);
 const MUTED: Rgb<u8> = Rgb([100, 100, 108]);
 /// Label text size in pixels.
 const LABEL_PX: f32 = 17.0;
@@ -106,7 +106,12 @@ fn draw(report: &BenchReport, fonts: &Fonts) -> RgbImage {
     let front = pareto_front(&points);
     let frame = Frame::fit(&points);
     draw_titles(&mut img, fonts, report);
-    draw_axes(&mut img, fonts, &frame);
+    draw_axes(
+        &mut img,
+        fonts,
+        &frame,
+        ("GPU time per frame (ms)", "Penumbra MAE (shadow factor)"),
+    );
 
     let muted = |px| Style {
         font: &fonts.sans,
@@ -249,7 +254,8 @@ fn place_label((x, y): (f32, f32), (w, h): (f32, f32), taken: &[Rect]) -> Rect {
 }
 
 /// Grid, frame, ticks, tick labels and axis titles.
-fn draw_axes(img: &mut RgbImage, fonts: &Fonts, frame: &Frame) {
+/// The grid, ticks, tick labels and the axis titles `(x, y)`.
+pub(crate) fn draw_axes(img: &mut RgbImage, fonts: &Fonts, frame: &Frame, (x_title, y_title): (&str, &str)) {
     let tick = Style {
         font: &fonts.mono,
         px: 14.0,
@@ -281,14 +287,8 @@ fn draw_axes(img: &mut RgbImage, fonts: &Fonts, frame: &Frame) {
         color: INK,
         bold: true,
     };
-    text(
-        img,
-        title,
-        "GPU time per frame (ms)",
-        ((l + r) / 2.0, b + 38.0),
-        (0.5, 0.0),
-    );
-    let y_title = render(&fonts.sans, 18.0, "Penumbra MAE (shadow factor)", true);
+    text(img, title, x_title, ((l + r) / 2.0, b + 38.0), (0.5, 0.0));
+    let y_title = render(&fonts.sans, 18.0, y_title, true);
     let top = (t + b) / 2.0 - y_title.width as f32 / 2.0;
     blit(img, &y_title, (16, top.round() as i64), INK, true);
 }

@@ -18,6 +18,7 @@ use thiserror::Error;
 
 use crate::analysis::plot::{PlotError, plot_png};
 use crate::analysis::report::{BenchReport, markdown};
+use crate::analysis::sweep::{SweepRun, sweep_markdown, sweep_png};
 use crate::export::write_file;
 
 /// The report could not be written.
@@ -47,6 +48,22 @@ pub fn write_report(report: &BenchReport, dir: &Path) -> Result<PathBuf, ReportE
     plot_png(report, &dir.join("plot.png"))?;
     let path = dir.join("report.md");
     write_file(&path, markdown(report, Some("plot.png")).as_bytes()).map_err(|e| ReportError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(path)
+}
+
+/// Writes `sweep.md` and `sweep.png` (cost against the sun's angular diameter) into `dir`
+/// (created if needed); returns the table's path.
+pub fn write_sweep(runs: &[SweepRun], dir: &Path) -> Result<PathBuf, ReportError> {
+    std::fs::create_dir_all(dir).map_err(|e| ReportError::Io {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })?;
+    sweep_png(runs, &dir.join("sweep.png"))?;
+    let path = dir.join("sweep.md");
+    write_file(&path, sweep_markdown(runs, Some("sweep.png")).as_bytes()).map_err(|e| ReportError::Io {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;

@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use thiserror::Error;
 
 use crate::render::limits::{DeviceLimits, LimitError, requested_limits};
+use crate::render::shadows::sun_moments::MomentSupport;
 
 /// Why no GPU device could be opened, or why the device refused the work.
 #[derive(Debug, Error)]
@@ -82,6 +83,10 @@ pub struct GpuContext {
     /// filtered (`FLOAT32_FILTERABLE`), else `Rgba16Float`, whose 11-bit mantissa makes the
     /// variance `E[z²] − E[z]²` coarse (raise `vsm_min_variance` there).
     pub moments_format: wgpu::TextureFormat,
+    /// 16-bit unorm textures can be sampled and written (`TEXTURE_FORMAT_16BIT_NORM`): 16-bit
+    /// MSM moments are stored in `Rgba16Unorm`, whose uniform steps the optimised
+    /// quantisation was designed for (else `Rgba16Float`).
+    pub unorm16_moments: bool,
     /// The limits user data is checked against.
     pub limits: DeviceLimits,
     errors: Arc<Mutex<ErrorSink>>,
@@ -115,7 +120,8 @@ impl GpuContext {
             | wgpu::Features::DEPTH_CLIP_CONTROL
             | wgpu::Features::PIPELINE_STATISTICS_QUERY
             | wgpu::Features::MULTIVIEW
-            | wgpu::Features::FLOAT32_FILTERABLE;
+            | wgpu::Features::FLOAT32_FILTERABLE
+            | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM;
         let required_features = available & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -158,6 +164,7 @@ impl GpuContext {
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             multiview_views,
+            unorm16_moments: required_features.contains(wgpu::Features::TEXTURE_FORMAT_16BIT_NORM),
             moments_format: if required_features.contains(wgpu::Features::FLOAT32_FILTERABLE) {
                 wgpu::TextureFormat::Rg32Float
             } else {
@@ -171,6 +178,14 @@ impl GpuContext {
     /// 32-bit moments need.
     pub fn filters_fp32(&self) -> bool {
         self.moments_format == wgpu::TextureFormat::Rg32Float
+    }
+
+    /// The moment formats the device can store and filter.
+    pub fn moment_support(&self) -> MomentSupport {
+        MomentSupport {
+            fp32_filterable: self.filters_fp32(),
+            unorm16: self.unorm16_moments,
+        }
     }
 
     /// The device errors reported since the last call (each a message; a last line counts

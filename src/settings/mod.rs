@@ -40,7 +40,11 @@ pub enum ShadowMode {
     /// Exponentially warped variance shadow map, two moments (EVSM2; suns): each redrawn
     /// cascade's depth is warped `exp(c·d)` and its moments `(w, w²)` pre-blurred by
     /// `moment_blur` metres; a pixel's shadow is one filtered fetch, whatever the penumbra
-    /// width. A spot or point light asked for it uses [`Vsm`](Self::Vsm).
+    /// width. A spot or point light asked for it uses [`Vsm`](Self::Vsm). Like every moment
+    /// technique it wants receivers in the map: over a receiver that casts nothing (a ground
+    /// with `NotShadowCaster`), empty texels hold the far depth, whose warp outweighs an
+    /// occluder's, and shadow edges recede by the blur's reach ([`Evsm4`](Self::Evsm4) and
+    /// [`Msm`](Self::Msm) keep them).
     Evsm,
     /// EVSM4 (suns): the positive and the negative warp, four moments, the smaller of the two
     /// bounds: less light bleeding than EVSM2 for twice the memory.

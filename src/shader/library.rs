@@ -280,12 +280,14 @@ impl ShaderLibrary {
     }
 
     /// The sun's moments shader (`resolve` and `blur`: EVSM2, EVSM4 or MSM from the depth
-    /// cascades), writing moments in `format` (`Rg32Float`, `Rgba32Float` or `Rgba16Float`).
+    /// cascades), writing moments in `format` (`Rg32Float`, `Rgba32Float`, `Rgba16Unorm` or
+    /// `Rgba16Float`).
     pub fn cascade_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
         let mut defs = HashMap::new();
         let def = match format {
             wgpu::TextureFormat::Rg32Float => Some("MOMENTS_RG32"),
             wgpu::TextureFormat::Rgba32Float => Some("MOMENTS_RGBA32"),
+            wgpu::TextureFormat::Rgba16Unorm => Some("MOMENTS_RGBA16_UNORM"),
             _ => None,
         };
         if let Some(name) = def {
@@ -310,10 +312,12 @@ impl ShaderLibrary {
     }
 }
 
-/// What shaders may use: naga's defaults and `@builtin(view_index)` (only the multiview
-/// caster reads it; wgpu refuses that module on a device without `MULTIVIEW`).
+/// What shaders may use: naga's defaults, `@builtin(view_index)` (only the multiview
+/// caster reads it; wgpu refuses that module on a device without `MULTIVIEW`) and 16-bit
+/// unorm storage textures (only the 16-bit MSM bake writes them, on a device with
+/// `TEXTURE_FORMAT_16BIT_NORM`).
 fn capabilities() -> Capabilities {
-    Capabilities::default() | Capabilities::MULTIVIEW
+    Capabilities::default() | Capabilities::MULTIVIEW | Capabilities::STORAGE_TEXTURE_16BIT_NORM_FORMATS
 }
 
 /// Runs naga's validator over a composed module.

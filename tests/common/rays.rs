@@ -27,13 +27,26 @@ pub fn evaluate_with(
     moments_format: Option<wgpu::TextureFormat>,
     pixel: Option<(u32, u32)>,
 ) -> Vec<f32> {
+    evaluate_on(desc, probes, pixel, |gpu| {
+        if let Some(format) = moments_format {
+            gpu.moments_format = format;
+        }
+    })
+}
+
+/// [`evaluate`] on a device whose capabilities `limit` narrows (as a device without some
+/// feature would have them), every probe seen at `pixel` where given.
+pub fn evaluate_on(
+    desc: &SceneDesc,
+    probes: &[(Vec3, Vec3)],
+    pixel: Option<(u32, u32)>,
+    limit: impl Fn(&mut GpuContext),
+) -> Vec<f32> {
     let (w, h) = (64, 48);
     let mut session = SceneSession::new(desc, w, h).unwrap_or_else(|e| panic!("{e}"));
     let mut gpu = GpuContext::headless()
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    if let Some(format) = moments_format {
-        gpu.moments_format = format;
-    }
+    limit(&mut gpu);
     let mut renderer = Renderer::new(gpu, w, h);
     session.update();
     let input = FrameInputs::from_world(session.app.world(), 0);

@@ -17,7 +17,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::layouts::entry;
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::{CascadeMoments, cascade_moment_format, cascade_moments};
+use crate::render::shadows::sun_moments::{CascadeMoments, MomentSupport, cascade_moment_format, cascade_moments};
 use crate::shader::ShaderLibrary;
 
 /// Mirror of WGSL `CascadeMomentsJob`, padded to the 256-byte dynamic-offset alignment.
@@ -166,7 +166,7 @@ impl RenderNode for CascadeMomentsPass {
     /// nothing (the node is culled).
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
-        if cascade_moment_format(inputs.lights, true).is_some() {
+        if cascade_moment_format(inputs.lights, MomentSupport::default()).is_some() {
             pass.read(frame.cascade_maps);
             pass.write(frame.cascade_moments);
         }

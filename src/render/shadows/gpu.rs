@@ -7,7 +7,9 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
-use crate::render::shadows::sun_moments::{cascade_moment_format, cascade_moments, msm_bias, msm_quantised};
+use crate::render::shadows::sun_moments::{
+    MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised,
+};
 use crate::settings::{ShadowMode, ShadowSettings};
 
 /// Capacity of the light list the materials read (WGSL `MAX_LIGHTS`).
@@ -150,10 +152,10 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
 }
 
 /// Packs every light (suns, then spots, then points) into `out`, pointing each shadowed one
-/// at its views in `views`; `fp32_filterable`: the device filters 32-bit moments.
-pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, fp32_filterable: bool, out: &mut Vec<LightGpu>) {
+/// at its views in `views`; `support`: the moment formats of the device.
+pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSupport, out: &mut Vec<LightGpu>) {
     out.clear();
-    let moments_format = cascade_moment_format(lights, fp32_filterable).unwrap_or(wgpu::TextureFormat::Rgba16Float);
+    let moments_format = cascade_moment_format(lights, support).unwrap_or(wgpu::TextureFormat::Rgba16Float);
     for sun in &lights.suns {
         let (filter, flags) = filter_and_flags(&sun.settings, false);
         let s = &sun.settings;
@@ -258,8 +260,8 @@ pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: bool) -> u32 {
 }
 
 /// The GPU description of `view`, drawn at `view.resolution` texels in the top-left corner of
-/// a layer `side` texels wide (`fp32_filterable` as for [`pack_lights`]).
-pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, fp32_filterable: bool) -> ShadowViewGpu {
+/// a layer `side` texels wide (`support` as for [`pack_lights`]).
+pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: MomentSupport) -> ShadowViewGpu {
     let scale = view.resolution as f32 / side.max(1) as f32;
     let mut gpu = ShadowViewGpu {
         clip_from_world: view.clip_from_world,
@@ -278,7 +280,7 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, fp32_filter
                 gpu.params = Vec4::new(k.texel_world_size, k.light_size_uv, k.pcss_scale, k.uv_scale_y);
                 gpu.range = Vec4::new(k.near, k.far, k.depth_range, 0.0);
             }
-            if let Some(m) = cascade_moments(sun, c as usize, fp32_filterable) {
+            if let Some(m) = cascade_moments(sun, c as usize, support.fp32_filterable) {
                 gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
             }
         }

@@ -367,8 +367,8 @@ impl ShadowResources {
                 rebuild = true;
             }
         }
-        let fp32 = gpu.filters_fp32();
-        if let Some(format) = cascade_moment_format(lights, fp32) {
+        let support = gpu.moment_support();
+        if let Some(format) = cascade_moment_format(lights, support) {
             let (side, layers) = views.extent(ShadowStorage::Cascades);
             let blur = sun_moment_blur(lights);
             let moments = &mut self.cascade_moments;
@@ -378,12 +378,12 @@ impl ShadowResources {
                 rebuild = true;
             }
         }
-        pack_lights(lights, views, fp32, &mut self.light_data);
+        pack_lights(lights, views, support, &mut self.light_data);
         self.view_data.clear();
         self.caster_data.clear();
         for view in &views.views {
             let side = self.storage(view.kind).side;
-            self.view_data.push(pack_view(lights, view, side, fp32));
+            self.view_data.push(pack_view(lights, view, side, support));
             let view_bit = match view.kind {
                 ShadowViewKind::Cascade(c) => 1 << c,
                 ShadowViewKind::Spot | ShadowViewKind::PointFace(_) => 0,

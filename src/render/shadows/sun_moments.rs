@@ -85,6 +85,16 @@ pub fn msm_quantised(format: wgpu::TextureFormat) -> bool {
     )
 }
 
+/// What the device can store moments in: 32-bit floats it filters (`FLOAT32_FILTERABLE`),
+/// and 16-bit unorm (`TEXTURE_FORMAT_16BIT_NORM`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MomentSupport {
+    /// 32-bit floats can be filtered.
+    pub fp32_filterable: bool,
+    /// `Rgba16Unorm` can be sampled and written.
+    pub unorm16: bool,
+}
+
 /// MSM's moment bias for moments stored in `format` (what keeps the Hankel matrix
 /// invertible after rounding).
 pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {
@@ -97,23 +107,30 @@ pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {
 
 /// The format of the cascades' moments this frame, None while no shadowed sun filters
 /// moments: four channels when one uses EVSM4 or MSM, else two; 32-bit floats when one
-/// resolves to 32 bits (which needs `fp32_filterable`), else 16-bit (`Rgba16Float`: there is
-/// no two-channel 16-bit storage format every device writes).
-pub fn cascade_moment_format(lights: &FrameLights, fp32_filterable: bool) -> Option<wgpu::TextureFormat> {
+/// resolves to 32 bits (which needs 32-bit filtering), else 16 bits: `Rgba16Unorm` when every
+/// such sun uses MSM and the device has it, else `Rgba16Float` (there is no two-channel
+/// 16-bit storage format every device writes). 16-bit MSM without unorm takes 32 bits where
+/// they filter: in half floats the quantised moments are too coarse for a receiver lying on a
+/// caster (the ground in a far cascade shadows itself; see `tests/sun_moments.rs`).
+pub fn cascade_moment_format(lights: &FrameLights, support: MomentSupport) -> Option<wgpu::TextureFormat> {
     let mut any = false;
     let mut four = false;
     let mut fp32 = false;
+    let mut all_msm = true;
     for sun in lights.suns.iter().filter(|s| s.cascades.count > 0) {
         let Some(technique) = technique(sun) else {
             continue;
         };
         any = true;
         four |= technique != SHADOW_FILTER_EVSM2;
-        fp32 |= sun_precision(sun, fp32_filterable) == MomentPrecision::Fp32;
+        all_msm &= technique == SHADOW_FILTER_MSM;
+        fp32 |= sun_precision(sun, support.fp32_filterable) == MomentPrecision::Fp32;
     }
     any.then_some(match (four, fp32) {
         (false, true) => wgpu::TextureFormat::Rg32Float,
         (true, true) => wgpu::TextureFormat::Rgba32Float,
+        (_, false) if all_msm && support.unorm16 => wgpu::TextureFormat::Rgba16Unorm,
+        (_, false) if all_msm && support.fp32_filterable => wgpu::TextureFormat::Rgba32Float,
         (_, false) => wgpu::TextureFormat::Rgba16Float,
     })
 }
@@ -173,19 +190,26 @@ mod tests {
         assert!((cascade_moments(&s, 0, false).unwrap().c_positive - 5.2).abs() < 0.05);
         let mut lights = FrameLights::default();
         lights.suns.push(s);
-        assert_eq!(
-            cascade_moment_format(&lights, true),
-            Some(wgpu::TextureFormat::Rg32Float)
-        );
-        assert_eq!(
-            cascade_moment_format(&lights, false),
-            Some(wgpu::TextureFormat::Rgba16Float)
-        );
+        let all = MomentSupport {
+            fp32_filterable: true,
+            unorm16: true,
+        };
+        let fp16 = MomentSupport {
+            fp32_filterable: false,
+            unorm16: true,
+        };
+        let format = |lights: &FrameLights, support| cascade_moment_format(lights, support);
+        assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rg32Float));
+        assert_eq!(format(&lights, fp16), Some(wgpu::TextureFormat::Rgba16Float));
         lights.suns.push(sun(ShadowMode::Msm, MomentFormat::Auto, &[100.0]));
-        assert_eq!(
-            cascade_moment_format(&lights, true),
-            Some(wgpu::TextureFormat::Rgba32Float)
-        );
+        assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rgba32Float));
+        // 16-bit MSM alone takes unorm where the device has it, else half floats.
+        lights.suns = vec![sun(ShadowMode::Msm, MomentFormat::Fp16, &[100.0])];
+        assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rgba16Unorm));
+        let no_unorm = MomentSupport { unorm16: false, ..all };
+        assert_eq!(format(&lights, no_unorm), Some(wgpu::TextureFormat::Rgba32Float));
+        let half_only = MomentSupport::default();
+        assert_eq!(format(&lights, half_only), Some(wgpu::TextureFormat::Rgba16Float));
         // An exponent override is cut to the format's limit.
         let mut o = sun(ShadowMode::Evsm4, MomentFormat::Fp16, &[100.0]);
         o.settings.evsm_exponent = 30.0;
@@ -194,7 +218,7 @@ mod tests {
         assert_eq!(msm_bias(wgpu::TextureFormat::Rgba32Float), MSM_BIAS_32);
         // PCF and PCSS suns have none.
         lights.suns = vec![sun(ShadowMode::Pcss, MomentFormat::Auto, &[100.0])];
-        assert_eq!(cascade_moment_format(&lights, true), None);
+        assert_eq!(format(&lights, all), None);
         assert_eq!(cascade_moments(&lights.suns[0], 0, true), None);
         // A sun asked for VSM gets EVSM2.
         let v = sun(ShadowMode::Vsm, MomentFormat::Auto, &[100.0]);
