@@ -1,6 +1,7 @@
 // A sun's moment shadows (EVSM2, EVSM4, MSM): turns each redrawn cascade's depth into the
 // moments its technique filters (`resolve`), then pre-filters them with a separable Gaussian
-// (`blur`, once along each axis: from the moments into a one-layer scratch, and back).
+// (`blur`, once along each axis: from the moments into a one-layer scratch, and back), and
+// with contact hardening averages them down a mip chain (`downsample`, one level at a time).
 // Reverse-Z orthographic depth is linear in the distance from the light, so d = 1 − z grows
 // away from the light from 0 (the box's light side) to 1 (its far side).
 //
@@ -27,7 +28,7 @@ struct CascadeMomentsJob {
     c_negative: f32,
     // Blur radius in texels (the Gaussian's sigma is half of it); 0: no blur.
     radius: f32,
-    // 0: blur along x, 1: along y.
+    // Blur: 0 along x, 1 along y. Downsample: the side of the level read, in texels.
     axis: u32,
 }
 
@@ -96,4 +97,21 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
         weights += w;
     }
     textureStore(moments_out, id.xy, job.dst_layer, sum / weights);
+}
+
+// One mip level of the cascade's view from the level before: the mean of the 2×2 texels each
+// texel covers (an odd side repeats its last texel).
+@compute @workgroup_size(8, 8, 1)
+fn downsample(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= job.size || id.y >= job.size {
+        return;
+    }
+    let last = vec2<i32>(i32(job.axis) - 1);
+    let base = vec2<i32>(id.xy) * 2;
+    var sum = vec4<f32>(0.0);
+    for (var k = 0; k < 4; k++) {
+        let texel = min(base + vec2<i32>(k & 1, k >> 1u), last);
+        sum += textureLoad(moments_in, texel, job.src_layer, 0);
+    }
+    textureStore(moments_out, id.xy, job.dst_layer, 0.25 * sum);
 }

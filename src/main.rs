@@ -78,6 +78,9 @@ struct RenderArgs {
     /// Storage of a sun's EVSM or MSM moments (default: the scene's).
     #[arg(long)]
     moment_precision: Option<Precision>,
+    /// MSM contact hardening from mipmapped moments (experimental; default: the scene's).
+    #[arg(long)]
+    moment_contact_hardening: bool,
     /// The sun's angular diameter in degrees, 0-30 (default: the scene's).
     #[arg(long, value_parser = sun_degrees)]
     sun_diameter: Option<f32>,
@@ -221,6 +224,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         quality,
         pcf_radius,
         moment_precision,
+        moment_contact_hardening,
         sun_diameter,
         debug_cascades,
         asset_root,
@@ -272,6 +276,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         }
         if let Some(r) = pcf_radius {
             s.pcf_radius = r;
+        }
+        if moment_contact_hardening {
+            s.moment_contact_hardening = true;
         }
         if debug_cascades {
             s.debug_view = ShadowDebugView::Cascades;

@@ -71,7 +71,7 @@ fn the_cascade_moments_shader_validates_in_every_moments_format() {
             .cascade_moments(format)
             .unwrap_or_else(|e| panic!("{format:?}: {e}"));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entry_points, ["resolve", "blur"]);
+        assert_eq!(entry_points, ["resolve", "blur", "downsample"]);
     }
 }
 
@@ -359,7 +359,9 @@ fn the_moment_tests_in_wgsl_match_their_cpu_mirror() {
 
 #[test]
 fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
-    use penumbra::math::msm::{MSM_BIAS_16, MSM_BIAS_32, dequantize, hamburger_visibility, msm_moments, quantize};
+    use penumbra::math::msm::{
+        MSM_BIAS_16, MSM_BIAS_32, dequantize, hamburger_blockers, hamburger_visibility, msm_moments, quantize,
+    };
     // (depths of the footprint, receiver depth, bias): lit, flat umbra, stacked occluders, a
     // half-covered footprint, a single depth (the degenerate case).
     let cases: [(&[f32], f32, f32); 5] = [
@@ -374,10 +376,13 @@ fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
     for (i, &(depths, receiver, bias)) in cases.iter().enumerate() {
         let mean = depths.iter().map(|&d| msm_moments(d)).sum::<glam::Vec4>() / depths.len() as f32;
         let stored = quantize(mean);
-        let v = i * 2;
+        let v = i * 4;
+        let m = format!("vec4<f32>({:?}, {:?}, {:?}, {:?})", mean.x, mean.y, mean.z, mean.w);
+        body += &format!("    out[{v}] = msm_visibility({m}, {receiver:?}, {bias:?});\n");
         body += &format!(
-            "    out[{v}] = msm_visibility(vec4<f32>({:?}, {:?}, {:?}, {:?}), {receiver:?}, {bias:?});\n",
-            mean.x, mean.y, mean.z, mean.w
+            "    out[{}] = msm_blockers({m}, {receiver:?}, {bias:?}).x;\n    out[{}] = msm_blockers({m}, {receiver:?}, {bias:?}).y;\n",
+            v + 2,
+            v + 3
         );
         // The quantisation round trip, summed so one value checks all four channels.
         body += &format!(
@@ -388,10 +393,12 @@ fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
         cpu.push(hamburger_visibility(mean, receiver, bias));
         let trip = dequantize(quantize(msm_moments(depths[0])));
         cpu.push(trip.dot(glam::Vec4::new(1.0, 10.0, 100.0, 1000.0)));
+        let (blocker, share) = hamburger_blockers(mean, receiver, bias);
+        cpu.extend([blocker, share]);
         assert!(stored.is_finite());
     }
     let source = format!(
-        "#import penumbra::shadows::msm::{{msm_dequantize, msm_moments, msm_quantize, msm_visibility}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+        "#import penumbra::shadows::msm::{{msm_blockers, msm_dequantize, msm_moments, msm_quantize, msm_visibility}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
     );
     let mut library = ShaderLibrary::new().unwrap();
     let module = library
@@ -403,7 +410,10 @@ fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
         assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
     }
     // The cases span lit, dark and between.
-    let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 2]).collect();
+    let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 4]).collect();
+    // And blockers found in some cases, none in others.
+    let shares: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 4 + 3]).collect();
+    assert!(shares.contains(&0.0) && shares.iter().any(|&s| s > 0.3), "{shares:?}");
     assert!(visibilities.iter().any(|&v| v > 0.99) && visibilities.iter().any(|&v| v < 0.01));
     assert!(visibilities.iter().any(|&v| v > 0.3 && v < 0.7), "{visibilities:?}");
 }

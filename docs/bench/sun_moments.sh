@@ -44,6 +44,7 @@ MODES=(
   "evsm4|--mode evsm4 --moment-precision fp32"
   "msm-fp16|--mode msm --moment-precision fp16"
   "msm-fp32|--mode msm --moment-precision fp32"
+  "msm-soft|--mode msm --moment-precision fp16 --moment-contact-hardening"
 )
 
 echo "## Default scene (assets/scenes/default.ron), per filter"
@@ -63,7 +64,8 @@ fi
 echo "## Lighting cost against the sun's angular diameter (pillars.ron, still)"
 for d in 0.25 0.5 1 2 3 5; do
   for entry in "pcss-low|--mode pcss --quality low" "pcss-high|--mode pcss --quality high" \
-               "evsm-fp16|--mode evsm --moment-precision fp16" "msm-fp16|--mode msm --moment-precision fp16"; do
+               "evsm-fp16|--mode evsm --moment-precision fp16" "msm-fp16|--mode msm --moment-precision fp16" \
+               "msm-soft|--mode msm --moment-precision fp16 --moment-contact-hardening"; do
     printf "%-5s %-10s " "$d°" "${entry%%|*}"
     # shellcheck disable=SC2086
     "$BIN" render assets/scenes/pillars.ron $R --sun-diameter "$d" ${entry#*|} 2>&1 | sum

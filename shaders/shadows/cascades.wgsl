@@ -16,10 +16,10 @@
 }
 #import penumbra::shadows::filters::{MapSample, find_blockers, pcf_grid, pcss_filter}
 #import penumbra::shadows::moments::{evsm2_visibility, evsm4_visibility, reduce_light_bleeding}
-#import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
+#import penumbra::shadows::msm::{msm_blockers, msm_dequantize, msm_visibility}
 #import penumbra::shadows::types::{
     Light, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
-    SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -145,6 +145,39 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
 #endif
 
 #ifdef SHADOW_SUN_MOMENTS
+// MSM's contact hardening: the occluders in front of the receiver over the region a blocker
+// could shadow it from (one fetch of the mip level as wide as that region), from the
+// Hamburger bound's three-node distribution (`msm_blockers`; empty texels at the far plane
+// do not pull the estimate back as a mean would), then the penumbra their mean depth gives,
+// as in PCSS. (EVSM's warped moments overweight whatever lies beyond the receiver, so EVSM
+// keeps its fixed blur.) Returns the penumbra's radius in texels of the layer, −1 when
+// nothing in the region is nearer the light than the receiver (lit).
+fn msm_penumbra_texels(light: Light, index: u32, p: MapSample, receiver: f32) -> f32 {
+    let view = shadow_views.items[light.first_view + index];
+    let pcss_scale = view.params.z * view.rect.z;
+    let side = 1.0 / p.texel;
+    let search = clamp(0.5 * receiver * pcss_scale * side, 1.0, MAX_PENUMBRA_TEXELS);
+    let m = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, log2(2.0 * search));
+    let power = select(m, msm_dequantize(m), light.cone.y > 0.5);
+    // The receiver's own plane across the region is no blocker.
+    let depth = receiver - plane_depth_spread(p, search * p.texel);
+    let blockers = msm_blockers(power, depth, light.cone.x);
+    if blockers.y <= 0.0 {
+        // No node in front: lit where the bound agrees; else (a thin blocker the nodes
+        // missed) the sharpest filter.
+        return select(0.0, -1.0, msm_visibility(power, depth, light.cone.x) >= 0.999);
+    }
+    let gap = clamp(depth - blockers.x, 0.0, 1.0);
+    return clamp(0.5 * gap * pcss_scale * side, 0.0, MAX_PENUMBRA_TEXELS);
+}
+
+// How far the receiver's plane rises towards the light within `radius` (layer UV) of the
+// receiver, in depth units: a filter that wide sees that much of the receiver's own surface
+// nearer the light than the receiver (zero without the receiver-plane gradient).
+fn plane_depth_spread(p: MapSample, radius: f32) -> f32 {
+    return 0.5 * radius * (abs(p.dz_duv_true.x) + abs(p.dz_duv_true.y));
+}
+
 // EVSM2, EVSM4 or MSM in a cascade: one bilinear fetch of the pre-blurred moments and the
 // technique's bound, at the receiver's depth d = 1 − z (0 at the box's light side). EVSM's
 // variance floor is the light's minimum (square metres, in the cascade's depth units) plus
@@ -152,8 +185,17 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
 // gradient), so sloped receivers do not shadow themselves.
 fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
     let view = shadow_views.items[light.first_view + index];
-    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
     let depth = 1.0 - p.depth;
+    var lod = 0.0;
+    let hardening = (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u;
+    if hardening && light.shadow_filter == SHADOW_FILTER_MSM {
+        let penumbra = msm_penumbra_texels(light, index, p, depth);
+        if penumbra < 0.0 {
+            return 1.0;
+        }
+        lod = log2(max(2.0 * penumbra, 1.0));
+    }
+    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, lod);
     let bleed = light.cone.w;
     if light.shadow_filter == SHADOW_FILTER_MSM {
         let power = select(moments, msm_dequantize(moments), light.cone.y > 0.5);

@@ -28,6 +28,7 @@ const MAX_SHADOW_VIEWS: u32 = 256u;
 const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2u;
 const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4u;
 const SHADOW_FLAG_TEMPORAL: u32 = 8u;
+const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16u;
 
 // One light of the frame (112 bytes). Positions are relative to the render origin.
 struct Light {

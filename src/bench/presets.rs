@@ -154,6 +154,14 @@ pub fn presets() -> Vec<Preset> {
             description: "4-moment shadow map, 32-bit moments, suns",
             apply: |s| moments(s, ShadowMode::Msm, MomentFormat::Fp32),
         },
+        Preset {
+            name: "msm-soft",
+            description: "4-moment shadow map, 16 bits, with contact hardening (mipmapped moments), suns",
+            apply: |s| {
+                moments(s, ShadowMode::Msm, MomentFormat::Fp16);
+                s.moment_contact_hardening = true;
+            },
+        },
     ]
 }
 

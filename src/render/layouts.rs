@@ -186,6 +186,9 @@ impl Layouts {
             label: Some("shadow moments"),
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            // NOTE: the suns' moments are mipmapped for contact hardening (a wider filter
+            // is a coarser level); the other moments have one level.
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
         let material_sampler = device.create_sampler(&wgpu::SamplerDescriptor {

@@ -60,9 +60,21 @@ pub struct HeadlessTarget {
 pub fn texture_2d(
     device: &wgpu::Device,
     label: &str,
+    extent: (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    texture_2d_mips(device, label, extent, format, usage, 1)
+}
+
+/// [`texture_2d`] with `mips` mip levels.
+pub fn texture_2d_mips(
+    device: &wgpu::Device,
+    label: &str,
     (width, height, layers): (u32, u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
+    mips: u32,
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -71,7 +83,7 @@ pub fn texture_2d(
             height,
             depth_or_array_layers: layers,
         },
-        mip_level_count: 1,
+        mip_level_count: mips.max(1),
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,

@@ -225,6 +225,15 @@ pub struct ShadowSettings {
     pub moment_blur: f32,
     /// EVSM, MSM: light-bleed reduction, 0–0.95 (as `vsm_bleed_reduction`).
     pub moment_bleed_reduction: f32,
+    /// MSM: contact hardening. The occluders' mean depth is estimated from the moments over
+    /// the region a blocker could shadow the receiver from (one fetch of a coarse mip level),
+    /// and the moments are then filtered over the penumbra that depth gives (one fetch at the
+    /// matching level): soft shadows that harden where casters touch, at a cost that does not
+    /// depend on the penumbra's width. Off (the default, and always for EVSM, whose warped
+    /// moments overweight what lies beyond the receiver): every pixel filters `moment_blur`.
+    /// Experimental: over receivers that slope away from the light, a wide search can misjudge
+    /// the penumbra (see `tests/sun_moments.rs`).
+    pub moment_contact_hardening: bool,
     /// EVSM: smallest variance of the occluders' depth, square metres, 0–0.01 (scaled by the
     /// warp's slope; the receiver plane's slope across a texel adds to it when
     /// `receiver_plane_bias` is on, which removes most acne without a fixed bias).
@@ -259,6 +268,7 @@ impl Default for ShadowSettings {
             evsm_exponent: 0.0,
             moment_blur: 0.03,
             moment_bleed_reduction: 0.15,
+            moment_contact_hardening: false,
             moment_min_variance: 1e-5,
         }
     }

@@ -2,7 +2,8 @@
 //! every cascade of a sun that filters moments (EVSM2, EVSM4, MSM) whose depth or moment
 //! parameters changed gets its moments made again — one compute pass per cascade
 //! (`shadow moments sun k cascade c`) that warps its depth into moments and, with a blur,
-//! blurs them along x into the scratch and along y back. No extra rasterisation: the moments
+//! blurs them along x into the scratch and along y back, then with contact hardening averages
+//! them down the mip chain one level at a time. No extra rasterisation: the moments
 //! come from the depth cascades. It remembers what each layer's moments were made from, so a
 //! still sun costs nothing.
 
@@ -46,10 +47,32 @@ struct Job {
     cascade: u32,
 }
 
+/// One dispatch of a job: which of the node's groups it binds (0 resolve, 1 and 2 the blur's
+/// axes, 2 + k the mip level k), its source and destination layers, the texels per side it
+/// writes and its `axis` field.
+type Stage = (usize, u32, u32, u32, u32);
+
 impl Job {
-    /// Dispatches of its pass: the resolve, then with a blur both axes.
-    fn stages(&self) -> usize {
-        if self.moments.blur_texels > 0.0 { 3 } else { 1 }
+    /// Its dispatches: the resolve, then with a blur both axes, then each mip level of `mips`.
+    fn stages(&self, mips: u32) -> impl Iterator<Item = Stage> + use<> {
+        let (layer, size) = (self.layer, self.size);
+        let blur: &[Stage] = if self.moments.blur_texels > 0.0 {
+            &[(1, 0, 0, 0, 0), (2, 0, 0, 0, 1)]
+        } else {
+            &[]
+        };
+        let blur: Vec<Stage> = blur
+            .iter()
+            .map(|&(g, _, _, _, axis)| {
+                let (src, dst) = if axis == 0 { (layer, 0) } else { (0, layer) };
+                (g, src, dst, size, axis)
+            })
+            .collect();
+        let levels = (1..mips).map(move |level| {
+            let (from, to) = ((size >> (level - 1)).max(1), (size >> level).max(1));
+            (2 + level as usize, layer, layer, to, from)
+        });
+        std::iter::once((0, layer, layer, size, 0)).chain(blur).chain(levels)
     }
 }
 
@@ -60,6 +83,7 @@ struct Pipelines {
     blur_layout: wgpu::BindGroupLayout,
     resolve: wgpu::ComputePipeline,
     blur: wgpu::ComputePipeline,
+    downsample: wgpu::ComputePipeline,
 }
 
 /// What a layer's moments were made from: the depth's content version and the parameters.
@@ -72,9 +96,9 @@ pub struct CascadeMomentsPass {
     /// The per-dispatch uniforms, and how many they hold.
     jobs_buffer: Option<(wgpu::Buffer, usize)>,
     buffer_generation: u64,
-    /// The resolve and blur groups, with the depth and moments allocations and the buffer
-    /// generation they were made for.
-    groups: Option<((u64, u64, u64), [wgpu::BindGroup; 3])>,
+    /// The resolve, blur and mip groups, with the depth and moments allocations and the
+    /// buffer generation they were made for.
+    groups: Option<((u64, u64, u64), Vec<wgpu::BindGroup>)>,
     /// The depth and moments allocations `held` refers to, and what each layer holds.
     held_for: (u64, u64),
     held: Vec<Held>,
@@ -152,6 +176,7 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
         format,
         resolve: pipeline(&resolve_layout, "resolve"),
         blur: pipeline(&blur_layout, "blur"),
+        downsample: pipeline(&blur_layout, "downsample"),
         resolve_layout,
         blur_layout,
     }
@@ -188,16 +213,16 @@ impl RenderNode for CascadeMomentsPass {
             return;
         };
         // NOTE: one uniform entry per dispatch: resolve depth → moments; blur x moments →
-        // scratch (layer 0); blur y scratch → moments.
+        // scratch (layer 0); blur y scratch → moments; each mip level from the one before.
+        let mips = moments.mips();
         self.data.clear();
         for job in &self.jobs {
-            let stages = [(job.layer, job.layer, 0), (job.layer, 0, 0), (0, job.layer, 1)];
-            for &(src_layer, dst_layer, axis) in &stages[..job.stages()] {
+            for (_, src_layer, dst_layer, size, axis) in job.stages(mips) {
                 let m = &job.moments;
                 self.data.push(JobGpu {
                     src_layer,
                     dst_layer,
-                    size: job.size,
+                    size,
                     technique: m.technique,
                     c_positive: m.c_positive,
                     c_negative: m.c_negative,
@@ -240,30 +265,31 @@ impl RenderNode for CascadeMomentsPass {
                 label: Some(&self.name),
                 timestamp_writes: ctx.timer.compute_pass(&self.name),
             });
-            for (stage, group) in groups.iter().enumerate().take(job.stages()) {
-                let pipeline = if stage == 0 {
-                    &pipelines.resolve
-                } else {
-                    &pipelines.blur
+            for (group, _, _, size, _) in job.stages(mips) {
+                let pipeline = match group {
+                    0 => &pipelines.resolve,
+                    1 | 2 => &pipelines.blur,
+                    _ => &pipelines.downsample,
                 };
                 let offset = (entry * size_of::<JobGpu>()) as u32;
                 pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, group, &[offset]);
-                pass.dispatch_workgroups(job.size.div_ceil(8), job.size.div_ceil(8), 1);
+                pass.set_bind_group(0, &groups[group], &[offset]);
+                pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 1);
                 entry += 1;
             }
         }
     }
 }
 
-/// The resolve group and both blur groups (x: moments → scratch, y: scratch → moments).
+/// The resolve group, both blur groups (x: moments → scratch, y: scratch → moments) and one
+/// group per mip level from the second (the level before → the level).
 fn bind_groups(
     device: &wgpu::Device,
     pipelines: &Pipelines,
     buffer: &wgpu::Buffer,
     depth: &DepthArray,
     moments: &MomentArray,
-) -> [wgpu::BindGroup; 3] {
+) -> Vec<wgpu::BindGroup> {
     let job = wgpu::BindGroupEntry {
         binding: 2,
         resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -291,7 +317,7 @@ fn bind_groups(
     };
     let resolve_layout = &pipelines.resolve_layout;
     let blur_layout = &pipelines.blur_layout;
-    [
+    let mut groups = vec![
         group(
             "cascade moments resolve",
             resolve_layout,
@@ -310,7 +336,11 @@ fn bind_groups(
             (3, &moments.scratch.sampled),
             &moments.moments.storage,
         ),
-    ]
+    ];
+    for (write, read) in &moments.moments.levels {
+        groups.push(group("cascade moments mip", blur_layout, (3, read), write));
+    }
+    groups
 }
 
 impl CascadeMomentsPass {

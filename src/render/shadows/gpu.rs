@@ -41,6 +41,8 @@ pub const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2;
 pub const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4;
 /// Temporal rotation of the Poisson patterns.
 pub const SHADOW_FLAG_TEMPORAL: u32 = 8;
+/// Contact hardening of a sun's moment shadows (mipmapped moments).
+pub const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16;
 
 /// Mirror of WGSL `Light`.
 #[repr(C)]
@@ -147,6 +149,9 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
     }
     if settings.temporal_rotation {
         flags |= SHADOW_FLAG_TEMPORAL;
+    }
+    if settings.moment_contact_hardening {
+        flags |= SHADOW_FLAG_MOMENT_HARDENING;
     }
     (filter, flags)
 }
@@ -318,6 +323,7 @@ mod tests {
             ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
+            ("SHADOW_FLAG_MOMENT_HARDENING", SHADOW_FLAG_MOMENT_HARDENING),
             ("MAX_LIGHTS", MAX_LIGHTS as u32),
             ("MAX_SHADOW_VIEWS", MAX_SHADOW_VIEWS as u32),
         ] {

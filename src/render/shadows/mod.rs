@@ -34,7 +34,7 @@ use crate::render::shadows::gpu::{
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur};
+use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur, sun_moment_mips};
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
 
@@ -362,7 +362,7 @@ impl ShadowResources {
             };
             if moments.needs(side, layers, blur) {
                 let format = moments.moments.texture.format();
-                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, (side, layers), k == 1, blur);
+                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, (side, layers, 1), k == 1, blur);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -371,9 +371,11 @@ impl ShadowResources {
         if let Some(format) = cascade_moment_format(lights, support) {
             let (side, layers) = views.extent(ShadowStorage::Cascades);
             let blur = sun_moment_blur(lights);
+            let mips = sun_moment_mips(lights, side);
             let moments = &mut self.cascade_moments;
-            if moments.needs(side, layers, blur) || moments.moments.texture.format() != format {
-                *moments = MomentArray::new(device, CASCADE_MOMENTS, format, (side, layers), false, blur);
+            let other = moments.moments.texture.format() != format || moments.mips() != mips;
+            if moments.needs(side, layers, blur) || other {
+                *moments = MomentArray::new(device, CASCADE_MOMENTS, format, (side, layers, mips), false, blur);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

@@ -1,12 +1,14 @@
 //! Variance-shadow-map storage: the moments `(z, z²)` of every layer of one depth storage (spot
 //! lights: a 2D array; point lights: a cube array), in the device's
 //! [`moments_format`](crate::render::GpuContext::moments_format), and a scratch of one light's
-//! layers (a cube, or one layer) for the separable blur, which runs one light at a time. Allocated only while a light of that storage filters with
-//! VSM; a 1×1 stand-in is bound otherwise.
+//! layers (a cube, or one layer) for the separable blur, which runs one light at a time.
+//! Allocated only while a light of that storage filters moments; a 1×1 stand-in is bound
+//! otherwise. The suns' cascade moments may have mip levels (contact hardening filters a wider
+//! footprint at a coarser level).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::render::target::texture_2d;
+use crate::render::target::texture_2d_mips;
 
 /// Numbers every array ever created, so the moments pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
@@ -17,8 +19,11 @@ pub struct MomentTexture {
     pub texture: wgpu::Texture,
     /// All layers for sampling (a cube-array view for point lights).
     pub sampled: wgpu::TextureView,
-    /// All layers as a 2D array, for compute writes.
+    /// All layers of the first mip level as a 2D array, for compute writes.
     pub storage: wgpu::TextureView,
+    /// Each mip level from the second on: a 2D-array view to write it and one of the level
+    /// before it to read (empty without mips).
+    pub levels: Vec<(wgpu::TextureView, wgpu::TextureView)>,
 }
 
 impl MomentTexture {
@@ -29,27 +34,38 @@ impl MomentTexture {
         side: u32,
         layers: u32,
         cube: bool,
+        mips: u32,
     ) -> Self {
         let usage =
             wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let texture = texture_2d(device, label, (side, side, layers), format, usage);
-        let view = |dimension| {
+        let texture = texture_2d_mips(device, label, (side, side, layers), format, usage, mips);
+        let view = |dimension, levels: Option<(u32, u32)>| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(label),
                 dimension: Some(dimension),
+                base_mip_level: levels.map_or(0, |l| l.0),
+                mip_level_count: levels.map(|l| l.1),
                 ..Default::default()
             })
         };
-        let sampled = view(if cube {
-            wgpu::TextureViewDimension::CubeArray
-        } else {
-            wgpu::TextureViewDimension::D2Array
-        });
-        let storage = view(wgpu::TextureViewDimension::D2Array);
+        let sampled = view(
+            if cube {
+                wgpu::TextureViewDimension::CubeArray
+            } else {
+                wgpu::TextureViewDimension::D2Array
+            },
+            None,
+        );
+        let flat = wgpu::TextureViewDimension::D2Array;
+        let storage = view(flat, Some((0, 1)));
+        let levels = (1..texture.mip_level_count())
+            .map(|level| (view(flat, Some((level, 1))), view(flat, Some((level - 1, 1)))))
+            .collect();
         Self {
             texture,
             sampled,
             storage,
+            levels,
         }
     }
 }
@@ -76,13 +92,13 @@ pub struct MomentArray {
 }
 
 impl MomentArray {
-    /// Allocates `layers` layers of `side`² texels (rounded up to whole cubes with `cube`),
-    /// with a full-size scratch only when a light will `blur`.
+    /// Allocates `layers` layers of `side`² texels (rounded up to whole cubes with `cube`) and
+    /// `mips` mip levels, with a full-size scratch only when a light will `blur`.
     pub fn new(
         device: &wgpu::Device,
         label: &str,
         format: wgpu::TextureFormat,
-        (side, layers): (u32, u32),
+        (side, layers, mips): (u32, u32, u32),
         cube: bool,
         blur: bool,
     ) -> Self {
@@ -94,8 +110,8 @@ impl MomentArray {
         let scratch_side = if blur { side } else { 1 };
         let scratch_layers = if cube { 6 } else { 1 };
         Self {
-            moments: MomentTexture::new(device, label, format, side, layers, cube),
-            scratch: MomentTexture::new(device, label, format, scratch_side, scratch_layers, cube),
+            moments: MomentTexture::new(device, label, format, side, layers, cube, mips),
+            scratch: MomentTexture::new(device, label, format, scratch_side, scratch_layers, cube, 1),
             scratch_side,
             side,
             layers,
@@ -109,7 +125,7 @@ impl MomentArray {
     pub fn placeholder(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat, cube: bool) -> Self {
         Self {
             placeholder: true,
-            ..Self::new(device, label, format, (1, 1), cube, false)
+            ..Self::new(device, label, format, (1, 1, 1), cube, false)
         }
     }
 
@@ -120,6 +136,11 @@ impl MomentArray {
         layers > 0 && (self.placeholder || self.side != side || self.layers < layers || scratch_short)
     }
 
+    /// Mip levels of the moments.
+    pub fn mips(&self) -> u32 {
+        self.moments.texture.mip_level_count()
+    }
+
     /// Bytes of GPU memory (moments and scratch; 0 for the stand-in).
     pub fn memory_bytes(&self) -> u64 {
         if self.placeholder {
@@ -127,6 +148,9 @@ impl MomentArray {
         }
         let texel = u64::from(self.moments.texture.format().block_copy_size(None).unwrap_or(8));
         let scratch = if self.cube { 6 } else { 1 };
-        texel * (u64::from(self.side).pow(2) * u64::from(self.layers) + u64::from(self.scratch_side).pow(2) * scratch)
+        let level_texels: u64 = (0..self.mips())
+            .map(|l| u64::from((self.side >> l).max(1)).pow(2))
+            .sum();
+        texel * (level_texels * u64::from(self.layers) + u64::from(self.scratch_side).pow(2) * scratch)
     }
 }

@@ -95,6 +95,24 @@ pub struct MomentSupport {
     pub unorm16: bool,
 }
 
+/// Mip levels of the cascades' moments in layers of `side` texels: enough for contact
+/// hardening's widest filter ([`MOMENT_MIPS`]) while a shadowed sun filters MSM with it, else
+/// 1 (EVSM keeps a fixed blur).
+pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
+    let hardening = lights.suns.iter().any(|s| {
+        s.cascades.count > 0 && technique(s) == Some(SHADOW_FILTER_MSM) && s.settings.moment_contact_hardening
+    });
+    if hardening {
+        MOMENT_MIPS.min(32 - side.max(1).leading_zeros())
+    } else {
+        1
+    }
+}
+
+/// Mip levels of a sun's moments with contact hardening: the last averages 64² texels, the
+/// widest penumbra filter (`MAX_PENUMBRA_TEXELS` = 32 texels of radius in the shaders).
+pub const MOMENT_MIPS: u32 = 7;
+
 /// MSM's moment bias for moments stored in `format` (what keeps the Hankel matrix
 /// invertible after rounding).
 pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {

@@ -133,6 +133,9 @@ fn sun_moments_ui(ui: &mut Ui, s: &mut ShadowSettings) {
             .text("blur (m)"),
     );
     ui.add(Slider::new(&mut s.moment_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
+    if s.mode == ShadowMode::Msm {
+        ui.checkbox(&mut s.moment_contact_hardening, "contact hardening (experimental)");
+    }
     if s.mode != ShadowMode::Msm {
         ui.add(
             Slider::new(&mut s.moment_min_variance, 0.0..=0.01)
