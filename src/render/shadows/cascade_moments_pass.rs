@@ -16,6 +16,7 @@ use crate::ecs::shadow_views::ShadowViewKind;
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::entry;
+use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::{CascadeMoments, MomentSupport, cascade_moment_format, cascade_moments};
@@ -93,9 +94,8 @@ type Held = (u64, [f32; 4]);
 #[derive(Default)]
 pub struct CascadeMomentsPass {
     pipelines: Option<Pipelines>,
-    /// The per-dispatch uniforms, and how many they hold.
-    jobs_buffer: Option<(wgpu::Buffer, usize)>,
-    buffer_generation: u64,
+    /// The per-dispatch uniforms.
+    jobs_buffer: JobBuffer,
     /// The resolve, blur and mip groups, with the depth and moments allocations and the
     /// buffer generation they were made for.
     groups: Option<((u64, u64, u64), Vec<wgpu::BindGroup>)>,
@@ -110,24 +110,8 @@ pub struct CascadeMomentsPass {
 
 fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
     let compute = wgpu::ShaderStages::COMPUTE;
-    let storage = entry(
-        1,
-        compute,
-        wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-        },
-    );
-    let job = entry(
-        2,
-        compute,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: true,
-            min_binding_size: wgpu::BufferSize::new(size_of::<JobGpu>() as u64),
-        },
-    );
+    let storage = moments_out_entry(format);
+    let job = job_entry::<JobGpu>();
     let texture = |binding, sample_type| {
         entry(
             binding,
@@ -158,19 +142,7 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
         source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
     });
     let pipeline = |layout: &wgpu::BindGroupLayout, entry_point: &str| {
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("cascade moments"),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cascade moments"),
-            layout: Some(&pipeline_layout),
-            module: &shader,
-            entry_point: Some(entry_point),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+        compute_pipeline(device, "cascade moments", &shader, layout, entry_point)
     };
     Pipelines {
         format,
@@ -232,24 +204,14 @@ impl RenderNode for CascadeMomentsPass {
                 });
             }
         }
-        let needed = self.data.len();
-        if self.jobs_buffer.as_ref().is_none_or(|(_, n)| *n < needed) {
-            let capacity = needed.next_power_of_two().max(8);
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("cascade moments jobs"),
-                size: (capacity * size_of::<JobGpu>()) as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            self.jobs_buffer = Some((buffer, capacity));
-            self.buffer_generation += 1;
-        }
-        let Some((buffer, _)) = &self.jobs_buffer else {
+        let uploaded = self
+            .jobs_buffer
+            .upload(device, &ctx.gpu.queue, "cascade moments jobs", &self.data);
+        let Some((buffer, generation)) = uploaded else {
             return;
         };
-        ctx.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.data));
         let depth = &ctx.shadows.cascades;
-        let key = (depth.id, moments.id, self.buffer_generation);
+        let key = (depth.id, moments.id, generation);
         if self.groups.as_ref().is_none_or(|(held, _)| *held != key) {
             self.groups = Some((key, bind_groups(device, pipelines, buffer, depth, moments)));
         }
@@ -290,14 +252,7 @@ fn bind_groups(
     depth: &DepthArray,
     moments: &MomentArray,
 ) -> Vec<wgpu::BindGroup> {
-    let job = wgpu::BindGroupEntry {
-        binding: 2,
-        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-            buffer,
-            offset: 0,
-            size: wgpu::BufferSize::new(size_of::<JobGpu>() as u64),
-        }),
-    };
+    let job = job_binding::<JobGpu>(buffer);
     let group = |label, layout, (binding, from): (u32, &wgpu::TextureView), to: &wgpu::TextureView| {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),

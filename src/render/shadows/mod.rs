@@ -11,6 +11,7 @@ pub mod casters;
 pub mod clear;
 pub mod depth_pass;
 pub mod gpu;
+pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
 pub mod standalone;

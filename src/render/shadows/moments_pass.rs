@@ -17,6 +17,7 @@ use crate::math::point::FACES;
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::entry;
+use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::vsm_use;
@@ -65,10 +66,8 @@ struct Pipelines {
 #[derive(Default)]
 pub struct MomentsPass {
     pipelines: Option<Pipelines>,
-    /// The per-job uniforms, and how many jobs it holds.
-    jobs_buffer: Option<(wgpu::Buffer, usize)>,
-    /// Bumped whenever `jobs_buffer` is replaced.
-    buffer_generation: u64,
+    /// The per-dispatch uniforms.
+    jobs_buffer: JobBuffer,
     /// Per storage (spot, point lights): its bind groups, kept while nothing behind them
     /// changes.
     groups: [Option<StorageGroups>; 2],
@@ -94,24 +93,8 @@ impl Job {
 
 fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
     let compute = wgpu::ShaderStages::COMPUTE;
-    let storage = entry(
-        1,
-        compute,
-        wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-        },
-    );
-    let job = entry(
-        2,
-        compute,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: true,
-            min_binding_size: wgpu::BufferSize::new(size_of::<MomentsJobGpu>() as u64),
-        },
-    );
+    let storage = moments_out_entry(format);
+    let job = job_entry::<MomentsJobGpu>();
     let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("shadow moments resolve"),
         entries: &[
@@ -164,19 +147,7 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
             label: Some("shadow moments"),
             source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow moments"),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("shadow moments"),
-            layout: Some(&pipeline_layout),
-            module: &shader,
-            entry_point: Some(entry_point),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+        compute_pipeline(device, "shadow moments", &shader, layout, entry_point)
     };
     let resolve = [
         pipeline(false, &resolve_layout, "resolve"),
@@ -247,29 +218,19 @@ impl RenderNode for MomentsPass {
                 });
             }
         }
-        let needed = self.data.len();
-        if self.jobs_buffer.as_ref().is_none_or(|(_, n)| *n < needed) {
-            let capacity = needed.next_power_of_two().max(8);
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shadow moments jobs"),
-                size: (capacity * size_of::<MomentsJobGpu>()) as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            self.jobs_buffer = Some((buffer, capacity));
-            self.buffer_generation += 1;
-        }
-        let Some((buffer, _)) = &self.jobs_buffer else {
+        let uploaded = self
+            .jobs_buffer
+            .upload(device, &ctx.gpu.queue, "shadow moments jobs", &self.data);
+        let Some((buffer, generation)) = uploaded else {
             return;
         };
-        ctx.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&self.data));
         let stores: [(&DepthArray, &MomentArray); 2] = [
             (&ctx.shadows.spots, &ctx.shadows.spot_moments),
             (&ctx.shadows.points, &ctx.shadows.point_moments),
         ];
         // NOTE: the groups are made again only when an allocation behind them changed.
         for (k, (depth, moments)) in stores.into_iter().enumerate() {
-            let key = (depth.id, moments.id, self.buffer_generation);
+            let key = (depth.id, moments.id, generation);
             let used = self.jobs.iter().any(|j| j.storage == k);
             if used && self.groups[k].as_ref().is_none_or(|(held, _)| *held != key) {
                 let sampler = &ctx.layouts.moments_sampler;
@@ -316,14 +277,7 @@ fn bind_groups(
     depth: &DepthArray,
     moments: &MomentArray,
 ) -> [wgpu::BindGroup; 3] {
-    let job = wgpu::BindGroupEntry {
-        binding: 2,
-        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-            buffer,
-            offset: 0,
-            size: wgpu::BufferSize::new(size_of::<MomentsJobGpu>() as u64),
-        }),
-    };
+    let job = job_binding::<MomentsJobGpu>(buffer);
     fn view(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
         wgpu::BindGroupEntry {
             binding,

@@ -1,0 +1,105 @@
+//! What the moments passes share: a uniform buffer of per-dispatch jobs, bound at a dynamic
+//! offset each, that grows to the largest frame seen; the layout entries of the moments they
+//! write and of their job; and a compute pipeline of one bind group from a shader module.
+
+use bytemuck::Pod;
+
+use crate::render::layouts::entry;
+
+/// Per-dispatch job uniforms (each `T` padded to the 256-byte dynamic-offset alignment).
+#[derive(Default)]
+pub struct JobBuffer {
+    /// The buffer and how many jobs it holds.
+    buffer: Option<(wgpu::Buffer, usize)>,
+    /// Bumped whenever the buffer is replaced, so bind groups over it are made again.
+    generation: u64,
+}
+
+impl JobBuffer {
+    /// Uploads `jobs`, replacing the buffer with one of the next power of two (at least 8)
+    /// when they do not fit; returns the buffer and its generation.
+    pub fn upload<T: Pod>(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &str,
+        jobs: &[T],
+    ) -> Option<(&wgpu::Buffer, u64)> {
+        if self.buffer.as_ref().is_none_or(|(_, n)| *n < jobs.len()) {
+            let capacity = jobs.len().next_power_of_two().max(8);
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (capacity * size_of::<T>()) as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.buffer = Some((buffer, capacity));
+            self.generation += 1;
+        }
+        let (buffer, _) = self.buffer.as_ref()?;
+        queue.write_buffer(buffer, 0, bytemuck::cast_slice(jobs));
+        Some((buffer, self.generation))
+    }
+}
+
+/// A compute pipeline running `entry_point` of `shader` with one bind group of `layout`.
+pub fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    entry_point: &str,
+) -> wgpu::ComputePipeline {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout),
+        module: shader,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// The moments passes' binding 1: the moments written, a 2D-array storage texture of
+/// `format`.
+pub fn moments_out_entry(format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        1,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+        },
+    )
+}
+
+/// The moments passes' binding 2: one job `T` of a [`JobBuffer`], at a dynamic offset.
+pub fn job_entry<T>() -> wgpu::BindGroupLayoutEntry {
+    entry(
+        2,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: wgpu::BufferSize::new(size_of::<T>() as u64),
+        },
+    )
+}
+
+/// Binds one job `T` of `buffer` at binding 2 (the dynamic offset picks which).
+pub fn job_binding<T>(buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding: 2,
+        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(size_of::<T>() as u64),
+        }),
+    }
+}
