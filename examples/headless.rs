@@ -3,15 +3,7 @@
 //!
 //! Run with `cargo run --release --example headless`.
 
-use glam::{Vec3, Vec4};
-use penumbra::app::headless_app;
-use penumbra::ecs::{
-    AlphaMode, AmbientLight, Camera3d, DirectionalLight, Material, Materials, Mesh3d, MeshMaterial3d, Meshes,
-    NotShadowCaster, ShadowStats, Transform,
-};
-use penumbra::mesh::{cuboid, plane, sphere};
-use penumbra::render::Renderer;
-use penumbra::settings::{ShadowMode, ShadowSettings};
+use penumbra::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let renderer = Renderer::headless(800, 450)?;
@@ -21,7 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (ground_mesh, box_mesh, ball_mesh) = {
         let mut meshes = world.resource_mut::<Meshes>();
         (
-            meshes.add(plane(glam::Vec2::splat(60.0))),
+            meshes.add(plane(Vec2::splat(60.0))),
             meshes.add(cuboid(Vec3::new(1.0, 3.0, 1.0))),
             meshes.add(sphere(0.7, 32, 16)),
         )

@@ -136,7 +136,7 @@ pub fn bench(args: BenchArgs) -> Result<(), String> {
         println!("sweep      {}", path.display());
         return Ok(());
     }
-    for name in ["report.md", "plot.png"] {
+    for name in ["report.md", "report.json", "plot.png"] {
         prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;
     }
     let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;

@@ -5,8 +5,17 @@
 //! [`ShadowPlugin`](ecs::ShadowPlugin)), [`shader`] (the WGSL library composed with
 //! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
 //! [`gltf`](mod@gltf) reads glTF 2.0 models as pure data; [`asset_io`] confines the files
-//! they and scenes name to an asset root.
+//! they and scenes name to an asset root. [`prelude`] is the one import an app needs.
 #![warn(missing_docs)]
+
+/// The `bevy_app` this crate is built with (its `App` is what [`ecs::ShadowPlugin`] plugs into).
+pub use bevy_app;
+/// The `bevy_ecs` this crate is built with (components and resources are its types).
+pub use bevy_ecs;
+/// The `glam` this crate is built with (every vector and matrix of the API).
+pub use glam;
+/// The `wgpu` this crate is built with (the renderer's device, textures and passes).
+pub use wgpu;
 
 pub mod analysis;
 pub mod app;
@@ -17,6 +26,7 @@ pub mod export;
 pub mod gltf;
 pub mod math;
 pub mod mesh;
+pub mod prelude;
 pub mod reference;
 pub mod render;
 pub mod scene;

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod bench_command;
+mod render_json;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
@@ -126,6 +127,9 @@ struct RenderArgs {
     /// them per pixel of the image.
     #[arg(long)]
     count_fragments: bool,
+    /// Print the summary (timings, counts, memory) as one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Subcommand)]
@@ -191,6 +195,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_visibility_resolve,
         single_pass_cascades,
         count_fragments,
+        json,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
     if let Some(path) = &shadow_out {
@@ -266,6 +271,12 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     // The settings the sun was rendered with: the scene's, with the command line's changes.
     let mut s = desc.shadows;
     tweak(&mut s);
+    if json {
+        let sun = desc.sun.is_some().then_some(&s);
+        let summary = render_json::summary_json(&scene, &out, (width, height, frames), sun, &result);
+        println!("{summary:#}");
+        return Ok(());
+    }
     println!("scene      {}", scene.display());
     println!("adapter    {}", result.adapter);
     println!(

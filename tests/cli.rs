@@ -265,3 +265,28 @@ fn the_instance_budget_is_set_on_the_command_line() {
         "{err}"
     );
 }
+
+#[test]
+fn a_render_prints_its_summary_as_json_when_asked() {
+    let dir = scratch("json");
+    let image = dir.join("out.png");
+    let out = small_render(&["--json", "--mode", "msm", "--out", image.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary: serde_json::Value =
+        serde_json::from_str(&stdout(&out)).unwrap_or_else(|e| panic!("{e}: {}", stdout(&out)));
+    assert_eq!(summary["image"]["width"], 48);
+    assert_eq!(summary["image"]["height"], 32);
+    assert_eq!(summary["sun"]["mode"], "Msm");
+    assert_eq!(summary["shadow_views"], 4);
+    assert_eq!(summary["casters_per_view"].as_array().map(Vec::len), Some(4));
+    assert!(summary["shadow_memory_bytes"].as_u64().unwrap() > 0);
+    // lavapipe has timestamp queries: every pass is timed and the total is their sum.
+    let passes = summary["gpu_ms"]["passes"].as_array().expect("passes");
+    let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
+    assert!(names.contains(&"forward"), "{names:?}");
+    let sum: f64 = passes.iter().filter_map(|p| p["ms"].as_f64()).sum();
+    let total = summary["gpu_ms"]["total"].as_f64().expect("total");
+    assert!((sum - total).abs() < 1e-9, "{sum} against {total}");
+    assert!(image.is_file());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -38,20 +38,27 @@ pub enum ReportError {
     },
 }
 
-/// Writes `report.md` and `plot.png` into `dir` (created if needed); returns the report path.
+/// Writes `report.md`, `report.json` (the whole report, machine-readable) and `plot.png` into
+/// `dir` (created if needed); returns the Markdown report's path.
 pub fn write_report(report: &BenchReport, dir: &Path) -> Result<PathBuf, ReportError> {
-    let io = |path: &Path, e: std::io::Error| ReportError::Io {
+    let io = |path: &Path, message: String| ReportError::Io {
         path: path.display().to_string(),
-        message: e.to_string(),
+        message,
     };
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e.to_string()))?;
     plot_png(report, &dir.join("plot.png"))?;
+    let json_path = dir.join("report.json");
+    let json = report_json(report).map_err(|e| io(&json_path, e.to_string()))?;
+    write_file(&json_path, json.as_bytes()).map_err(|e| io(&json_path, e.to_string()))?;
     let path = dir.join("report.md");
-    write_file(&path, markdown(report, Some("plot.png")).as_bytes()).map_err(|e| ReportError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+    write_file(&path, markdown(report, Some("plot.png")).as_bytes()).map_err(|e| io(&path, e.to_string()))?;
     Ok(path)
+}
+
+/// The whole report as pretty-printed JSON (every preset, scene, timing and error metric;
+/// non-finite numbers, such as the error of a scene nothing was scored on, become `null`).
+pub fn report_json(report: &BenchReport) -> Result<String, serde_json::Error> {
+    serde_json::to_string_pretty(report)
 }
 
 /// Writes `sweep.md` and `sweep.png` (cost against the sun's angular diameter) into `dir`
@@ -68,4 +75,30 @@ pub fn write_sweep(runs: &[SweepRun], dir: &Path) -> Result<PathBuf, ReportError
         message: e.to_string(),
     })?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::report::tests::sample_report;
+
+    #[test]
+    fn the_report_is_written_as_json_too() {
+        let report = sample_report();
+        let json: serde_json::Value = serde_json::from_str(&report_json(&report).unwrap()).unwrap();
+        let presets = json["presets"].as_array().unwrap();
+        assert_eq!(presets.len(), report.presets.len());
+        assert_eq!(presets[0]["preset"], "hard");
+        assert_eq!(presets[0]["scenes"][0]["gpu"]["total_ms"], 0.5);
+        assert_eq!(json["adapter"], "Test GPU 9000");
+        let dir = std::env::temp_dir().join(format!("penumbra-report-json-{}", std::process::id()));
+        write_report(&report, &dir).unwrap();
+        let names = ["plot.png", "report.json", "report.md"];
+        assert!(
+            names.iter().all(|n| dir.join(n).is_file()),
+            "{names:?} in {}",
+            dir.display()
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }
