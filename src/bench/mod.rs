@@ -5,6 +5,7 @@
 
 pub mod focus;
 pub mod presets;
+mod progress;
 pub mod run;
 pub mod score;
 pub mod session;

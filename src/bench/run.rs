@@ -3,14 +3,13 @@
 //! reference and temporal stability), then their GPU and CPU cost at the timing resolution.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
-use indicatif::{ProgressBar, ProgressStyle};
 use thiserror::Error;
 
 use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 use crate::app::SpawnError;
 use crate::bench::presets::Preset;
+use crate::bench::progress::{Progress, total_units};
 pub use crate::bench::score::{Points, evaluated_points};
 use crate::bench::score::{SceneScores, score_scene};
 use crate::bench::session::SceneSession;
@@ -67,24 +66,16 @@ pub struct BenchConfig {
     pub progress: bool,
 }
 
-pub(crate) fn bar(len: u64, message: String, show: bool) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(len).with_message(message);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed_precise} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar.enable_steady_tick(Duration::from_millis(250));
-    bar
-}
-
 /// One preset's cost on one scene: GPU times, CPU ms per frame, and the last frame's report.
 type Timing = (GpuTimes, f64, FrameReport);
 
 /// GPU and CPU cost of every preset on one scene at the timing resolution.
-fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec<Timing>, BenchError> {
+fn time_scene(
+    path: &Path,
+    desc: &SceneDesc,
+    config: &BenchConfig,
+    overall: &Progress,
+) -> Result<Vec<Timing>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
     // NOTE: every shadow map is drawn every frame, as when the camera or the casters move;
     // a still frame's cost is measured apart (`penumbra render`).
@@ -94,11 +85,7 @@ fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec
     });
     let mut renderer = Renderer::headless(config.width, config.height)?;
     renderer.set_focus_light(session.focus_light_index());
-    let progress = bar(
-        config.presets.len() as u64,
-        format!("timing {}", short(path)),
-        config.progress,
-    );
+    let progress = overall.stage(config.presets.len() as u64, format!("timing {}", short(path)));
     let mut out = Vec::new();
     for preset in &config.presets {
         session.apply_settings(preset.apply);
@@ -138,6 +125,7 @@ fn time_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<Vec
             last,
         ));
         progress.inc(1);
+        overall.advance(1);
     }
     progress.finish_and_clear();
     Ok(out)
@@ -200,11 +188,12 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
     let timestamps = probe.gpu.timestamps;
     drop(probe);
     let mut scene_notes = Vec::new();
+    let progress = Progress::new(total_units(config.scenes.len(), config.presets.len()), config.progress);
     for path in &config.scenes {
         let mut desc = SceneDesc::load(path)?;
         overrides.apply(&mut desc);
-        let scores = score_scene(path, &desc, config)?;
-        let times = time_scene(path, &desc, config)?;
+        let scores = score_scene(path, &desc, config, &progress)?;
+        let times = time_scene(path, &desc, config, &progress)?;
         for ((result, score), (gpu, cpu_ms, report)) in presets.iter_mut().zip(&scores.presets).zip(times) {
             result.scenes.push(SceneResult {
                 scene: short(path),
@@ -221,6 +210,7 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
         }
         scene_notes.extend(scene_light_notes(&short(path), &scores));
     }
+    progress.finish();
     let mut notes = vec![
         format!(
             "Errors are scored at {}×{} against a Monte-Carlo reference of each scene's scored light ({}): the visible fraction of the sun's disc, or of a spot light's emitter sphere; GPU times at {}×{}, median of {} frames after {} warm-up frames.",

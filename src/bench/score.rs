@@ -11,7 +11,8 @@ use crate::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics, per_casc
 use crate::analysis::results::ScoredLight;
 use crate::analysis::shimmer::{Shimmer, shimmer};
 use crate::bench::focus::FocusKind;
-use crate::bench::run::{BenchConfig, BenchError, bar, short};
+use crate::bench::progress::Progress;
+use crate::bench::run::{BenchConfig, BenchError, short};
 use crate::bench::session::SceneSession;
 use crate::reference::ReferencePoint;
 use crate::render::Renderer;
@@ -112,7 +113,12 @@ pub(crate) struct SceneScores {
 }
 
 /// Scores every preset of `config` on the scene's scored light.
-pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -> Result<SceneScores, BenchError> {
+pub(crate) fn score_scene(
+    path: &Path,
+    desc: &SceneDesc,
+    config: &BenchConfig,
+    overall: &Progress,
+) -> Result<SceneScores, BenchError> {
     let name = path.display().to_string();
     let (w, h) = (config.analysis_width, config.analysis_height);
     let mut session = SceneSession::new(desc, w, h)?;
@@ -136,15 +142,12 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
         .ok_or_else(|| BenchError::NoLight(name.clone()))?;
 
     let reference_scene = session.reference_scene();
-    let progress = bar(
-        points.reference.len() as u64,
-        format!("reference {}", short(path)),
-        config.progress,
-    );
+    let progress = overall.stage(points.reference.len() as u64, format!("reference {}", short(path)));
     let reference = target.visibility(&reference_scene, &points.reference, &config.reference, &|n| {
         progress.set_position(n as u64)
     });
     progress.finish_and_clear();
+    overall.advance(config.presets.len().max(1) as u64);
     let reference_values: Vec<f32> = reference.iter().map(|v| v.value).collect();
 
     // Stability paths: sub-texel moves of the start camera (within one texel of the scored
@@ -172,11 +175,7 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
         texel,
         presets: Vec::new(),
     };
-    let progress = bar(
-        config.presets.len() as u64,
-        format!("presets {}", short(path)),
-        config.progress,
-    );
+    let progress = overall.stage(config.presets.len() as u64, format!("presets {}", short(path)));
     let thresholds = Thresholds::default();
     for preset in &config.presets {
         session.apply_settings(preset.apply);
@@ -203,6 +202,7 @@ pub(crate) fn score_scene(path: &Path, desc: &SceneDesc, config: &BenchConfig) -
             shimmer_rotation: shimmer(&turned),
         });
         progress.inc(1);
+        overall.advance(1);
     }
     progress.finish_and_clear();
     Ok(scores)
