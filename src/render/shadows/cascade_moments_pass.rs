@@ -19,7 +19,7 @@ use crate::render::layouts::entry;
 use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::{CascadeMoments, MomentSupport, cascade_moment_format, cascade_moments};
+use crate::render::shadows::sun_moments::{CascadeMoments, any_sun_moments, cascade_moments};
 use crate::shader::ShaderLibrary;
 
 /// Mirror of WGSL `CascadeMomentsJob`, padded to the 256-byte dynamic-offset alignment.
@@ -57,18 +57,12 @@ impl Job {
     /// Its dispatches: the resolve, then with a blur both axes, then each mip level of `mips`.
     fn stages(&self, mips: u32) -> impl Iterator<Item = Stage> + use<> {
         let (layer, size) = (self.layer, self.size);
-        let blur: &[Stage] = if self.moments.blur_texels > 0.0 {
-            &[(1, 0, 0, 0, 0), (2, 0, 0, 0, 1)]
-        } else {
-            &[]
-        };
-        let blur: Vec<Stage> = blur
-            .iter()
-            .map(|&(g, _, _, _, axis)| {
-                let (src, dst) = if axis == 0 { (layer, 0) } else { (0, layer) };
-                (g, src, dst, size, axis)
-            })
-            .collect();
+        // NOTE: the scratch holds one layer, from layer 0 (called twice per baked cascade
+        // each frame, so nothing is collected).
+        let blurs = self.moments.blur_texels > 0.0;
+        let blur = [(1, layer, 0, size, 0), (2, 0, layer, size, 1)]
+            .into_iter()
+            .filter(move |_| blurs);
         let levels = (1..mips).map(move |level| {
             let (from, to) = ((size >> (level - 1)).max(1), (size >> level).max(1));
             (2 + level as usize, layer, layer, to, from)
@@ -163,7 +157,7 @@ impl RenderNode for CascadeMomentsPass {
     /// nothing (the node is culled).
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
-        if cascade_moment_format(inputs.lights, MomentSupport::default()).is_some() {
+        if any_sun_moments(inputs.lights) {
             pass.read(frame.cascade_maps);
             pass.write(frame.cascade_moments);
         }
@@ -351,6 +345,36 @@ mod tests {
     use std::mem::offset_of;
 
     use super::*;
+
+    #[test]
+    fn a_job_resolves_blurs_through_the_scratch_and_fills_each_mip_level() {
+        let job = |blur_texels| Job {
+            layer: 2,
+            size: 1024,
+            moments: CascadeMoments {
+                technique: 5,
+                c_positive: 0.0,
+                c_negative: 0.0,
+                blur_texels,
+            },
+            sun: 0,
+            cascade: 2,
+        };
+        // (group, source layer, destination layer, side written, axis or side read)
+        let stages: Vec<Stage> = job(1.5).stages(3).collect();
+        assert_eq!(
+            stages,
+            [
+                (0, 2, 2, 1024, 0),
+                (1, 2, 0, 1024, 0),
+                (2, 0, 2, 1024, 1),
+                (3, 2, 2, 512, 1024),
+                (4, 2, 2, 256, 512)
+            ]
+        );
+        let unblurred: Vec<usize> = job(0.0).stages(1).map(|s| s.0).collect();
+        assert_eq!(unblurred, [0]);
+    }
 
     #[test]
     fn the_job_uniform_matches_the_wgsl_layout() {

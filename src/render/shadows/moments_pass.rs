@@ -139,23 +139,25 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
         blur_layout(wgpu::TextureViewDimension::CubeArray),
     ];
     let fp32 = format == wgpu::TextureFormat::Rg32Float;
-    let mut pipeline = |point: bool, layout: &wgpu::BindGroupLayout, entry_point: &str| {
+    // One module per storage (spot layers, point cubes) holds both entry points.
+    let [spot, point] = [false, true].map(|point| {
         let module = library
             .shadow_moments(point, fp32)
             .expect("the shipped moments shader composes (checked by tests)");
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shadow moments"),
             source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
-        });
-        compute_pipeline(device, "shadow moments", &shader, layout, entry_point)
-    };
+        })
+    });
+    let pipeline =
+        |shader, layout, entry_point| compute_pipeline(device, "shadow moments", shader, layout, entry_point);
     let resolve = [
-        pipeline(false, &resolve_layout, "resolve"),
-        pipeline(true, &resolve_layout, "resolve"),
+        pipeline(&spot, &resolve_layout, "resolve"),
+        pipeline(&point, &resolve_layout, "resolve"),
     ];
     let blur = [
-        pipeline(false, &blur_layouts[0], "blur"),
-        pipeline(true, &blur_layouts[1], "blur"),
+        pipeline(&spot, &blur_layouts[0], "blur"),
+        pipeline(&point, &blur_layouts[1], "blur"),
     ];
     Pipelines {
         resolve_layout,

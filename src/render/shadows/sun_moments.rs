@@ -123,6 +123,14 @@ pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {
     }
 }
 
+/// True when a shadowed sun filters moments this frame (the bake has work).
+pub fn any_sun_moments(lights: &FrameLights) -> bool {
+    lights
+        .suns
+        .iter()
+        .any(|s| s.cascades.count > 0 && technique(s).is_some())
+}
+
 /// The format of the cascades' moments this frame, None while no shadowed sun filters
 /// moments: four channels when one uses EVSM4 or MSM, else two; 32-bit floats when one
 /// resolves to 32 bits (which needs 32-bit filtering), else 16 bits: `Rgba16Unorm` when every
