@@ -6,6 +6,17 @@
 //! naga_oil), [`render`] (wgpu passes and the render graph) and [`scene`] (RON scene files).
 //! [`gltf`](mod@gltf) reads glTF 2.0 models as pure data; [`asset_io`] confines the files
 //! they and scenes name to an asset root. [`prelude`] is the one import an app needs.
+//!
+//! # Features
+//!
+//! With `default-features = false` the crate builds what rendering shadows needs and nothing
+//! else: the plugin, the render graph, the WGSL library and RON scenes. Optional parts:
+//!
+//! - `gltf`: glTF 2.0 models ([`gltf`](mod@gltf), scene objects with `model:`).
+//! - `bench`: the ray-traced [`reference`], the error [`analysis`] and its plots, and the
+//!   [`bench`] runner.
+//! - `cli`: the `penumbra` command line (implies `bench` and `gltf`); on by default.
+//! - `viewer`: the windowed viewer and its egui inspector; on by default.
 #![warn(missing_docs)]
 
 /// The `bevy_app` this crate is built with (its `App` is what [`ecs::ShadowPlugin`] plugs into).
@@ -17,16 +28,20 @@ pub use glam;
 /// The `wgpu` this crate is built with (the renderer's device, textures and passes).
 pub use wgpu;
 
+#[cfg(feature = "bench")]
 pub mod analysis;
 pub mod app;
 pub mod asset_io;
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod ecs;
 pub mod export;
+#[cfg(feature = "gltf")]
 pub mod gltf;
 pub mod math;
 pub mod mesh;
 pub mod prelude;
+#[cfg(feature = "bench")]
 pub mod reference;
 pub mod render;
 pub mod scene;

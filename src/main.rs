@@ -400,8 +400,22 @@ fn check(scenes: Vec<PathBuf>, limits: SceneLimits) -> Result<(), String> {
     }
 }
 
+/// Without `XDG_RUNTIME_DIR` there is no Wayland session, yet Mesa's implicit Vulkan layer
+/// `VK_LAYER_MESA_device_select` tries to connect to one while listing GPUs, and libwayland
+/// prints `error: XDG_RUNTIME_DIR is invalid or not set` twice. The layer only reorders GPUs
+/// for a desktop session (penumbra picks its adapter itself), so it is turned off through its
+/// manifest's own switch, unless the user set that switch.
+fn quiet_device_select() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: called at the start of `main`, before any other thread exists.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+        log::debug!("XDG_RUNTIME_DIR is not set: Mesa's device-select layer turned off (NODEVICE_SELECT=1)");
+    }
+}
+
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    quiet_device_select();
     let result = match Cli::parse().command {
         Command::Render(args) => render(args).map_err(|e| e.to_string()),
         #[cfg(feature = "viewer")]

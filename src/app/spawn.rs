@@ -21,9 +21,10 @@ use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
-use crate::gltf;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
+
+mod model;
 
 /// A scene that loaded but could not be spawned.
 #[derive(Debug, Error)]
@@ -304,50 +305,6 @@ impl PreparedScene {
             material: None,
             object_from_mesh: Mat4::IDENTITY,
         }]
-    }
-
-    /// Loads a glTF model and adds its images, materials and one mesh per primitive (its
-    /// primitives without a material use the object's).
-    fn add_model(&mut self, file: &AssetPath, io: &AssetIo, object: usize) -> Result<Vec<MeshPart>, SpawnError> {
-        let file = file.path();
-        let model = gltf::load_with(file, io).map_err(|e| SpawnError::Model {
-            object,
-            message: e.to_string(),
-        })?;
-        for warning in &model.warnings {
-            log::warn!("{}: {warning}", file.display());
-        }
-        let first_image = self.images.len();
-        let first_material = self.materials.len();
-        self.materials.extend(model.materials.iter().map(|m| Material {
-            base_color: m.base_color,
-            base_color_texture: m.base_color_texture.map(|i| ImageHandle((first_image + i) as u32)),
-            alpha_mode: m.alpha_mode,
-            double_sided: m.double_sided,
-        }));
-        self.images.extend(model.images);
-        // Mesh index of each primitive, per glTF mesh.
-        let mut primitives: Vec<Vec<(usize, Option<usize>)>> = Vec::with_capacity(model.meshes.len());
-        for mesh in model.meshes {
-            let mut list = Vec::with_capacity(mesh.primitives.len());
-            for primitive in mesh.primitives {
-                self.meshes.push(primitive.mesh);
-                list.push((self.meshes.len() - 1, primitive.material.map(|m| first_material + m)));
-            }
-            primitives.push(list);
-        }
-        Ok(model
-            .nodes
-            .iter()
-            .flat_map(|node| {
-                let list = primitives.get(node.mesh).map_or(&[][..], Vec::as_slice);
-                list.iter().map(move |&(mesh, material)| MeshPart {
-                    mesh,
-                    material,
-                    object_from_mesh: node.model_from_mesh,
-                })
-            })
-            .collect())
     }
 
     /// Number of mesh entities [`spawn`](Self::spawn) creates.
