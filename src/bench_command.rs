@@ -56,6 +56,14 @@ pub struct BenchArgs {
     /// preset's cost and error against the diameter.
     #[arg(long, value_delimiter = ',', value_parser = sun_degrees)]
     sun_diameters: Vec<f32>,
+    /// Also write a gallery: DIR/gallery.md and, under DIR/gallery/, for every scene and
+    /// preset the render, the technique's shadow, the ray-traced truth and the error, cropped
+    /// to the window with the most penumbra, plus hero.png.
+    #[arg(long, value_name = "DIR", conflicts_with = "sun_diameters")]
+    gallery: Option<PathBuf>,
+    /// The two presets the gallery's hero picture compares with the truth.
+    #[arg(long, value_delimiter = ',', num_args = 2, default_values = ["pcf2", "pcss-high"])]
+    hero: Vec<String>,
 }
 
 /// Runs the benchmark with `args` and writes its reports.
@@ -139,9 +147,24 @@ pub fn bench(args: BenchArgs) -> Result<(), String> {
     for name in ["report.md", "report.json", "plot.png"] {
         prepare_output(&args.out.join(name), OutputKind::Any).map_err(|e| e.to_string())?;
     }
-    let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
+    if let Some(dir) = &args.gallery {
+        prepare_output(&dir.join("gallery.md"), OutputKind::Any).map_err(|e| e.to_string())?;
+        let run: Vec<&str> = config.presets.iter().map(|p| p.name).collect();
+        if let Some(missing) = args.hero.iter().find(|h| !run.contains(&h.as_str())) {
+            eprintln!("warning: the gallery has no hero picture: preset `{missing}` (--hero) is not run");
+        }
+    }
+    let mut shots = Vec::new();
+    let gallery = args.gallery.is_some().then_some(&mut shots);
+    let report =
+        penumbra::bench::run_bench_collecting(&config, &overrides, gallery).map_err(|e| e.to_string())?;
     let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
     print_report(&report, &path);
+    if let Some(dir) = &args.gallery {
+        let hero = (args.hero[0].as_str(), args.hero[1].as_str());
+        let page = penumbra::bench::write_gallery(dir, &report, &shots, hero).map_err(|e| e.to_string())?;
+        println!("gallery    {}", page.display());
+    }
     Ok(())
 }
 

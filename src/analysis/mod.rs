@@ -6,12 +6,14 @@
 //! error, [`results`] holds the results (and which light each scene scores), [`report`] writes
 //! them as Markdown, [`plot`] draws GPU time against penumbra error as a PNG with an
 //! embedded font, so no system font is needed, and [`sweep`](mod@sweep) tabulates and plots
-//! runs at several sun diameters.
+//! runs at several sun diameters; [`gallery`](mod@gallery) draws a technique's shadow, the
+//! reference and their difference over the window with the most penumbra.
 //!
 //! Shadow factors are in `[0, 1]`: 1 is fully lit, 0 fully shadowed.
 
 mod axis;
 mod font;
+pub mod gallery;
 pub mod metrics;
 pub mod pareto;
 pub mod plot;

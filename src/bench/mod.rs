@@ -1,9 +1,10 @@
 //! `penumbra bench`: scores every preset against the ray-traced reference of each scene's
 //! scored light (its first sun, or its first shadowed spot light when it has no sun: see
 //! [`focus`]) and measures its cost, then writes a Markdown report and a plot of GPU time
-//! against error.
+//! against error; with `--gallery`, pictures of every preset beside the truth ([`gallery`]).
 
 pub mod focus;
+pub mod gallery;
 pub mod presets;
 mod progress;
 pub mod run;
@@ -11,7 +12,8 @@ pub mod score;
 pub mod session;
 
 pub use presets::{Preset, presets};
-pub use run::{BenchConfig, BenchError, SettingsOverrides, run_bench, run_bench_with};
+pub use gallery::{SceneShots, write_gallery};
+pub use run::{BenchConfig, BenchError, SettingsOverrides, run_bench, run_bench_collecting, run_bench_with};
 
 use std::path::{Path, PathBuf};
 

@@ -9,6 +9,7 @@ use thiserror::Error;
 use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 use crate::app::SpawnError;
 use crate::bench::presets::Preset;
+use crate::bench::gallery::SceneShots;
 use crate::bench::progress::{Progress, total_units};
 pub use crate::bench::score::{Points, evaluated_points};
 use crate::bench::score::{SceneScores, score_scene};
@@ -174,6 +175,16 @@ pub fn run_bench(config: &BenchConfig) -> Result<BenchReport, BenchError> {
 
 /// [`run_bench`] with bias settings forced onto every scene.
 pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Result<BenchReport, BenchError> {
+    run_bench_collecting(config, overrides, None)
+}
+
+/// [`run_bench_with`] that also keeps, when `gallery` is given, each scene's pictures for
+/// [`write_gallery`](crate::bench::gallery::write_gallery).
+pub fn run_bench_collecting(
+    config: &BenchConfig,
+    overrides: &SettingsOverrides,
+    mut gallery: Option<&mut Vec<SceneShots>>,
+) -> Result<BenchReport, BenchError> {
     let mut presets: Vec<PresetResult> = config
         .presets
         .iter()
@@ -192,7 +203,7 @@ pub fn run_bench_with(config: &BenchConfig, overrides: &SettingsOverrides) -> Re
     for path in &config.scenes {
         let mut desc = SceneDesc::load(path)?;
         overrides.apply(&mut desc);
-        let scores = score_scene(path, &desc, config, &progress)?;
+        let scores = score_scene(path, &desc, config, &progress, gallery.as_deref_mut())?;
         let times = time_scene(path, &desc, config, &progress)?;
         for ((result, score), (gpu, cpu_ms, report)) in presets.iter_mut().zip(&scores.presets).zip(times) {
             result.scenes.push(SceneResult {

@@ -11,6 +11,7 @@ use crate::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics, per_casc
 use crate::analysis::results::ScoredLight;
 use crate::analysis::shimmer::{Shimmer, shimmer};
 use crate::bench::focus::FocusKind;
+use crate::bench::gallery::SceneShots;
 use crate::bench::progress::Progress;
 use crate::bench::run::{BenchConfig, BenchError, short};
 use crate::bench::session::SceneSession;
@@ -118,6 +119,7 @@ pub(crate) fn score_scene(
     desc: &SceneDesc,
     config: &BenchConfig,
     overall: &Progress,
+    gallery: Option<&mut Vec<SceneShots>>,
 ) -> Result<SceneScores, BenchError> {
     let name = path.display().to_string();
     let (w, h) = (config.analysis_width, config.analysis_height);
@@ -149,6 +151,9 @@ pub(crate) fn score_scene(
     progress.finish_and_clear();
     overall.advance(config.presets.len().max(1) as u64);
     let reference_values: Vec<f32> = reference.iter().map(|v| v.value).collect();
+    let mut shots = gallery
+        .is_some()
+        .then(|| SceneShots::new(short(path), (w, h), &points.pixels, &reference_values));
 
     // Stability paths: sub-texel moves of the start camera (within one texel of the scored
     // light's map: cascade 0, or a spot light's map at the camera's target) and small
@@ -181,6 +186,9 @@ pub(crate) fn score_scene(
         session.apply_settings(preset.apply);
         let image = analysis_frame(&mut session, &mut renderer);
         let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
+        if let Some(shots) = shots.as_mut() {
+            shots.take(preset.name, &renderer.read_image(), &technique);
+        }
         // NOTE: a point light's faces are reported together, as its one view.
         let cascade: Vec<u8> = points
             .pixels
@@ -205,5 +213,8 @@ pub(crate) fn score_scene(
         overall.advance(1);
     }
     progress.finish_and_clear();
+    if let (Some(gallery), Some(shots)) = (gallery, shots) {
+        gallery.push(shots);
+    }
     Ok(scores)
 }
