@@ -280,7 +280,7 @@ fn scene_light_notes(scene: &str, scores: &SceneScores) -> Vec<String> {
             "Scene {scene}: a point light's cube faces are filtered across their edges and have nothing to blend, so the -no-blend presets render as their base presets there."
         )),
         ScoredLight::Sun { .. } => notes.push(format!(
-            "Scene {scene}: a sun has no VSM (its moment technique is EVSM, to come), so the vsm presets render with the scene's PCF there."
+            "Scene {scene}: a sun has no VSM, so the vsm presets render with EVSM2 there (a sun's `Vsm` is filtered as `Evsm`)."
         )),
     }
     notes
