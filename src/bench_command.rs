@@ -1,6 +1,7 @@
 //! `penumbra bench` (part of the `penumbra` binary): its options, the runs (one, or one per
 //! sun diameter with the sweep) and the summary it prints.
 
+use std::error::Error;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -66,8 +67,9 @@ pub struct BenchArgs {
     hero: Vec<String>,
 }
 
-/// Runs the benchmark with `args` and writes its reports.
-pub fn bench(args: BenchArgs) -> Result<(), String> {
+/// Runs the benchmark with `args` and writes its reports; a scene's error is kept whole, for
+/// printing it with its line.
+pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
     let scenes = if args.scenes.is_empty() {
         [
             "assets/scenes/pillars.ron",
@@ -85,10 +87,7 @@ pub fn bench(args: BenchArgs) -> Result<(), String> {
     if !args.presets.is_empty() {
         let known: Vec<&str> = presets.iter().map(|p| p.name).collect();
         if let Some(unknown) = args.presets.iter().find(|n| !known.contains(&n.as_str())) {
-            return Err(format!(
-                "unknown preset `{unknown}`; expected one of {}",
-                known.join(", ")
-            ));
+            return Err(format!("unknown preset `{unknown}`; expected one of {}", known.join(", ")).into());
         }
         presets.retain(|p| args.presets.iter().any(|n| n == p.name));
     }
@@ -133,7 +132,7 @@ pub fn bench(args: BenchArgs) -> Result<(), String> {
                 sun_diameter: Some(d),
                 ..overrides
             };
-            let report = penumbra::bench::run_bench_with(&config, &overrides).map_err(|e| e.to_string())?;
+            let report = penumbra::bench::run_bench_with(&config, &overrides)?;
             let dir = args.out.join(format!("sun-{d}"));
             let path = penumbra::bench::write_report(&report, &dir).map_err(|e| e.to_string())?;
             println!("sun        {d}°");
@@ -156,8 +155,7 @@ pub fn bench(args: BenchArgs) -> Result<(), String> {
     }
     let mut shots = Vec::new();
     let gallery = args.gallery.is_some().then_some(&mut shots);
-    let report =
-        penumbra::bench::run_bench_collecting(&config, &overrides, gallery).map_err(|e| e.to_string())?;
+    let report = penumbra::bench::run_bench_collecting(&config, &overrides, gallery)?;
     let path = penumbra::bench::write_report(&report, &args.out).map_err(|e| e.to_string())?;
     print_report(&report, &path);
     if let Some(dir) = &args.gallery {

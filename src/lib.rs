@@ -13,8 +13,8 @@
 //! else: the plugin, the render graph, the WGSL library and RON scenes. Optional parts:
 //!
 //! - `gltf`: glTF 2.0 models ([`gltf`](mod@gltf), scene objects with `model:`).
-//! - `bench`: the ray-traced [`reference`], the error [`analysis`] and its plots, and the
-//!   [`bench`] runner.
+//! - `bench`: the ray-traced [`reference`](mod@reference), the error
+//!   [`analysis`](mod@analysis) and its plots, and the [`bench`](mod@bench) runner.
 //! - `cli`: the `penumbra` command line (implies `bench` and `gltf`); on by default.
 //! - `viewer`: the windowed viewer and its egui inspector; on by default.
 #![warn(missing_docs)]
@@ -34,6 +34,7 @@ pub mod app;
 pub mod asset_io;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod diagnostic;
 pub mod ecs;
 pub mod export;
 #[cfg(feature = "gltf")]

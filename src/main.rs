@@ -1,6 +1,8 @@
 //! The `penumbra` command: render a scene file headless to a PNG (printing GPU and CPU
 //! timings), or check a scene file for errors.
 
+use std::error::Error;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,7 +13,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use bench_command::{BenchArgs, bench};
 
-use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with};
+use penumbra::app::{PreparedScene, RenderError, RenderRequest, SpawnError, render_scene_with};
+use penumbra::diagnostic::{ErrorStyle, render_error};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
@@ -22,8 +25,19 @@ use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode,
 #[derive(Parser)]
 #[command(name = "penumbra", version, about = "Cascaded soft shadows, rendered and measured")]
 struct Cli {
+    /// How errors are printed: `rich` shows each problem's line with a caret under it,
+    /// `short` one line per problem (`file:line:column: ...`). Default: rich when stderr is a
+    /// terminal (in colour), short otherwise.
+    #[arg(long, global = true, value_enum)]
+    error_format: Option<ErrorFormat>,
     #[command(subcommand)]
     command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ErrorFormat {
+    Rich,
+    Short,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -357,8 +371,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
 }
 
 #[cfg(feature = "viewer")]
-fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), String> {
-    let summary = penumbra::viewer::run(&args.scene, args.options()).map_err(|e| e.to_string())?;
+fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), penumbra::viewer::ViewerError> {
+    let summary = penumbra::viewer::run(&args.scene, args.options())?;
     println!(
         "viewer: {} frames drawn in {} ticks on {}",
         summary.frames, summary.ticks, summary.adapter
@@ -369,15 +383,24 @@ fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// A scene that loaded but could not be prepared, in `check`: the file, then the problem.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", scene.display())]
+struct InScene {
+    scene: PathBuf,
+    source: SpawnError,
+}
+
 /// Loads each scene and everything it names (glTF models, textures) exactly as `render`
-/// would, without a GPU, and reports every problem.
-fn check(scenes: Vec<PathBuf>, limits: SceneLimits) -> Result<(), String> {
+/// would, without a GPU, and reports every problem in `style`.
+fn check(scenes: Vec<PathBuf>, limits: SceneLimits, style: ErrorStyle) -> Result<(), String> {
     let mut failed = 0;
     for path in &scenes {
         let loaded = SceneDesc::load_with(path, &limits)
-            .map_err(|e| e.to_string())
+            .map_err(Box::<dyn Error>::from)
             .and_then(|desc| {
-                let prepared = PreparedScene::new(&desc).map_err(|e| format!("{}: {e}", path.display()))?;
+                let scene = path.clone();
+                let prepared = PreparedScene::new(&desc).map_err(|source| InScene { scene, source })?;
                 Ok((desc, prepared))
             });
         match loaded {
@@ -388,7 +411,7 @@ fn check(scenes: Vec<PathBuf>, limits: SceneLimits) -> Result<(), String> {
                 prepared.entity_count()
             ),
             Err(e) => {
-                eprintln!("{e}");
+                eprintln!("{}", render_error(&*e, style));
                 failed += 1;
             }
         }
@@ -416,10 +439,16 @@ fn quiet_device_select() {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     quiet_device_select();
-    let result = match Cli::parse().command {
-        Command::Render(args) => render(args).map_err(|e| e.to_string()),
+    let cli = Cli::parse();
+    let terminal = std::io::stderr().is_terminal();
+    let style = match (cli.error_format, terminal) {
+        (Some(ErrorFormat::Rich), _) | (None, true) => ErrorStyle::Rich { color: terminal },
+        (Some(ErrorFormat::Short), _) | (None, false) => ErrorStyle::Short,
+    };
+    let result: Result<(), Box<dyn Error>> = match cli.command {
+        Command::Render(args) => render(args).map_err(Into::into),
         #[cfg(feature = "viewer")]
-        Command::View(args) => view(args),
+        Command::View(args) => view(args).map_err(Into::into),
         Command::Bench(args) => bench(args),
         Command::Check {
             scenes,
@@ -431,12 +460,17 @@ fn main() -> ExitCode {
                 asset_root,
                 max_instances,
             },
-        ),
+            style,
+        )
+        .map_err(Into::into),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            match style {
+                ErrorStyle::Short => eprintln!("error: {e}"),
+                ErrorStyle::Rich { .. } => eprintln!("{}", render_error(&*e, style)),
+            }
             ExitCode::FAILURE
         }
     }

@@ -290,3 +290,110 @@ fn a_render_prints_its_summary_as_json_when_asked() {
     assert!(image.is_file());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A scene with two problems on lines 2 and 5: a `far` before `near`, a misspelt material.
+const BAD_SCENE: &str = r#"Scene(
+    camera: (position: (0, 2, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 0.01),
+    sun: (direction: (0, -1, 0)),
+    materials: { "leaf": () },
+    objects: [(shape: Cuboid(size: (1, 1, 1)), material: "leef")],
+)
+"#;
+
+#[test]
+fn errors_print_short_or_rich_as_asked() {
+    let dir = scratch("error-format");
+    let path = dir.join("bad.ron");
+    std::fs::write(&path, BAD_SCENE).unwrap();
+    let file = path.to_str().unwrap();
+    // Short: one line per problem, then the summary; also the default when stderr is not a
+    // terminal (as here).
+    let out = penumbra(&["check", file, "--error-format", "short"]);
+    assert_eq!(out.status.code(), Some(1));
+    let short = stderr(&out);
+    let lines: Vec<&str> = short.lines().collect();
+    assert_eq!(lines.len(), 3, "{short}");
+    assert!(lines[0].starts_with(&format!("{file}:2:79: expected a distance greater than `near`")));
+    assert!(lines[1].starts_with(&format!("{file}:5:58: expected a material defined in `materials`")));
+    assert!(lines[1].ends_with("found \"leef\"; did you mean \"leaf\"?"), "{short}");
+    assert_eq!(lines[2], "error: 1 of 1 scene files have errors");
+    assert_eq!(stderr(&penumbra(&["check", file])), short);
+    // Rich: each problem with its line and a caret under the value; no colour off a terminal,
+    // so the output is the same on every run. The flag may come before the command.
+    let out = penumbra(&["--error-format", "rich", "check", file]);
+    assert_eq!(out.status.code(), Some(1));
+    let rich = stderr(&out);
+    assert!(!rich.contains('\u{1b}'), "{rich:?}");
+    let expected = format!(
+        "error: expected a material defined in `materials` (\"leaf\") for `objects[0].material`, found \"leef\"
+  --> {file}:5:58
+  |
+5 |     objects: [(shape: Cuboid(size: (1, 1, 1)), material: \"leef\")],
+  |                                                          ^^^^^^
+  |
+  = help: did you mean \"leaf\"?
+error: 1 of 1 scene files have errors
+"
+    );
+    assert!(rich.ends_with(&expected), "{rich}");
+    assert!(rich.starts_with("error: expected a distance greater than `near` (0.1) for `camera.far`, found 0.01\n"));
+    assert_eq!(stderr(&penumbra(&["check", file, "--error-format", "rich"])), rich);
+    // `render` fails on the scene before it needs a GPU, and prints it the same way.
+    let image = dir.join("out.png");
+    let out = penumbra(&[
+        "render",
+        file,
+        "--out",
+        image.to_str().unwrap(),
+        "--error-format",
+        "rich",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let rendered = stderr(&out);
+    assert!(rendered.contains(&format!("  --> {file}:5:58\n")), "{rendered}");
+    assert!(rendered.ends_with("  = help: did you mean \"leaf\"?\n"), "{rendered}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_broken_model_shows_its_json_line_under_the_scene_that_names_it() {
+    let dir = scratch("model-json");
+    std::fs::write(
+        dir.join("broken.gltf"),
+        "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"nodes\": [{} {}]\n}\n",
+    )
+    .unwrap();
+    let scene = r#"Scene(
+    camera: (position: (0, 2, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 100),
+    sun: (direction: (0, -1, 0)),
+    materials: { "m": () },
+    objects: [(shape: Gltf(path: "broken.gltf"), material: "m")],
+)"#;
+    let path = dir.join("scene.ron");
+    std::fs::write(&path, scene).unwrap();
+    let scene = path.to_str().unwrap();
+    let out = penumbra(&["check", scene, "--error-format", "short"]);
+    let short = stderr(&out);
+    assert!(short.starts_with(&format!("{scene}: object 0: ")), "{short}");
+    assert!(
+        short.contains("not valid glTF: expected `,` or `]` at line 3 column 16"),
+        "{short}"
+    );
+    let out = penumbra(&["check", scene, "--error-format", "rich"]);
+    let rich = stderr(&out);
+    let model = std::fs::canonicalize(dir.join("broken.gltf")).unwrap();
+    let expected = format!(
+        "error: not valid glTF: expected `,` or `]`
+  --> {}:3:16
+  |
+3 |   \"nodes\": [{{}} {{}}]
+  |                ^
+  |
+  = note: while loading {scene}: object 0
+error: 1 of 1 scene files have errors
+",
+        model.display()
+    );
+    assert_eq!(rich, expected);
+    std::fs::remove_dir_all(&dir).ok();
+}

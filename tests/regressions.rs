@@ -155,7 +155,7 @@ fn undefined_material_lists_the_nearest_names() {
         scene_error("undefined_material.ron"),
         "undefined_material.ron:10:52: expected a material defined in `materials` (\"stone\", \
          \"slate\", \"moss\", \"bark\", \"leaf\", and 4 more) for `objects[0].material`, \
-         found \"stoen\""
+         found \"stoen\"; did you mean \"stone\"?"
     );
 }
 

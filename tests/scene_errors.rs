@@ -204,7 +204,7 @@ fn undefined_material() {
     assert_eq!(
         msg,
         "scenes/test.ron:12:48: expected a material defined in `materials` (\"leaf\", \
-         \"ground\") for `objects[2].material`, found \"leef\""
+         \"ground\") for `objects[2].material`, found \"leef\"; did you mean \"leaf\"?"
     );
 }
 
@@ -291,7 +291,7 @@ fn every_problem_is_listed_in_file_order() {
     // The structured form carries the same facts.
     let text = edited(&[("far: 500", "far: 0.01"), ("radius: 0.5", "radius: 0")]);
     match SceneDesc::from_str(&text, ORIGIN) {
-        Err(SceneError::Invalid { origin, problems }) => {
+        Err(SceneError::Invalid { origin, problems, .. }) => {
             assert_eq!(origin, ORIGIN);
             let fields: Vec<&str> = problems.iter().map(|p| p.field.as_str()).collect();
             assert_eq!(fields, ["camera.far", "objects[2].shape.radius"]);

@@ -56,7 +56,20 @@ pub enum SpawnError {
         object: usize,
         /// The loader's message.
         message: String,
+        /// The loader's error itself, whose text `message` is, when the model file was read:
+        /// [`render_error`](crate::diagnostic::render_error) shows its offending JSON line.
+        error: Option<Box<dyn std::error::Error + Send + Sync>>,
     },
+}
+
+impl SpawnError {
+    /// The loader's error of a [`SpawnError::Model`], if kept.
+    pub(crate) fn model_error(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SpawnError::Model { error: Some(e), .. } => Some(&**e),
+            _ => None,
+        }
+    }
 }
 
 /// Marks every entity [`spawn_scene`] creates, so [`despawn_scene`] can remove them.
@@ -90,6 +103,7 @@ fn model_error(object: usize, e: AssetError) -> SpawnError {
     SpawnError::Model {
         object,
         message: e.to_string(),
+        error: None,
     }
 }
 

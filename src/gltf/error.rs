@@ -5,6 +5,8 @@ use std::io;
 use std::path::PathBuf;
 
 use crate::asset_io::AssetError;
+use crate::diagnostic::{Report, SourceLines, Spot, more_problems};
+use crate::scene::MAX_LISTED_PROBLEMS;
 
 /// Why a glTF file could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -26,6 +28,9 @@ pub enum GltfError {
         path: PathBuf,
         /// What is wrong, with the JSON path where the rules are broken.
         message: String,
+        /// Where in the JSON text the problem is, for showing its line
+        /// ([`render_error`](crate::diagnostic::render_error)); not part of the message.
+        json: JsonContext,
     },
     /// An external buffer or image could not be used: its URI leaves the asset folder or
     /// names no regular file, it is larger than allowed, or it cannot be read or decoded.
@@ -99,4 +104,81 @@ pub enum GltfError {
         /// What is wrong with it.
         problem: String,
     },
+}
+
+/// Where in a `.gltf` file's JSON text a [`GltfError::Invalid`] is, with the lines, so that
+/// [`render_error`](crate::diagnostic::render_error) can show them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum JsonContext {
+    /// Not shown: a GLB container (binary), a problem of the container itself, or JSON that
+    /// is not UTF-8.
+    #[default]
+    Unknown,
+    /// A JSON syntax error or a value of the wrong type, where serde_json found it.
+    Position {
+        /// Line, from 1.
+        line: usize,
+        /// Column in characters, from 1 (serde_json counts bytes).
+        column: usize,
+        /// What is wrong, without the position.
+        message: String,
+        /// The line.
+        source_lines: SourceLines,
+    },
+    /// Broken glTF rules, each at a JSON path like `meshes[0].primitives[0].indices`.
+    Paths {
+        /// Each problem: its JSON path, and what is wrong there.
+        problems: Vec<(String, String)>,
+        /// The line of each of the first problems whose path was found in the text.
+        source_lines: SourceLines,
+    },
+}
+
+impl GltfError {
+    /// The problems of an invalid `.gltf` file with their lines, for
+    /// [`render_error`](crate::diagnostic::render_error); `None` for other errors.
+    pub(crate) fn report(&self) -> Option<Report<'_>> {
+        let GltfError::Invalid { path, json, .. } = self else {
+            return None;
+        };
+        let origin = path.display().to_string();
+        match json {
+            JsonContext::Unknown => None,
+            JsonContext::Position {
+                line,
+                column,
+                message,
+                source_lines,
+            } => Some(Report {
+                origin,
+                spots: vec![Spot {
+                    at: Some((*line, *column)),
+                    line: source_lines.get(0),
+                    message: format!("not valid glTF: {message}"),
+                    help: None,
+                }],
+                more: None,
+            }),
+            JsonContext::Paths { problems, source_lines } => {
+                let spots = (problems.iter().take(MAX_LISTED_PROBLEMS).enumerate())
+                    .map(|(i, (at, problem))| {
+                        let line = source_lines.get(i);
+                        Spot {
+                            at: line.map(|l| (l.line, l.column)),
+                            line,
+                            message: format!("not valid glTF: {at}: {problem}"),
+                            help: None,
+                        }
+                    })
+                    .collect();
+                let more = problems.len().saturating_sub(MAX_LISTED_PROBLEMS);
+                Some(Report {
+                    more: (more > 0).then(|| more_problems(&origin, more)),
+                    origin,
+                    spots,
+                })
+            }
+        }
+    }
 }

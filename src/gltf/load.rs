@@ -12,8 +12,10 @@ use base64::Engine;
 use base64::engine::general_purpose::STANDARD as BASE64;
 
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
+use crate::diagnostic::SourceLines;
 use crate::ecs::assets::ImageData;
-use crate::gltf::{GltfError, GltfModel, material, mesh, nodes};
+use crate::gltf::json_path::{char_column, path_lines};
+use crate::gltf::{GltfError, GltfModel, JsonContext, material, mesh, nodes};
 
 /// The file being loaded, its directory, the asset root and the warnings collected so far.
 pub(super) struct Cx<'a> {
@@ -59,11 +61,17 @@ impl<'a> Cx<'a> {
         }
     }
 
-    /// A [`GltfError::Invalid`].
+    /// A [`GltfError::Invalid`] with no place in the JSON text.
     fn invalid(&self, message: impl Into<String>) -> GltfError {
+        self.invalid_at(message, JsonContext::Unknown)
+    }
+
+    /// A [`GltfError::Invalid`] at a place in the JSON text.
+    fn invalid_at(&self, message: impl Into<String>, json: JsonContext) -> GltfError {
         GltfError::Invalid {
             path: self.path.to_path_buf(),
             message: message.into(),
+            json,
         }
     }
 
@@ -95,9 +103,9 @@ pub(super) fn load(path: &Path, io: &AssetIo) -> Result<GltfModel, GltfError> {
     let bytes = read_model_file(path, io)?;
     let mut cx = Cx::new(path, io);
     let (root, blob) = parse(&cx, &bytes)?;
-    drop(bytes);
     precheck(&cx, &root)?;
-    validate(&cx, &root)?;
+    validate(&cx, &root, json_text(&bytes))?;
+    drop(bytes);
     for ext in &root.extensions_used {
         if !root.extensions_required.contains(ext) {
             cx.warn(format!("extension {ext} is ignored"));
@@ -157,8 +165,34 @@ fn parse(cx: &Cx, bytes: &[u8]) -> Result<(json::Root, Option<Vec<u8>>), GltfErr
     };
     // Some exporters pad the JSON chunk with NULs instead of spaces.
     let end = json_bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
-    let root: json::Root = json::deserialize::from_slice(&json_bytes[..end]).map_err(|e| cx.invalid(e.to_string()))?;
+    let root: json::Root = json::deserialize::from_slice(&json_bytes[..end]).map_err(|e| {
+        let message = e.to_string();
+        let json = match json_text(bytes) {
+            Some(text) if e.line() > 0 => {
+                let (line, column) = (e.line(), char_column(text, e.line(), e.column()));
+                let at = format!(" at line {line} column {}", e.column());
+                JsonContext::Position {
+                    line,
+                    column,
+                    message: message.strip_suffix(&at).unwrap_or(&message).to_owned(),
+                    source_lines: SourceLines::new(text, &[(line, column, 1)]),
+                }
+            }
+            _ => JsonContext::Unknown,
+        };
+        cx.invalid_at(message, json)
+    })?;
     Ok((root, blob))
+}
+
+/// The JSON text of a `.gltf` file (NUL padding cut), to show the lines of errors; `None`
+/// for a GLB file (binary) or JSON that is not UTF-8.
+fn json_text(bytes: &[u8]) -> Option<&str> {
+    if bytes.starts_with(b"glTF") {
+        return None;
+    }
+    let end = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
+    std::str::from_utf8(&bytes[..end]).ok()
 }
 
 /// Checks the crate's validation relies on without checking: every primitive has a
@@ -192,9 +226,10 @@ fn precheck(cx: &Cx, root: &json::Root) -> Result<(), GltfError> {
 
 /// The `gltf` crate's validation: indices in range, required properties present, enums
 /// known, required extensions supported. A POSITION accessor without `min`/`max` is
-/// accepted: the spec requires them but nothing here uses them.
-fn validate(cx: &Cx, root: &json::Root) -> Result<(), GltfError> {
-    let mut problems = Vec::new();
+/// accepted: the spec requires them but nothing here uses them. `text` is the JSON text of a
+/// `.gltf` file, kept in the error to show where the problems are.
+fn validate(cx: &Cx, root: &json::Root, text: Option<&str>) -> Result<(), GltfError> {
+    let mut problems: Vec<(String, String)> = Vec::new();
     root.validate(
         root,
         JsonPath::new,
@@ -202,15 +237,25 @@ fn validate(cx: &Cx, root: &json::Root) -> Result<(), GltfError> {
             let path = path();
             let bounds = path.as_str().ends_with("[\"POSITION\"].min") || path.as_str().ends_with("[\"POSITION\"].max");
             if !(bounds && matches!(error, RuleError::Missing)) {
-                problems.push(format!("{path}: {error}"));
+                problems.push((path.to_string(), error.to_string()));
             }
         },
     );
     if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(cx.invalid(problems.join("; ")))
+        return Ok(());
     }
+    let message: Vec<String> = problems
+        .iter()
+        .map(|(path, error)| format!("{path}: {error}"))
+        .collect();
+    let json = match text {
+        Some(text) => JsonContext::Paths {
+            source_lines: path_lines(text, &problems),
+            problems,
+        },
+        None => JsonContext::Unknown,
+    };
+    Err(cx.invalid_at(message.join("; "), json))
 }
 
 /// Where a URI points: embedded bytes or a file inside the asset root.

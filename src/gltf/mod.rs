@@ -13,6 +13,7 @@
 
 mod accessor;
 mod error;
+mod json_path;
 mod load;
 mod material;
 mod mesh;
@@ -27,7 +28,7 @@ use crate::asset_io::AssetIo;
 use crate::ecs::assets::{AlphaMode, ImageData};
 use crate::mesh::MeshData;
 
-pub use error::GltfError;
+pub use error::{GltfError, JsonContext};
 pub use mesh::{MAX_MODEL_INDICES, MAX_MODEL_VERTICES, MAX_PRIMITIVE_INDICES, MAX_PRIMITIVE_VERTICES};
 pub use nodes::{MAX_DRAWN_PRIMITIVES, MAX_NODE_VISITS};
 

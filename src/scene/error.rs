@@ -5,11 +5,17 @@ use std::path::PathBuf;
 
 use ron::error::{Error as RonError, SpannedError};
 
+use crate::diagnostic::{SourceLines, more_problems};
 use crate::scene::limits::MAX_LISTED_PROBLEMS;
-use crate::scene::locate::{Node, Pos, token_at};
+use crate::scene::locate::{Node, Pos, token_at, underline_lengths};
+use crate::scene::suggest::did_you_mean;
 
 /// Why a scene could not be loaded. Every message starts with the file name; parse and
-/// validation messages continue with `line:column:` and what was expected there.
+/// validation messages continue with `line:column:` and what was expected there, and end
+/// with `; did you mean ...?` where a misspelling is likely. [`render_error`] shows them
+/// with the offending line and a caret.
+///
+/// [`render_error`]: crate::diagnostic::render_error
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SceneError {
@@ -23,7 +29,7 @@ pub enum SceneError {
     },
     /// The text is not a scene: a RON syntax error, a value of the wrong type, an unknown,
     /// missing or repeated field. Parsing stops at the first such error.
-    #[error("{origin}:{line}:{column}: {message}")]
+    #[error("{origin}:{line}:{column}: {message}{}", did_you_mean_suffix(suggestion.as_deref()))]
     Parse {
         /// File name (or the name given to `from_str`).
         origin: String,
@@ -33,6 +39,11 @@ pub enum SceneError {
         column: usize,
         /// What was expected and what was found.
         message: String,
+        /// The name that an unknown field or variant most likely meant, quoted as in the
+        /// message (`` `cascade_count` ``); the message ends with `; did you mean ...?` then.
+        suggestion: Option<String>,
+        /// The offending line, for showing it; not part of the message.
+        source_lines: SourceLines,
     },
     /// The scene parsed but has invalid values; the problems are listed in file order, one
     /// per line, at most [`MAX_LISTED_PROBLEMS`](crate::scene::MAX_LISTED_PROBLEMS) of them
@@ -43,6 +54,8 @@ pub enum SceneError {
         origin: String,
         /// Every problem, sorted by position.
         problems: Vec<Problem>,
+        /// The lines of the listed problems, for showing them; not part of the message.
+        source_lines: SourceLines,
     },
 }
 
@@ -59,16 +72,34 @@ pub struct Problem {
     pub expected: String,
     /// The value that was found.
     pub found: String,
+    /// The value most likely meant, quoted as in the message (`"leaf"` for a misspelt
+    /// material name); the message ends with `; did you mean ...?` then.
+    pub suggestion: Option<String>,
+}
+
+impl Problem {
+    /// What is wrong, without the position: ``expected ... for `FIELD`, found ...``.
+    pub fn message(&self) -> String {
+        format!("expected {} for `{}`, found {}", self.expected, self.field, self.found)
+    }
 }
 
 impl fmt::Display for Problem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{}:{}: expected {} for `{}`, found {}",
-            self.line, self.column, self.expected, self.field, self.found
+            "{}:{}: {}{}",
+            self.line,
+            self.column,
+            self.message(),
+            did_you_mean_suffix(self.suggestion.as_deref())
         )
     }
+}
+
+/// `; did you mean NAME?` after a message, or nothing.
+fn did_you_mean_suffix(suggestion: Option<&str>) -> String {
+    suggestion.map(|s| format!("; did you mean {s}?")).unwrap_or_default()
 }
 
 fn list_problems(origin: &str, problems: &[Problem]) -> String {
@@ -76,8 +107,7 @@ fn list_problems(origin: &str, problems: &[Problem]) -> String {
         .map(|p| format!("{origin}:{p}"))
         .collect();
     if let Some(more) = problems.len().checked_sub(MAX_LISTED_PROBLEMS).filter(|&n| n > 0) {
-        let s = if more == 1 { "" } else { "s" };
-        lines.push(format!("{origin}: and {more} more problem{s}"));
+        lines.push(more_problems(origin, more));
     }
     lines.join("\n")
 }
@@ -116,12 +146,25 @@ pub(crate) fn parse_error(origin: &str, text: &str, err: &SpannedError) -> Scene
     };
     // Only the text up to the error is read again, and only the groups around it are kept.
     let path = Node::parse_until(text, pos).path_at(pos);
+    let token_len = underline_lengths(text, &[pos], false).first().copied().unwrap_or(1);
     SceneError::Parse {
         origin: origin.to_owned(),
         line: pos.line,
         column: pos.column,
         message: describe(code, &path, &found),
+        suggestion: suggest(code),
+        source_lines: SourceLines::new(text, &[(pos.line, pos.column, token_len)]),
     }
+}
+
+/// The field or variant name that an unknown one most likely meant, in backticks.
+fn suggest(code: &RonError) -> Option<String> {
+    let (RonError::NoSuchStructField { expected, found, .. } | RonError::NoSuchEnumVariant { expected, found, .. }) =
+        code
+    else {
+        return None;
+    };
+    did_you_mean(found, expected).map(|name| format!("`{name}`"))
 }
 
 /// The message for one ron error code, in the form `expected ..., found ...`.

@@ -9,6 +9,7 @@ use serde::de::DeserializeOwned;
 use crate::scene::desc::SceneDesc;
 use crate::scene::error::{SceneError, parse_error};
 use crate::scene::limits::SceneLimits;
+use crate::scene::report::problem_lines;
 use crate::scene::validate::validate;
 
 impl SceneDesc {
@@ -60,6 +61,7 @@ fn parse(text: &str, origin: &str, base_dir: Option<PathBuf>, limits: &SceneLimi
     if !problems.is_empty() {
         return Err(SceneError::Invalid {
             origin: origin.to_owned(),
+            source_lines: problem_lines(text, &problems),
             problems,
         });
     }

@@ -19,6 +19,7 @@ mod grid;
 mod limits;
 mod load;
 mod locate;
+mod report;
 mod settings_file;
 mod suggest;
 mod validate;

@@ -19,6 +19,7 @@ use ron::ser::PrettyConfig;
 use crate::scene::error::{Problem, SceneError};
 use crate::scene::load::parse_ron;
 use crate::scene::locate::{Node, Seg};
+use crate::scene::report::problem_lines;
 use crate::settings::ShadowSettings;
 
 /// Reads and checks a settings file.
@@ -50,12 +51,14 @@ pub fn settings_from_str(text: &str, origin: &str) -> Result<ShadowSettings, Sce
                 field: p.field.to_owned(),
                 expected: p.expected.to_owned(),
                 found: p.found,
+                suggestion: None,
             }
         })
         .collect();
     problems.sort_by_key(|p| (p.line, p.column));
     Err(SceneError::Invalid {
         origin: origin.to_owned(),
+        source_lines: problem_lines(text, &problems),
         problems,
     })
 }

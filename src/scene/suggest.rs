@@ -1,7 +1,9 @@
-//! What an undefined material name should have been: a few defined names, nearest by edit
-//! distance first, then how many more there are. The work is bounded: names are compared
-//! only while a budget of edit-distance cells lasts (after that, names are listed in file
-//! order), and each missing name is ranked once.
+//! What a misspelt name should have been. For an undefined material name: a few defined
+//! names, nearest by edit distance first, then how many more there are, and the nearest as a
+//! "did you mean" when it is close. The work is bounded: names are compared only while a
+//! budget of edit-distance cells lasts (after that, names are listed in file order), and each
+//! missing name is ranked once. For unknown fields and enum variants, [`did_you_mean`] picks
+//! the close one among the few names allowed there.
 
 use std::collections::HashMap;
 
@@ -25,7 +27,7 @@ pub(crate) struct Suggester<'s> {
     /// Characters of all names, each counted up to `MAX_COMPARED_CHARS`.
     name_chars: usize,
     cells_left: usize,
-    said: HashMap<&'s str, String>,
+    said: HashMap<&'s str, (String, Option<String>)>,
 }
 
 impl<'s> Suggester<'s> {
@@ -40,22 +42,33 @@ impl<'s> Suggester<'s> {
         }
     }
 
-    /// What `material` must be, for an object whose material `missing` is not defined.
-    pub(crate) fn expected(&mut self, missing: &'s str) -> String {
+    /// What `material` must be, for an object whose material `missing` is not defined, and
+    /// the defined name it most likely meant (quoted): [`did_you_mean`] among the nearest.
+    pub(crate) fn expected(&mut self, missing: &'s str) -> (String, Option<String>) {
         if self.names.is_empty() {
-            return "the name of a material defined in `materials` (none are)".to_owned();
+            return (
+                "the name of a material defined in `materials` (none are)".to_owned(),
+                None,
+            );
         }
         if let Some(said) = self.said.get(missing) {
             return said.clone();
         }
-        let listed = self
-            .nearest(missing)
-            .unwrap_or_else(|| self.names.iter().take(LISTED).copied().collect());
+        let (listed, suggestion) = match self.nearest(missing) {
+            Some(listed) => {
+                let suggestion = did_you_mean(missing, &listed).map(quoted);
+                (listed, suggestion)
+            }
+            None => (self.names.iter().take(LISTED).copied().collect(), None),
+        };
         let mut shown: Vec<String> = listed.iter().map(|n| quoted(n)).collect();
         if self.names.len() > listed.len() {
             shown.push(format!("and {} more", self.names.len() - listed.len()));
         }
-        let said = format!("a material defined in `materials` ({})", shown.join(", "));
+        let said = (
+            format!("a material defined in `materials` ({})", shown.join(", ")),
+            suggestion,
+        );
         self.said.insert(missing, said.clone());
         said
     }
@@ -103,6 +116,30 @@ fn distance(a: &[char], b: &str) -> Option<usize> {
     Some(row[b.len()])
 }
 
+/// Whether a name `distance` edits away from one of `chars` characters is close enough to
+/// suggest: at most a third of its characters, and at least one, may differ.
+fn is_close(chars: usize, distance: usize) -> bool {
+    distance <= (chars / 3).max(1)
+}
+
+/// The name among `allowed` that `found` most likely meant, if one is [close](is_close):
+/// the nearest by Damerau-Levenshtein distance (adjacent swaps count as one edit), ignoring
+/// case; the first in `allowed` among equals. Names longer than 64 characters are not
+/// compared.
+pub(crate) fn did_you_mean<'a>(found: &str, allowed: &[&'a str]) -> Option<&'a str> {
+    let found_chars = found.chars().count();
+    if found_chars > MAX_COMPARED_CHARS {
+        return None;
+    }
+    let found = found.to_lowercase();
+    (allowed.iter())
+        .filter(|name| name.chars().count() <= MAX_COMPARED_CHARS)
+        .map(|name| (strsim::damerau_levenshtein(&found, &name.to_lowercase()), *name))
+        .filter(|&(d, _)| is_close(found_chars, d))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, name)| name)
+}
+
 /// A name as a message shows it: quoted and escaped like Rust's `{:?}`, cut to 40
 /// characters (`"aaaa..."`).
 pub(crate) fn quoted(name: &str) -> String {
@@ -134,23 +171,49 @@ mod tests {
             .collect();
         let mut s = Suggester::new(names.iter().map(String::as_str));
         assert_eq!(
-            s.expected("leef"),
+            s.expected("leef").0,
             "a material defined in `materials` (\"leaf\", \"stone0\", \"stone1\", \"stone2\", \"stone3\", and 96 more)"
         );
         assert_eq!(
-            s.expected("stone42x"),
+            s.expected("stone42x").0,
             "a material defined in `materials` (\"stone42\", \"stone2\", \"stone4\", \"stone12\", \"stone20\", and 96 more)"
         );
         let mut none = Suggester::new([]);
         assert_eq!(
-            none.expected("x"),
+            none.expected("x").0,
             "the name of a material defined in `materials` (none are)"
         );
         let mut two = Suggester::new(["ground", "leaf"]);
         assert_eq!(
-            two.expected("leef"),
+            two.expected("leef").0,
             "a material defined in `materials` (\"leaf\", \"ground\")"
         );
+    }
+
+    #[test]
+    fn the_nearest_name_is_suggested_when_close() {
+        let mut s = Suggester::new(["ground", "leaf", "bark"]);
+        assert_eq!(s.expected("leef").1.as_deref(), Some("\"leaf\""));
+        assert_eq!(s.expected("brak").1.as_deref(), Some("\"bark\""));
+        assert_eq!(s.expected("stone").1, None);
+        assert_eq!(s.expected("x").1, None);
+        assert_eq!(Suggester::new([]).expected("leef").1, None);
+    }
+
+    #[test]
+    fn did_you_mean_picks_a_close_allowed_name() {
+        let fields = ["mode", "cascade_count", "resolution", "split_lambda"];
+        assert_eq!(did_you_mean("cascade_cont", &fields), Some("cascade_count"));
+        assert_eq!(did_you_mean("resloution", &fields), Some("resolution"));
+        assert_eq!(did_you_mean("Mode", &fields), Some("mode"));
+        assert_eq!(did_you_mean("cascades", &fields), None);
+        assert_eq!(did_you_mean("x", &fields), None);
+        let variants = ["Pcf", "Pcss", "Vsm", "Evsm", "Evsm4", "Msm"];
+        assert_eq!(did_you_mean("Psss", &variants), Some("Pcss"));
+        assert_eq!(did_you_mean("PCSS", &variants), Some("Pcss"));
+        assert_eq!(did_you_mean("Soft", &variants), None);
+        assert_eq!(did_you_mean(&"a".repeat(100), &["a"]), None);
+        assert_eq!(did_you_mean("a", &[]), None);
     }
 
     #[test]
@@ -160,7 +223,7 @@ mod tests {
         let mut s = Suggester::new(names.iter().map(String::as_str));
         let mut ranked = 0;
         for (i, missing) in missing.iter().enumerate() {
-            let said = s.expected(missing);
+            let said = s.expected(missing).0;
             ranked += usize::from(said.contains(&format!("\"m{:05}\"", 19_999 - i)));
             assert!(said.ends_with("and 19995 more)"), "{said}");
         }

@@ -67,7 +67,7 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, l
     }
     let tree = Node::parse(text);
     let mut problems: Vec<Problem> = (c.found.into_iter())
-        .map(|(at, expected, found)| {
+        .map(|(at, expected, found, suggestion)| {
             let pos = tree.find(&at.segs);
             let (line, column, field) = (pos.line, pos.column, at.text);
             Problem {
@@ -76,6 +76,7 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, l
                 field,
                 expected,
                 found,
+                suggestion,
             }
         })
         .collect();
@@ -108,10 +109,10 @@ impl FieldPath {
     }
 }
 
-/// The problems found so far (where, what was expected, what was found), and what the checks
-/// consult.
+/// The problems found so far (where, what was expected, what was found, what was likely
+/// meant), and what the checks consult.
 struct Checks<'s> {
-    found: Vec<(FieldPath, String, String)>,
+    found: Vec<(FieldPath, String, String, Option<String>)>,
     lookup: &'s MaterialLookup<'s>,
     suggest: Suggester<'s>,
     limits: &'s SceneLimits,
@@ -121,7 +122,7 @@ struct Checks<'s> {
 
 impl Checks<'_> {
     fn add(&mut self, at: FieldPath, expected: impl Into<String>, found: String) {
-        self.found.push((at, expected.into(), found));
+        self.found.push((at, expected.into(), found, None));
     }
 }
 
@@ -332,8 +333,9 @@ fn check_object<'s>(c: &mut Checks<'s>, o: &'s ObjectDesc, at: &FieldPath, base_
         _ => {}
     }
     if c.lookup.get(&o.material).is_none() {
-        let expected = c.suggest.expected(&o.material);
-        c.add(at.field("material"), expected, quoted(&o.material));
+        let (expected, suggestion) = c.suggest.expected(&o.material);
+        let found = quoted(&o.material);
+        c.found.push((at.field("material"), expected, found, suggestion));
     }
     if !o.translation.is_finite() {
         c.add(at.field("translation"), "a finite position", o.translation.shown());

@@ -22,6 +22,7 @@ impl PreparedScene {
         let model = gltf::load_with(file, io).map_err(|e| SpawnError::Model {
             object,
             message: e.to_string(),
+            error: Some(Box::new(e)),
         })?;
         for warning in &model.warnings {
             log::warn!("{}: {warning}", file.display());
@@ -74,6 +75,7 @@ impl PreparedScene {
                 "{}: cannot load the glTF model: penumbra was built without its `gltf` feature",
                 file.path().display()
             ),
+            error: None,
         })
     }
 }

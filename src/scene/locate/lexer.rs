@@ -51,6 +51,7 @@ pub(super) struct Token<'t> {
 
 /// The tokens of a text, skipping whitespace and comments; optionally only those that start
 /// at or before a limit.
+#[derive(Clone)]
 pub(super) struct Lexer<'t> {
     text: &'t str,
     /// Byte offset of the next unread byte.

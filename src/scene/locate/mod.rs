@@ -15,7 +15,7 @@
 mod lexer;
 mod parser;
 
-use crate::scene::locate::lexer::Lexer;
+use crate::scene::locate::lexer::{Lexer, Tok};
 use crate::scene::locate::parser::Parser;
 
 /// A 1-based line and column (counted in characters, like ron's own positions).
@@ -213,6 +213,53 @@ pub(crate) fn token_at(text: &str, pos: Pos) -> Option<(Pos, String)> {
     Some((token.start, shown))
 }
 
+/// The most characters underlined under one error.
+const MAX_UNDERLINE: usize = 80;
+
+/// How many characters to underline at each of `positions` (in file order): the token that
+/// starts there, or with `whole_values`, a bracketed value up to its closing bracket when that
+/// is on the same line and near; 1 where no token starts (the end of the text), at most 80.
+/// Reads the text once, up to the last position.
+pub(crate) fn underline_lengths(text: &str, positions: &[Pos], whole_values: bool) -> Vec<usize> {
+    let mut lexer = Lexer::new(text);
+    let mut current = lexer.next();
+    let mut lengths = Vec::with_capacity(positions.len());
+    for &pos in positions {
+        while current.is_some_and(|t| t.end <= pos) {
+            current = lexer.next();
+        }
+        let Some(token) = current.filter(|t| t.start == pos) else {
+            lengths.push(1);
+            continue;
+        };
+        let mut end = token.end;
+        if whole_values && matches!(token.tok, Tok::Open(_)) {
+            let mut depth = 1usize;
+            for t in lexer.clone() {
+                if t.start.line != pos.line || t.start.column > pos.column + MAX_UNDERLINE {
+                    break;
+                }
+                match t.tok {
+                    Tok::Open(_) => depth += 1,
+                    Tok::Close(_) => depth -= 1,
+                    _ => {}
+                }
+                if depth == 0 {
+                    end = t.end;
+                    break;
+                }
+            }
+        }
+        // A token that runs onto the next line (a string) is underlined to the end of its line.
+        let len = match end.line == pos.line {
+            true => end.column.saturating_sub(pos.column),
+            false => MAX_UNDERLINE,
+        };
+        lengths.push(len.clamp(1, MAX_UNDERLINE));
+    }
+    lengths
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -284,6 +331,20 @@ mod tests {
         assert_eq!(token_at(text, at(2, 20)), None);
         let long = format!("\"{}\"", "x".repeat(100));
         assert_eq!(token_at(&long, at(1, 1)).unwrap().1, format!("\"{}...", "x".repeat(39)));
+    }
+
+    #[test]
+    fn underlines_tokens_or_whole_values() {
+        let text = "(a: -12, b: (1, (2)),\n c: \"é\", d: [\n 1])";
+        let at_all = [at(1, 5), at(1, 13), at(2, 5), at(2, 13), at(3, 9), at(1, 1)];
+        assert_eq!(underline_lengths(text, &at_all[..5], false), [3, 1, 3, 1, 1]);
+        // `(1, (2))` is one value; the list `[` closes on the next line.
+        assert_eq!(underline_lengths(text, &at_all[..5], true), [3, 8, 3, 1, 1]);
+        // Out of order: what cannot be found again is one character.
+        assert_eq!(underline_lengths(text, &at_all[4..], true), [1, 1]);
+        let raw = "(a: \"two\nlines\")";
+        assert_eq!(underline_lengths(raw, &[at(1, 5)], false), [MAX_UNDERLINE]);
+        assert_eq!(underline_lengths("", &[at(1, 1)], true), [1]);
     }
 
     #[test]
