@@ -45,7 +45,10 @@ pub fn penumbra_window(
     size: (u32, u32),
 ) -> (Crop, usize) {
     let (w, h) = (width as usize, height as usize);
-    let (cw, ch) = (size.0.clamp(1, width.max(1)) as usize, size.1.clamp(1, height.max(1)) as usize);
+    let (cw, ch) = (
+        size.0.clamp(1, width.max(1)) as usize,
+        size.1.clamp(1, height.max(1)) as usize,
+    );
     // Summed-area table with a zero row and column in front.
     let mut sat = vec![0u32; (w + 1) * (h + 1)];
     let mut marks = vec![0u32; w * h];
@@ -153,7 +156,12 @@ pub fn strip(panels: &[RgbImage], gap: u32) -> RgbImage {
 /// `image` scaled by a whole `factor`, each pixel a `factor × factor` block.
 pub fn upscale(image: &RgbImage, factor: u32) -> RgbImage {
     let f = factor.max(1);
-    imageops::resize(image, image.width() * f, image.height() * f, imageops::FilterType::Nearest)
+    imageops::resize(
+        image,
+        image.width() * f,
+        image.height() * f,
+        imageops::FilterType::Nearest,
+    )
 }
 
 /// One captioned panel: an image, a title and lines of figures under it.
@@ -217,7 +225,11 @@ mod tests {
             .iter()
             .map(|&p| {
                 let (x, y) = (p % 12, p / 12);
-                if (8..=10).contains(&x) && (4..=6).contains(&y) { 0.5 } else { 1.0 }
+                if (8..=10).contains(&x) && (4..=6).contains(&y) {
+                    0.5
+                } else {
+                    1.0
+                }
             })
             .collect();
         (pixels, reference)
@@ -280,7 +292,10 @@ mod tests {
         assert_eq!(c.width(), 60);
         assert!(c.height() > 40);
         // The caption has ink.
-        let ink = (40..c.height()).flat_map(|y| (0..60).map(move |x| (x, y))).filter(|&(x, y)| c.get_pixel(x, y).0[0] < 128).count();
+        let ink = (40..c.height())
+            .flat_map(|y| (0..60).map(move |x| (x, y)))
+            .filter(|&(x, y)| c.get_pixel(x, y).0[0] < 128)
+            .count();
         assert!(ink > 10, "{ink}");
         let render = RgbaImage::from_pixel(4, 4, image::Rgba([1, 2, 3, 255]));
         let crop = Crop {

@@ -144,7 +144,8 @@ pub fn write_gallery(
         .transpose()?;
     for scene in scenes {
         for shot in &scene.presets {
-            let panels = [&shot.render, &shot.visibility, &scene.reference, &shot.error].map(|p| upscale(p, STRIP_SCALE));
+            let panels =
+                [&shot.render, &shot.visibility, &scene.reference, &shot.error].map(|p| upscale(p, STRIP_SCALE));
             write_png(&strip_path(&scene.scene, &shot.preset), &strip(&panels, GAP))?;
         }
     }
@@ -157,10 +158,15 @@ pub fn write_gallery(
 /// The hero picture: `hero.0`'s and `hero.1`'s visibility beside the truth, twice the crop's
 /// size, captioned with their penumbra error and frame GPU time; None when no scene ran both.
 fn write_hero(scenes: &[SceneShots], report: &BenchReport, hero: (&str, &str)) -> Option<RgbImage> {
-    let scene = scenes.iter().find(|s| s.shot(hero.0).is_some() && s.shot(hero.1).is_some())?;
+    let scene = scenes
+        .iter()
+        .find(|s| s.shot(hero.0).is_some() && s.shot(hero.1).is_some())?;
     let (a, b) = (scene.shot(hero.0)?, scene.shot(hero.1)?);
     let [va, vb, truth] = [&a.visibility, &b.visibility, &scene.reference].map(|p| upscale(p, HERO_SCALE));
-    let (fa, fb) = (figures(report, hero.0, &scene.scene), figures(report, hero.1, &scene.scene));
+    let (fa, fb) = (
+        figures(report, hero.0, &scene.scene),
+        figures(report, hero.1, &scene.scene),
+    );
     let truth_lines = [format!("scene {}", scene.scene)];
     Some(captioned(&[
         Panel {
@@ -203,10 +209,7 @@ fn gallery_markdown(report: &BenchReport, scenes: &[SceneShots], hero: Option<&s
         report.height,
     );
     if let Some(hero) = hero {
-        md += &format!(
-            "![{} and {} beside the ray-traced truth]({hero})\n\n",
-            names.0, names.1
-        );
+        md += &format!("![{} and {} beside the ray-traced truth]({hero})\n\n", names.0, names.1);
     }
     for scene in scenes {
         md += &format!(

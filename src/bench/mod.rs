@@ -11,8 +11,8 @@ pub mod run;
 pub mod score;
 pub mod session;
 
-pub use presets::{Preset, presets};
 pub use gallery::{SceneShots, write_gallery};
+pub use presets::{Preset, presets};
 pub use run::{BenchConfig, BenchError, SettingsOverrides, run_bench, run_bench_collecting, run_bench_with};
 
 use std::path::{Path, PathBuf};

@@ -8,8 +8,8 @@ use thiserror::Error;
 
 use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
 use crate::app::SpawnError;
-use crate::bench::presets::Preset;
 use crate::bench::gallery::SceneShots;
+use crate::bench::presets::Preset;
 use crate::bench::progress::{Progress, total_units};
 pub use crate::bench::score::{Points, evaluated_points};
 use crate::bench::score::{SceneScores, score_scene};
