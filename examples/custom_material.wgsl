@@ -1,6 +1,6 @@
 // A material of your own that receives penumbra's shadows: cel shading with ink hatching in
 // the shadow. It keeps the forward shader's interface (vs_main / fs_main, bind groups 0–3,
-// the ALPHA_MASK def), takes its vertex stage from penumbra::forward_io, and loops over the
+// the ALPHA_MASK def, and ALPHA_TO_COVERAGE under MSAA), takes its vertex stage from penumbra::forward_io, and loops over the
 // frame's lights with penumbra::lights: `shadow_visibility(light, surface)` picks the
 // cascade or spot view, blends and fades, and filters with whatever the light's
 // ShadowSettings ask for (PCF or PCSS). The material does not know which lights, layouts or
@@ -29,7 +29,11 @@ const INK: vec3<f32> = vec3<f32>(0.0, 0.0, 0.2);
 @fragment
 fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
     let base = in.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
-#ifdef ALPHA_MASK
+#ifdef ALPHA_TO_COVERAGE
+    // Under MSAA the pipeline turns the returned alpha into sample coverage: 0.5 on the
+    // cutoff, sharpened to about a pixel, instead of a hard discard.
+    let coverage = saturate((base.a - in.cutoff) / max(fwidth(base.a), 1e-4) + 0.5);
+#else ifdef ALPHA_MASK
     if base.a < in.cutoff {
         discard;
     }
@@ -63,5 +67,9 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     if inked && (pixel.x + pixel.y) % 6 < 2 {
         color = INK;
     }
+#ifdef ALPHA_TO_COVERAGE
+    return vec4<f32>(saturate(color), coverage);
+#else
     return vec4<f32>(saturate(color), 1.0);
+#endif
 }

@@ -1,5 +1,8 @@
 // Forward shading of receivers: Lambert diffuse from every light of the frame times its
-// shadow, plus a flat ambient term. Shader defs: ALPHA_MASK (discard below the cutoff),
+// shadow, plus a flat ambient term. Back faces (drawn for double-sided materials) are lit
+// with the flipped normal, which also offsets their shadow lookups. Shader defs: ALPHA_MASK
+// (discard below the cutoff; with ALPHA_TO_COVERAGE, under MSAA, no discard: the alpha,
+// sharpened around the cutoff, sets the pixel's sample coverage),
 // SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or a point light's cube face),
 // ANALYSIS_OUTPUTS (also write the focus light's shadow factor, world position and normal of
 // every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
@@ -54,11 +57,17 @@ struct FragmentOutput {
 fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> FragmentOutput {
     let texel = textureSample(base_color_texture, base_color_sampler, in.uv);
     let base = in.base_color * texel;
-#ifdef ALPHA_MASK
+#ifdef ALPHA_TO_COVERAGE
+    // The cutoff crossed within about a pixel: 0.5 on the cutoff, 0 and 1 a pixel's alpha
+    // change either side, so the pipeline's alpha-to-coverage antialiases the cut-out edge.
+    let coverage = saturate((base.a - in.cutoff) / max(fwidth(base.a), 1e-4) + 0.5);
+#else ifdef ALPHA_MASK
     if base.a < in.cutoff {
         discard;
     }
 #endif
+    // NOTE: the flipped normal of a back face is also what make_surface offsets the shadow
+    // lookup along (normal offset, receiver plane), so an underside facing the sun is lit.
     var normal = normalize(in.world_normal);
     if !front_facing {
         normal = -normal;
@@ -104,6 +113,10 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
 #endif
     var out: FragmentOutput;
     out.color = vec4<f32>(tonemap(color), 1.0);
+#ifdef ALPHA_TO_COVERAGE
+    // NOTE: the pipeline writes only the colour channels; the alpha drives the coverage.
+    out.color.a = coverage;
+#endif
 #ifdef ANALYSIS_OUTPUTS
     var focus_cascade = -1;
     if frame.focus_light < light_count() {

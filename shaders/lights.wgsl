@@ -81,12 +81,16 @@ fn light_incidence(light: Light, position: vec3<f32>) -> Incidence {
 
 // The fraction of `light` visible from `surface` (1 lit, 0 shadowed), with whatever shadow
 // technique the light uses; 1 for a light without a shadow. When the frame resolved the
-// light's visibility before the lighting pass, this reads it at the surface's pixel.
+// light's visibility before the lighting pass, this reads it at the surface's pixel (unless
+// the variant is UNRESOLVED_SHADOWS: alpha-to-coverage materials, which the prepass does not
+// draw, filter their own).
 fn shadow_visibility(light: Light, surface: Surface) -> f32 {
+#ifndef UNRESOLVED_SHADOWS
     if light.resolve_layer != RESOLVE_NONE {
         let pixel = vec2<i32>(surface.frag_coord);
         return textureLoad(resolved_visibility, pixel, i32(light.resolve_layer), 0).r;
     }
+#endif
     return filtered_visibility(light, surface);
 }
 

@@ -3,14 +3,39 @@
 // each resolved light's filtered shadow into its layer of the resolved visibility, which the
 // lighting pass then reads through penumbra::lights::shadow_visibility. The filters are the
 // same functions the lighting pass would run; only where they run changes.
+//
+// With MSAA (MULTISAMPLED: 4 samples, or 2 with MSAA_X2) the prepass's depth and normals are
+// multisampled: each pixel is resolved from its sample 0. Its depth is rebuilt at that
+// sample's standard position (Vulkan, D3D and Metal share it), then carried along the
+// surface's plane to the pixel centre, where the lighting pass shades: a pixel covered by one
+// surface resolves what the lighting pass would filter. A lighting-pass fragment on an edge
+// pixel whose sample 0 saw another surface reads that surface's shadow.
 #import penumbra::frame::frame
 #import penumbra::lights::{filtered_visibility, get_light, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::unpack_normal
 #import penumbra::shadows::types::RESOLVE_NONE
 
+#ifdef MULTISAMPLED
+@group(1) @binding(0) var camera_depth: texture_depth_multisampled_2d;
+@group(1) @binding(1) var camera_normals: texture_multisampled_2d<u32>;
+#ifdef MSAA_X2
+const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.75, 0.75);
+#else
+const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.375, 0.125);
+#endif
+#else
 @group(1) @binding(0) var camera_depth: texture_depth_2d;
 @group(1) @binding(1) var camera_normals: texture_2d<u32>;
+const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.5, 0.5);
+#endif
 @group(1) @binding(2) var visibility: texture_storage_2d_array<r32float, write>;
+
+// The world point at `pixel` (in pixels, from the top left) and reverse-Z `depth`.
+fn world_at(pixel: vec2<f32>, depth: f32, size: vec2<u32>) -> vec3<f32> {
+    let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
+    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -19,15 +44,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = vec2<i32>(id.xy);
+    // NOTE: the last argument is the mip level, or with MSAA the sample index: sample 0.
     let depth = textureLoad(camera_depth, pixel, 0);
     let normal_flag = unpack_normal(textureLoad(camera_normals, pixel, 0).r);
     // Reverse-Z: 0 is the far plane, where nothing was drawn.
     let covered = depth > 0.0;
     let frag_coord = vec2<f32>(id.xy) + 0.5;
-    let ndc = vec2<f32>(frag_coord.x / f32(size.x) * 2.0 - 1.0, 1.0 - frag_coord.y / f32(size.y) * 2.0);
-    let world_h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
-    let world = world_h.xyz / world_h.w;
     let normal = normal_flag.xyz;
+    var world = world_at(vec2<f32>(id.xy) + SAMPLE_POSITION, depth, size);
+#ifdef MULTISAMPLED
+    // Where the pixel centre's ray meets the plane of the surface sample 0 saw (the normal is
+    // the prepass's, shaded at the centre): the point the lighting pass interpolates there.
+    let a = world_at(frag_coord, depth, size);
+    let ray = world_at(frag_coord, depth * 0.5, size) - a;
+    let across = dot(normal, ray);
+    if covered && abs(across) > 1e-4 * length(ray) {
+        world = a + ray * (dot(normal, world - a) / across);
+    }
+#endif
     let view_depth = -(frame.view_from_world * vec4<f32>(world, 1.0)).z;
     let surface = make_surface(world, normal, view_depth, frag_coord);
     for (var i = 0u; i < light_count(); i++) {

@@ -18,7 +18,7 @@ use penumbra::diagnostic::{ErrorStyle, render_error};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
-use penumbra::render::{DepthPrepass, RenderOptions};
+use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
@@ -141,6 +141,10 @@ struct RenderArgs {
     /// them per pixel of the image.
     #[arg(long)]
     count_fragments: bool,
+    /// Samples per pixel of the image (MSAA): 1 (off), 2 or 4; falls back, with a warning,
+    /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
+    #[arg(long, default_value = "4")]
+    msaa: Msaa,
     /// Print the summary (timings, counts, memory) as one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -209,6 +213,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_visibility_resolve,
         single_pass_cascades,
         count_fragments,
+        msaa,
         json,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
@@ -273,6 +278,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             shadow_cache: !no_shadow_cache,
             visibility_resolve: !no_visibility_resolve,
             single_pass_cascades,
+            msaa,
         },
         count_fragments,
     };

@@ -14,6 +14,6 @@ pub use crate::ecs::{
     ShadowLightBudget, ShadowPlugin, ShadowStats, SpotLight, Transform,
 };
 pub use crate::mesh::{cuboid, plane, sphere};
-pub use crate::render::{DepthPrepass, GpuContext, RenderOptions, RenderPlugin, Renderer};
+pub use crate::render::{DepthPrepass, GpuContext, Msaa, RenderOptions, RenderPlugin, Renderer};
 pub use crate::scene::SceneDesc;
 pub use crate::settings::{CascadeFit, MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};

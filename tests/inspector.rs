@@ -10,7 +10,7 @@ use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::ShadowViews;
 use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
-use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
+use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
 use penumbra::settings::{ShadowMode, ShadowSettings};
 use penumbra::viewer::{FrameInfo, Inspector};
@@ -280,6 +280,10 @@ fn render_switches_reach_the_render_options() {
     h.get_by_label("off").click();
     h.run();
     assert_eq!(options(&h).depth_prepass, DepthPrepass::Off);
+    assert_eq!(before.msaa, Msaa::Sample4, "4× MSAA by default");
+    h.get_by_label("1×").click();
+    h.run();
+    assert_eq!(options(&h).msaa, Msaa::Off);
     // The renderer draws with them: without the cache every cascade is drawn each frame.
     h.state_mut().app.update();
     h.state_mut().app.update();

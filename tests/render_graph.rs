@@ -14,7 +14,7 @@ use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::DirectionalLight;
 use penumbra::render::frame::{FrameContext, FrameInputs};
 use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
-use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
+use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 
 /// The default scene at 320×180: more pixels than triangles, so `Auto` runs the prepass.
@@ -53,8 +53,9 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     // No light filters moments: the moments nodes write nothing and are culled.
     assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments"]);
     // Three frames of one size: the camera depth was created once and reused.
-    // The camera depth and normals (for the compute resolve), each created once.
-    assert_eq!(r.counters().transient_resources, 2, "{:?}", r.counters());
+    // The camera depth and normals (for the compute resolve) and the multisampled colour the
+    // lighting pass resolves into the target (MSAA 4× by default), each created once.
+    assert_eq!(r.counters().transient_resources, 3, "{:?}", r.counters());
 
     let world = app.world_mut();
     let mut suns = world.query::<&mut DirectionalLight>();
@@ -77,7 +78,8 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
             "visibility resolve"
         ]
     );
-    assert_eq!(r.counters().transient_resources, 2);
+    // Nothing new: the pooled depth and multisampled colour serve this frame too.
+    assert_eq!(r.counters().transient_resources, 3);
 }
 
 /// Overwrites the colour target with one colour; counts its recordings.
@@ -141,6 +143,7 @@ impl RenderNode for Unread {
             layers: 1,
             format: wgpu::TextureFormat::Rgba8Unorm,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            samples: 1,
         });
     }
 
@@ -172,8 +175,9 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments", "unread"]);
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
-    // The culled node's transient was never allocated: only the camera depth and normals were.
-    assert_eq!(r.counters().transient_resources, 2);
+    // The culled node's transient was never allocated: only the camera depth, normals and
+    // multisampled colour were.
+    assert_eq!(r.counters().transient_resources, 3);
     let image = r.read_image();
     let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
     assert_eq!(magenta, 320 * 180, "the custom node did not paint the whole frame last");
@@ -330,9 +334,13 @@ fn the_lighting_pass_without_filters_shows_the_resolved_shadows() {
                 "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)",
             );
             let mut app = still_scene(gpu, scene);
+            // NOTE: one sample per pixel: with MSAA a pixel on an edge reads the shadow
+            // resolved at its sample 0, which may be another surface's (tests/foliage.rs
+            // checks that MSAA frames differ only there).
             *app.world_mut().resource_mut::<RenderOptions>() = RenderOptions {
                 depth_prepass: DepthPrepass::On,
                 visibility_resolve: resolve,
+                msaa: Msaa::Off,
                 ..RenderOptions::default()
             };
             app.update();

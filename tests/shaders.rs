@@ -8,16 +8,42 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        256,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, alpha mask and analysis outputs"
+        384,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view and analysis outputs, and opaque, alpha-masked or alpha-to-coverage"
     );
+    let mut covered = 0;
     for variant in variants {
         let module = library
             .forward(variant)
             .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(entry_points, ["vs_main", "fs_main"], "{}", variant.label());
+        // The alpha-to-coverage variants never discard; the alpha-tested ones do.
+        let discards = has_kill(&module.entry_points[1].function);
+        assert_eq!(
+            discards,
+            variant.alpha_mask && !variant.alpha_to_coverage,
+            "{}",
+            variant.label()
+        );
+        covered += variant.alpha_to_coverage as u32;
     }
+    assert_eq!(covered, 128);
+}
+
+/// Whether `function` has a `discard` anywhere in its body.
+fn has_kill(function: &naga::Function) -> bool {
+    fn block(b: &naga::Block) -> bool {
+        b.iter().any(|s| match s {
+            naga::Statement::Kill => true,
+            naga::Statement::Block(inner) => block(inner),
+            naga::Statement::If { accept, reject, .. } => block(accept) || block(reject),
+            naga::Statement::Loop { body, continuing, .. } => block(body) || block(continuing),
+            naga::Statement::Switch { cases, .. } => cases.iter().any(|c| block(&c.body)),
+            _ => false,
+        })
+    }
+    block(&function.body)
 }
 
 #[test]
@@ -76,21 +102,40 @@ fn the_cascade_moments_shader_validates_in_every_moments_format() {
 }
 
 #[test]
-fn the_resolve_shader_validates_for_every_filter_variant() {
+fn the_resolve_shader_validates_for_every_filter_variant_and_sample_count() {
     let mut library = ShaderLibrary::new().unwrap();
     let mut composed = 0;
     for variant in ForwardVariant::all() {
         if variant.analysis || variant.alpha_mask || variant.debug_cascades {
             continue;
         }
-        let module = library
-            .resolve(variant)
-            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
-        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entry_points, ["main"], "{}", variant.label());
-        composed += 1;
+        for samples in [1, 2, 4] {
+            let module = library
+                .resolve_multisampled(variant, samples)
+                .unwrap_or_else(|e| panic!("{} at {samples} samples: {e}", variant.label()));
+            let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+            assert_eq!(entry_points, ["main"], "{}", variant.label());
+            // The depth it reads is multisampled exactly when the frame is.
+            let multisampled = module.global_variables.iter().any(|(_, g)| {
+                matches!(
+                    module.types[g.ty].inner,
+                    naga::TypeInner::Image {
+                        class: naga::ImageClass::Depth { multi: true },
+                        ..
+                    }
+                )
+            });
+            assert_eq!(multisampled, samples > 1, "{} at {samples} samples", variant.label());
+            composed += 1;
+        }
     }
-    assert!(composed >= 8, "only {composed} filter variants");
+    assert!(composed >= 24, "only {composed} filter variants");
+    // The single-sample entry point is the one-sample variant.
+    let variant = ForwardVariant::all()[0];
+    assert_eq!(
+        format!("{:?}", library.resolve(variant).unwrap()),
+        format!("{:?}", library.resolve_multisampled(variant, 1).unwrap())
+    );
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The wgpu device: found for a window surface or for headless rendering, with the optional
-//! features penumbra uses (timestamp queries, unclipped depth, multiview, filterable 32-bit floats)
-//! turned on where the adapter has them.
+//! features penumbra uses (timestamp queries, unclipped depth, multiview, filterable 32-bit floats,
+//! the adapter's own texture-format capabilities such as 2× MSAA) turned on where the adapter
+//! has them.
 
 use std::sync::{Arc, Mutex};
 
@@ -121,7 +122,10 @@ impl GpuContext {
             | wgpu::Features::PIPELINE_STATISTICS_QUERY
             | wgpu::Features::MULTIVIEW
             | wgpu::Features::FLOAT32_FILTERABLE
-            | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM;
+            | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
+            // NOTE: without it only WebGPU's guaranteed sample counts (1 and 4, and not for
+            // every format) may be used.
+            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
         let required_features = available & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -185,6 +189,25 @@ impl GpuContext {
         MomentSupport {
             fp32_filterable: self.filters_fp32(),
             unorm16: self.unorm16_moments,
+        }
+    }
+
+    /// True where textures of `format` can be rendered with `samples` samples per pixel on
+    /// this device (1 always; 2 and 4 as the adapter reports, or as WebGPU guarantees where
+    /// the device does not use the adapter's own format capabilities).
+    pub fn supports_samples(&self, format: wgpu::TextureFormat, samples: u32) -> bool {
+        samples <= 1 || self.format_flags(format).sample_count_supported(samples)
+    }
+
+    /// What this device can do with textures of `format` (sample counts, multisample
+    /// resolve, filtering): the adapter's own capabilities where the device uses them
+    /// (`TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`), else what WebGPU guarantees.
+    pub fn format_flags(&self, format: wgpu::TextureFormat) -> wgpu::TextureFormatFeatureFlags {
+        let features = self.device.features();
+        if features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+            self.adapter.get_texture_format_features(format).flags
+        } else {
+            format.guaranteed_format_features(features).flags
         }
     }
 

@@ -1,5 +1,8 @@
 //! Forward pass: draws what the camera sees, shading receivers with every light's diffuse
-//! term times its shadow from `penumbra::lights`, plus ambient light.
+//! term times its shadow from `penumbra::lights`, plus ambient light. With MSAA
+//! ([`FrameResources::samples`] > 1) it draws into a multisampled colour transient resolved
+//! into the target at the end of the pass, and alpha-masked materials use alpha-to-coverage
+//! (drawn here only, writing their depth: the prepass leaves them out).
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -7,7 +10,7 @@ use std::collections::HashMap;
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
 use crate::render::frame::{FrameContext, FrameInputs};
-use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
 use crate::render::prepass::camera_depth;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
@@ -25,6 +28,8 @@ struct PipelineKey {
     double_sided: bool,
     /// Depth comes from the prepass: test `GreaterEqual`, write nothing.
     depth_prepass: bool,
+    /// Samples per pixel (MSAA).
+    samples: u32,
 }
 
 /// A built pipeline and the shader generation it was built from.
@@ -43,6 +48,8 @@ pub struct ForwardPass {
     /// This frame's resources, set in `setup`; `depth_prepass` says whether the depth was
     /// written before this pass (so it is loaded and tested, not written).
     handles: Option<FrameResources>,
+    /// The multisampled colour this frame draws into (resolved into the target), with MSAA.
+    multisampled_color: Option<TextureId>,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -68,7 +75,18 @@ fn create_pipeline(
         ],
         immediate_size: 0,
     });
-    let mut targets = vec![Some(key.format.into())];
+    let color = wgpu::ColorTargetState {
+        format: key.format,
+        blend: None,
+        // NOTE: with alpha-to-coverage the shader's alpha is the coverage, not the pixel's
+        // opacity: the target keeps the alpha it was cleared to.
+        write_mask: if key.variant.alpha_to_coverage {
+            wgpu::ColorWrites::COLOR
+        } else {
+            wgpu::ColorWrites::ALL
+        },
+    };
+    let mut targets = vec![Some(color)];
     if key.variant.analysis {
         targets.extend((0..3).map(|_| Some(ANALYSIS_FORMAT.into())));
     }
@@ -90,7 +108,11 @@ fn create_pipeline(
             stencil: wgpu::StencilState::default(),
             bias: wgpu::DepthBiasState::default(),
         }),
-        multisample: wgpu::MultisampleState::default(),
+        multisample: wgpu::MultisampleState {
+            count: key.samples,
+            mask: !0,
+            alpha_to_coverage_enabled: key.variant.alpha_to_coverage,
+        },
         fragment: Some(wgpu::FragmentState {
             module: &shader,
             entry_point: Some("fs_main"),
@@ -113,6 +135,7 @@ impl ForwardPass {
             pipelines: HashMap::new(),
             clear_color,
             handles: None,
+            multisampled_color: None,
         }
     }
 
@@ -167,7 +190,8 @@ impl RenderNode for ForwardPass {
     }
 
     /// Reads both shadow storages; writes the colour (and analysis) targets; reads the camera
-    /// depth an earlier node (the prepass) wrote, or creates and writes it.
+    /// depth an earlier node (the prepass) wrote, or creates and writes it. With MSAA it also
+    /// creates the multisampled colour it resolves into the target.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
@@ -179,10 +203,25 @@ impl RenderNode for ForwardPass {
             pass.read(visibility);
         }
         let loaded = frame.depth.is_some();
+        let samples = frame.samples.max(1);
         let depth = match frame.depth {
             Some(depth) => pass.read(depth),
-            None => *frame.depth.insert(pass.create_texture(camera_depth(frame.size))),
+            None => *frame
+                .depth
+                .insert(pass.create_texture(camera_depth(frame.size, samples))),
         };
+        self.multisampled_color = (samples > 1).then(|| {
+            let (width, height) = frame.size;
+            pass.create_texture(TextureDesc {
+                label: "camera colour (multisampled)",
+                width,
+                height,
+                layers: 1,
+                format: frame.color_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                samples,
+            })
+        });
         pass.write(frame.color);
         for target in frame.analysis.iter().flatten() {
             pass.write(*target);
@@ -202,6 +241,7 @@ impl RenderNode for ForwardPass {
             depth: Some(depth),
             depth_prepass,
             visibility,
+            samples,
             ..
         }) = self.handles
         else {
@@ -212,7 +252,7 @@ impl RenderNode for ForwardPass {
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {
                 analysis,
-                ..ForwardVariant::for_lights(lights, alpha_mask)
+                ..ForwardVariant::for_lights(lights, alpha_mask).with_samples(samples)
             };
             let variant = match visibility {
                 Some(_) => variant.reading_resolved(),
@@ -224,7 +264,10 @@ impl RenderNode for ForwardPass {
                     variant,
                     format,
                     double_sided,
-                    depth_prepass,
+                    // NOTE: alpha-to-coverage materials are not in the prepass: they write
+                    // their own depth.
+                    depth_prepass: depth_prepass && !variant.alpha_to_coverage,
+                    samples: samples.max(1),
                 },
             )
         };
@@ -258,7 +301,20 @@ impl RenderNode for ForwardPass {
         };
         // NOTE: a fixed array, not a Vec: nothing is allocated per frame.
         let mut color_attachments = [const { None }; 4];
-        color_attachments[0] = attachment(resources.view(color), wgpu::Color { r, g, b, a: 1.0 });
+        let clear = wgpu::Color { r, g, b, a: 1.0 };
+        color_attachments[0] = match self.multisampled_color {
+            // NOTE: only the resolved target is kept; the samples are discarded.
+            Some(samples) => Some(wgpu::RenderPassColorAttachment {
+                view: resources.view(samples),
+                depth_slice: None,
+                resolve_target: Some(resources.view(color)),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Discard,
+                },
+            }),
+            None => attachment(resources.view(color), clear),
+        };
         let mut used = 1;
         // Background: shadow factor 1 (nothing shadows the sky), cascade -1, position w = 0.
         let clears = [

@@ -1,7 +1,8 @@
 //! Counting the lighting pass's fragment-shader invocations with a pipeline-statistics query,
 //! to show what the depth prepass saves: with it, each covered pixel is shaded once. A
 //! measurement, off unless asked for ([`Renderer::count_forward_fragments`](crate::render::Renderer::count_forward_fragments));
-//! reading the count waits for the GPU.
+//! reading the count waits for the GPU. Under MSAA the shader still runs once per pixel and
+//! triangle, not per sample, so a pixel two triangles share counts twice.
 
 use crate::render::readback::{QueryReadback, read_buffer};
 

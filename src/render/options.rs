@@ -18,6 +18,64 @@ pub enum DepthPrepass {
     Off,
 }
 
+/// Samples per pixel of the camera's colour and depth (multisample anti-aliasing), resolved
+/// to the single-sample target at the end of the lighting pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Msaa {
+    /// One sample: no anti-aliasing; alpha-masked materials are alpha-tested.
+    Off,
+    /// Two samples (where the adapter has them for the target's format, else one).
+    Sample2,
+    /// Four samples, the default: edges get intermediate coverage and alpha-masked materials
+    /// use alpha-to-coverage.
+    #[default]
+    Sample4,
+}
+
+impl Msaa {
+    /// Samples per pixel: 1, 2 or 4.
+    pub fn samples(self) -> u32 {
+        match self {
+            Self::Off => 1,
+            Self::Sample2 => 2,
+            Self::Sample4 => 4,
+        }
+    }
+
+    /// The largest setting up to this one whose sample count `supported` accepts (one sample
+    /// always is): what a device that cannot multisample a format this many times falls
+    /// back to.
+    pub fn fallback(self, supported: impl Fn(u32) -> bool) -> Self {
+        [Self::Sample4, Self::Sample2]
+            .into_iter()
+            .find(|m| m.samples() <= self.samples() && supported(m.samples()))
+            .unwrap_or(Self::Off)
+    }
+
+    /// The setting of `samples` samples per pixel (1, 2 or 4); None for any other count.
+    pub fn from_samples(samples: u32) -> Option<Self> {
+        match samples {
+            1 => Some(Self::Off),
+            2 => Some(Self::Sample2),
+            4 => Some(Self::Sample4),
+            _ => None,
+        }
+    }
+}
+
+impl std::str::FromStr for Msaa {
+    type Err = String;
+
+    /// Parses a sample count, `1`, `2` or `4` (the command line's `--msaa`).
+    fn from_str(text: &str) -> Result<Self, String> {
+        text.trim()
+            .parse::<u32>()
+            .ok()
+            .and_then(Self::from_samples)
+            .ok_or_else(|| format!("expected 1 (off), 2 or 4 samples per pixel, found `{text}`"))
+    }
+}
+
 /// Render-wide switches; a world without this resource renders with the defaults.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
@@ -44,6 +102,14 @@ pub struct RenderOptions {
     /// lavapipe draws primitives its clipper splits into the pass's first layer, so casters
     /// crossing a cascade's bounds land in the wrong cascade there.
     pub single_pass_cascades: bool,
+    /// Multisample anti-aliasing of the camera view (default [`Msaa::Sample4`]): the colour
+    /// and depth the prepass and the lighting pass draw into have this many samples per
+    /// pixel, resolved into the target. Where the adapter cannot multisample the target's
+    /// format that many times, the largest count it can is used, with a logged warning. A
+    /// renderer with analysis targets ([`Renderer::headless_with_analysis`](crate::render::Renderer::headless_with_analysis))
+    /// always renders one sample per pixel, so every analysis pixel holds one surface's values
+    /// (what the bench scores).
+    pub msaa: Msaa,
 }
 
 impl Default for RenderOptions {
@@ -53,6 +119,7 @@ impl Default for RenderOptions {
             shadow_cache: true,
             visibility_resolve: true,
             single_pass_cascades: false,
+            msaa: Msaa::Sample4,
         }
     }
 }
@@ -85,5 +152,29 @@ mod tests {
         assert!(!DepthPrepass::Auto.runs(|| 20_000_000, pixels));
         assert!(DepthPrepass::On.runs(|| u64::MAX, pixels));
         assert!(!DepthPrepass::Off.runs(|| 0, pixels));
+    }
+
+    #[test]
+    fn msaa_settings_round_trip_through_their_sample_counts() {
+        for msaa in [Msaa::Off, Msaa::Sample2, Msaa::Sample4] {
+            assert_eq!(Msaa::from_samples(msaa.samples()), Some(msaa));
+        }
+        assert_eq!("2".parse::<Msaa>(), Ok(Msaa::Sample2));
+        assert!("3".parse::<Msaa>().unwrap_err().contains("`3`"));
+        assert!("four".parse::<Msaa>().is_err());
+        assert_eq!(Msaa::from_samples(3), None);
+        assert_eq!(Msaa::from_samples(8), None);
+        assert_eq!(RenderOptions::default().msaa, Msaa::Sample4);
+    }
+
+    #[test]
+    fn msaa_falls_back_to_the_largest_supported_count_below_the_request() {
+        let only = |counts: &'static [u32]| move |n: u32| counts.contains(&n);
+        assert_eq!(Msaa::Sample4.fallback(only(&[2, 4])), Msaa::Sample4);
+        assert_eq!(Msaa::Sample4.fallback(only(&[2])), Msaa::Sample2);
+        assert_eq!(Msaa::Sample4.fallback(only(&[])), Msaa::Off);
+        assert_eq!(Msaa::Sample2.fallback(only(&[4])), Msaa::Off, "never more than asked");
+        assert_eq!(Msaa::Sample2.fallback(only(&[2, 4])), Msaa::Sample2);
+        assert_eq!(Msaa::Off.fallback(only(&[2, 4])), Msaa::Off);
     }
 }

@@ -5,6 +5,11 @@
 //! read. When it does not run ([`RenderOptions::depth_prepass`](crate::render::RenderOptions):
 //! off, or `Auto` on a view of more triangles than pixels), it declares nothing and is culled;
 //! the forward pass then creates and writes the depth itself.
+//!
+//! With MSAA ([`FrameResources::samples`] > 1) the depth and normals are multisampled, and
+//! alpha-masked batches are left to the lighting pass: it draws them with alpha-to-coverage,
+//! whose per-sample coverage an alpha-tested prepass could not match (the samples it wrote
+//! and the lighting pass left uncovered would keep the clear colour).
 
 use std::borrow::Cow;
 
@@ -19,8 +24,8 @@ use crate::shader::ShaderLibrary;
 /// Name of the prepass in GPU timings and the graph.
 pub const PREPASS_NAME: &str = "depth prepass";
 
-/// The camera's depth buffer at the target's size.
-pub fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
+/// The camera's depth buffer at the target's size, with `samples` samples per pixel.
+pub fn camera_depth((width, height): (u32, u32), samples: u32) -> TextureDesc {
     TextureDesc {
         label: "camera depth",
         width,
@@ -29,6 +34,7 @@ pub fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
         format: DEPTH_FORMAT,
         // NOTE: sampled by later passes (the compute resolve), not only drawn into.
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        samples,
     }
 }
 
@@ -37,11 +43,16 @@ pub fn camera_depth((width, height): (u32, u32)) -> TextureDesc {
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// The prepass node; its eight pipelines (opaque or masked, single- or double-sided, with or
-/// without normals) are built on first use.
+/// without normals) are built on first use, for the frame's sample count (a new count
+/// rebuilds them).
 #[derive(Default)]
 pub struct DepthPrepass {
     /// Indexed by `normals as usize * 4 + masked as usize * 2 + double_sided as usize`.
     pipelines: [Option<wgpu::RenderPipeline>; 8],
+    /// The sample count `pipelines` were built for.
+    samples: u32,
+    /// This frame's sample count, set in `setup`.
+    frame_samples: u32,
     depth: Option<TextureId>,
     normals: Option<TextureId>,
 }
@@ -52,6 +63,7 @@ struct Key {
     masked: bool,
     double_sided: bool,
     normals: bool,
+    samples: u32,
 }
 
 impl DepthPrepass {
@@ -62,6 +74,10 @@ impl DepthPrepass {
         library: &mut ShaderLibrary,
         key: Key,
     ) -> &wgpu::RenderPipeline {
+        if self.samples != key.samples {
+            self.pipelines = Default::default();
+            self.samples = key.samples;
+        }
         let index = key.normals as usize * 4 + key.masked as usize * 2 + key.double_sided as usize;
         self.pipelines[index].get_or_insert_with(|| create_pipeline(device, layouts, library, key))
     }
@@ -77,6 +93,7 @@ fn create_pipeline(
         masked,
         double_sided,
         normals,
+        samples,
     } = key;
     let module = library
         .prepass()
@@ -104,7 +121,10 @@ fn create_pipeline(
             stencil: wgpu::StencilState::default(),
             bias: wgpu::DepthBiasState::default(),
         }),
-        multisample: wgpu::MultisampleState::default(),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
         fragment: (masked || normals).then(|| wgpu::FragmentState {
             module: &shader,
             entry_point: Some(match (masked, normals) {
@@ -150,8 +170,9 @@ impl RenderNode for DepthPrepass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         self.depth = None;
         self.normals = None;
+        self.frame_samples = frame.samples;
         if frame.depth_prepass && frame.depth.is_none() {
-            let depth = pass.create_texture(camera_depth(frame.size));
+            let depth = pass.create_texture(camera_depth(frame.size, frame.samples));
             frame.depth = Some(depth);
             self.depth = Some(depth);
             if frame.visibility.is_some() {
@@ -163,6 +184,7 @@ impl RenderNode for DepthPrepass {
                     layers: 1,
                     format: NORMAL_FORMAT,
                     usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    samples: frame.samples,
                 });
                 frame.normals = Some(normals);
                 self.normals = Some(normals);
@@ -206,7 +228,10 @@ impl RenderNode for DepthPrepass {
             return;
         }
         let group = &ctx.view_groups.group;
-        for (masked, batches) in [(false, &group.opaque), (true, &group.masked)] {
+        let samples = self.frame_samples.max(1);
+        // NOTE: with MSAA the lighting pass draws masked batches itself (alpha-to-coverage).
+        let masked_batches: &[DrawBatch] = if samples > 1 { &[] } else { &group.masked };
+        for (masked, batches) in [(false, &group.opaque[..]), (true, masked_batches)] {
             // NOTE: batches are sorted single-sided first (the draw key), as in the forward pass.
             let split = batches.partition_point(|b: &DrawBatch| !b.double_sided);
             for (double_sided, part) in [(false, &batches[..split]), (true, &batches[split..])] {
@@ -218,6 +243,7 @@ impl RenderNode for DepthPrepass {
                     masked,
                     double_sided,
                     normals: self.normals.is_some(),
+                    samples,
                 };
                 pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
                 ctx.draw_calls += draw_batches(&mut pass, ctx.scene, part, masked);

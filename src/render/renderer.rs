@@ -14,7 +14,8 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
-use crate::render::prepass::{DepthPrepass, prepass_runs};
+use crate::render::options::Msaa;
+use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
 use crate::render::probe::{ProbeGpu, ProbePass};
 use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
@@ -23,7 +24,7 @@ use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
-use crate::render::target::{AnalysisImage, HeadlessTarget, TargetViews};
+use crate::render::target::{AnalysisImage, DEPTH_FORMAT, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
 use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
 
@@ -46,6 +47,8 @@ pub struct Renderer {
     counters: RenderCounters,
     pipeline_error: Option<String>,
     problems: UploadProblems,
+    /// The MSAA request and colour format last warned about (a fallback is warned once).
+    msaa_warned: Option<(Msaa, wgpu::TextureFormat)>,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -61,7 +64,8 @@ impl Renderer {
 
     /// Like [`headless`](Self::headless), with analysis targets: every frame also records
     /// the shadow factor, world position and normal of each pixel, read with
-    /// [`read_analysis`](Self::read_analysis).
+    /// [`read_analysis`](Self::read_analysis). Its frames render one sample per pixel
+    /// whatever [`RenderOptions::msaa`](crate::render::RenderOptions::msaa) asks.
     pub fn headless_with_analysis(width: u32, height: u32) -> Result<Self, GpuError> {
         let gpu = GpuContext::headless()?;
         gpu.limits.check_target(width, height)?;
@@ -120,6 +124,7 @@ impl Renderer {
             counters: RenderCounters::default(),
             pipeline_error: None,
             problems: UploadProblems::default(),
+            msaa_warned: None,
             last_report: FrameReport::default(),
         }
     }
@@ -276,11 +281,17 @@ impl Renderer {
         };
         let mut problems = UploadProblems::default();
         let size = (target.width, target.height);
+        let samples = self.frame_samples(input.options.msaa, target, &mut problems);
         // NOTE: decided once, before the upload: the prepass, the lights' resolve layers, the
         // prepass's normals, the resolve node and the forward pass's shadow group must agree.
+        // Where the prepass's normals cannot be multisampled, an MSAA frame filters its
+        // shadows in the lighting pass.
         let prepass = prepass_runs(input, size);
-        let resolve =
-            (prepass && input.options.visibility_resolve && !input.shadow_views.views.is_empty()).then_some(size);
+        let resolve = (prepass
+            && input.options.visibility_resolve
+            && !input.shadow_views.views.is_empty()
+            && self.gpu.supports_samples(NORMAL_FORMAT, samples))
+        .then_some(size);
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
@@ -299,7 +310,7 @@ impl Renderer {
         if let Err(e) = prepared {
             problems.errors.push(format!("the frame is not drawn: {e}"));
         }
-        match self.build_graph(input, target, prepass) {
+        match self.build_graph(input, target, (prepass, samples)) {
             Ok(created) => self.counters.transient_resources += created,
             Err(e) => {
                 drawable = false;
@@ -372,13 +383,40 @@ impl Renderer {
         &self.last_report
     }
 
+    /// Samples per pixel of this frame's camera view: what `msaa` asks for, or the largest
+    /// count the device can multisample and resolve the target's format with (warned once
+    /// per request and format); one for a target with analysis outputs (each analysis pixel
+    /// holds one surface's values).
+    fn frame_samples(&mut self, msaa: Msaa, target: &TargetViews, problems: &mut UploadProblems) -> u32 {
+        if target.analysis.is_some() {
+            return 1;
+        }
+        let gpu = &self.gpu;
+        let resolves = gpu
+            .format_flags(target.format)
+            .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
+        let used = msaa
+            .fallback(|n| resolves && gpu.supports_samples(target.format, n) && gpu.supports_samples(DEPTH_FORMAT, n));
+        if used != msaa && self.msaa_warned != Some((msaa, target.format)) {
+            self.msaa_warned = Some((msaa, target.format));
+            problems.warnings.push(format!(
+                "MSAA: {}× asked for, but `{}` cannot multisample {:?} that many times; using {}×",
+                msaa.samples(),
+                gpu.adapter_info.name,
+                target.format,
+                used.samples()
+            ));
+        }
+        used.samples()
+    }
+
     /// Declares this frame's graph: imports the target and the shadow storages, lets every
     /// node declare its work, and allocates the transients.
     fn build_graph(
         &mut self,
         input: &FrameInputs<'_>,
         target: &TargetViews,
-        depth_prepass: bool,
+        (depth_prepass, samples): (bool, u32),
     ) -> Result<u32, GraphError> {
         let graph = &mut self.graph;
         graph.begin_frame();
@@ -394,6 +432,7 @@ impl Renderer {
             color,
             color_format: target.format,
             size: (target.width, target.height),
+            samples,
             analysis,
             cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
             spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),

@@ -3,7 +3,9 @@
 //! it into the resolved visibility ([`VisibilityTarget`](crate::render::shadows::visibility::VisibilityTarget));
 //! the lighting pass then reads one texel per light instead of filtering. It runs when the
 //! frame resolves ([`RenderOptions::visibility_resolve`](crate::render::RenderOptions), on by
-//! default, and the prepass runs); otherwise it declares nothing and is culled.
+//! default, and the prepass runs); otherwise it declares nothing and is culled. With MSAA it
+//! reads the multisampled depth and normals at each pixel's sample 0
+//! (`texture_depth_multisampled_2d`), with a layout and pipelines of their own.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -22,17 +24,21 @@ pub const RESOLVE_NAME: &str = "visibility resolve";
 struct Handles {
     depth: TextureId,
     normals: TextureId,
+    /// Samples per pixel of both.
+    samples: u32,
 }
 
-/// The resolve node: its bind group layout, and one pipeline per filter variant.
+/// The resolve node: its bind group layouts (single-sample and multisampled inputs), and one
+/// pipeline per filter variant and sample count.
 #[derive(Default)]
 pub struct VisibilityResolve {
-    layout: Option<wgpu::BindGroupLayout>,
-    pipelines: HashMap<ForwardVariant, wgpu::ComputePipeline>,
+    /// Indexed by `multisampled as usize`.
+    layouts: [Option<wgpu::BindGroupLayout>; 2],
+    pipelines: HashMap<(ForwardVariant, u32), wgpu::ComputePipeline>,
     handles: Option<Handles>,
 }
 
-fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+fn create_layout(device: &wgpu::Device, multisampled: bool) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(RESOLVE_NAME),
@@ -42,7 +48,7 @@ fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Depth,
                     view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+                    multisampled,
                 },
             ),
             entry(
@@ -50,7 +56,7 @@ fn create_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Uint,
                     view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+                    multisampled,
                 },
             ),
             entry(
@@ -70,10 +76,10 @@ fn create_pipeline(
     layouts: &Layouts,
     library: &mut ShaderLibrary,
     layout: &wgpu::BindGroupLayout,
-    variant: ForwardVariant,
+    (variant, samples): (ForwardVariant, u32),
 ) -> wgpu::ComputePipeline {
     let module = library
-        .resolve(variant)
+        .resolve_multisampled(variant, samples)
         .expect("the shipped resolve shader composes (checked by tests)");
     let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(RESOLVE_NAME),
@@ -115,7 +121,11 @@ impl RenderNode for VisibilityResolve {
         pass.read(frame.point_moments);
         pass.read(frame.cascade_moments);
         pass.write(visibility);
-        self.handles = Some(Handles { depth, normals });
+        self.handles = Some(Handles {
+            depth,
+            normals,
+            samples: frame.samples.max(1),
+        });
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
@@ -123,17 +133,19 @@ impl RenderNode for VisibilityResolve {
             return;
         };
         let device = &ctx.gpu.device;
-        let layout = self.layout.get_or_insert_with(|| create_layout(device));
+        let multisampled = handles.samples > 1;
+        let layout = self.layouts[multisampled as usize].get_or_insert_with(|| create_layout(device, multisampled));
         let variant = ForwardVariant {
             debug_cascades: false,
             alpha_mask: false,
             analysis: false,
             ..ForwardVariant::for_lights(ctx.lights, false)
         };
+        let key = (variant, handles.samples);
         let pipeline = self
             .pipelines
-            .entry(variant)
-            .or_insert_with(|| create_pipeline(device, ctx.layouts, ctx.library, layout, variant));
+            .entry(key)
+            .or_insert_with(|| create_pipeline(device, ctx.layouts, ctx.library, layout, key));
         // NOTE: the depth and normals are transients of this frame, so the group is made per
         // frame (three entries).
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {

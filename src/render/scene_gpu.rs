@@ -2,9 +2,12 @@
 //! and the per-frame index lists and frame uniforms. `prepare` uploads only what changed.
 //! (Lights and shadow views are in [`ShadowResources`](crate::render::shadows::ShadowResources).)
 
+use std::borrow::Cow;
+use std::collections::HashMap;
+
 use wgpu::util::DeviceExt;
 
-use crate::ecs::assets::Meshes;
+use crate::ecs::assets::{ImageData, Meshes};
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame::FrameInputs;
@@ -12,7 +15,12 @@ use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu};
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
+use crate::render::mips::MaskedAlpha;
 use crate::render::textures::{fit_image, upload, white};
+
+/// What a material samples: an image (None: white) and, for a masked material, its alpha
+/// test as bit patterns (cutoff, `base_color.a`), which its mip levels are made for.
+type TextureKey = (Option<usize>, Option<(u32, u32)>);
 
 /// Where one mesh lives in the mega-buffers.
 #[derive(Clone, Copy, Debug)]
@@ -235,8 +243,9 @@ impl SceneGpu {
         Ok(())
     }
 
-    /// Uploads every image (fitted to the device, see [`fit_image`]) and makes one bind
-    /// group per material.
+    /// Uploads every image a material samples (fitted to the device, see [`fit_image`]),
+    /// once per alpha test that samples it (a masked material's mip levels keep its
+    /// coverage), and makes one bind group per material.
     fn upload_materials(
         &mut self,
         gpu: &GpuContext,
@@ -246,20 +255,30 @@ impl SceneGpu {
     ) {
         let (materials, images) = (input.materials, input.images);
         let (device, queue) = (&gpu.device, &gpu.queue);
-        let views: Vec<wgpu::TextureView> = std::iter::once(upload(device, queue, &white()))
-            .chain(images.as_slice().iter().enumerate().map(|(i, image)| {
-                let fitted = fit_image(image, &format!("image {i}"), &gpu.limits, problems);
-                upload(device, queue, &fitted)
-            }))
+        let white = white();
+        let fitted: Vec<Cow<'_, ImageData>> = images
+            .as_slice()
+            .iter()
+            .enumerate()
+            .map(|(i, image)| fit_image(image, &format!("image {i}"), &gpu.limits, problems))
             .collect();
+        // NOTE: keyed by image and alpha test (bit patterns: cutoff, factor), so materials
+        // that sample an image the same way share one texture.
+        let mut views: HashMap<TextureKey, wgpu::TextureView> = HashMap::new();
         self.material_groups = materials
             .as_slice()
             .iter()
             .map(|m| {
-                let view = &views[m
-                    .base_color_texture
-                    .map_or(0, |h| h.0 as usize + 1)
-                    .min(views.len() - 1)];
+                let image = m.base_color_texture.map(|h| h.0 as usize).filter(|&i| i < fitted.len());
+                let masked = (m.is_masked() && image.is_some()).then(|| MaskedAlpha {
+                    cutoff: m.alpha_cutoff(),
+                    factor: m.base_color.w,
+                });
+                let key = (image, masked.map(|a| (a.cutoff.to_bits(), a.factor.to_bits())));
+                let view = views.entry(key).or_insert_with(|| {
+                    let pixels = image.map_or(&white, |i| &*fitted[i]);
+                    upload(device, queue, pixels, masked)
+                });
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("material"),
                     layout: &layouts.material,

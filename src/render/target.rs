@@ -71,10 +71,34 @@ pub fn texture_2d(
 pub fn texture_2d_mips(
     device: &wgpu::Device,
     label: &str,
-    (width, height, layers): (u32, u32, u32),
+    extent: (u32, u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
     mips: u32,
+) -> wgpu::Texture {
+    create_texture(device, label, extent, format, usage, (mips, 1))
+}
+
+/// [`texture_2d`] with `samples` samples per texel (a multisampled attachment when more than
+/// one: then `layers` must be 1).
+pub fn texture_2d_multisampled(
+    device: &wgpu::Device,
+    label: &str,
+    extent: (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    samples: u32,
+) -> wgpu::Texture {
+    create_texture(device, label, extent, format, usage, (1, samples))
+}
+
+fn create_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    (mips, samples): (u32, u32),
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -84,7 +108,7 @@ pub fn texture_2d_mips(
             depth_or_array_layers: layers,
         },
         mip_level_count: mips.max(1),
-        sample_count: 1,
+        sample_count: samples.max(1),
         dimension: wgpu::TextureDimension::D2,
         format,
         usage,

@@ -1,6 +1,8 @@
 //! Material textures on the GPU: each image is checked before upload — one whose byte count
 //! does not match its size is replaced by white with an error, one larger than the device's
-//! largest texture is downscaled (aspect kept) with a warning.
+//! largest texture is downscaled (aspect kept) with a warning — and uploaded with its full
+//! mip chain ([`mip_chain`]: linear-light box filter, alpha coverage kept for masked
+//! materials), which the material sampler filters trilinearly.
 
 use std::borrow::Cow;
 
@@ -10,6 +12,7 @@ use wgpu::util::DeviceExt;
 
 use crate::ecs::assets::ImageData;
 use crate::render::limits::{DeviceLimits, UploadProblems};
+use crate::render::mips::{MaskedAlpha, mip_chain};
 
 /// The white 1×1 image that stands in for "no texture".
 pub fn white() -> ImageData {
@@ -57,8 +60,18 @@ pub fn fit_image<'a>(
     })
 }
 
-/// Uploads one checked image as an sRGB texture and returns its view.
-pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, image: &ImageData) -> wgpu::TextureView {
+/// Uploads one checked image as an sRGB texture with every mip level and returns its view;
+/// `masked` is the alpha test of the material that samples it (its levels keep the image's
+/// alpha-test coverage), None for an opaque one.
+pub fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    image: &ImageData,
+    masked: Option<MaskedAlpha>,
+) -> wgpu::TextureView {
+    let chain = mip_chain(image, masked);
+    // NOTE: level after level, as `TextureDataOrder::LayerMajor` reads them.
+    let data: Vec<u8> = chain.iter().flat_map(|level| level.rgba.iter().copied()).collect();
     let texture = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -68,7 +81,7 @@ pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, image: &ImageData) -> 
                 height: image.height,
                 depth_or_array_layers: 1,
             },
-            mip_level_count: 1,
+            mip_level_count: chain.len() as u32,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -76,7 +89,7 @@ pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, image: &ImageData) -> 
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        &image.rgba,
+        &data,
     );
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }

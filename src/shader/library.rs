@@ -215,16 +215,18 @@ impl ShaderLibrary {
     /// Replaces the forward shader with a material's own WGSL (which may `#import`
     /// `penumbra::lights` and the other library modules). It must keep the forward shader's
     /// interface: `vs_main` and `fs_main`, bind groups 0–3 as in `forward.wgsl`, and the
-    /// `ALPHA_MASK` / `ANALYSIS_OUTPUTS` defs. The source is composed and validated for the
-    /// opaque and masked PCF variants, with and without spot and point shadows, first; if that fails, the error is returned and the
+    /// `ALPHA_MASK` / `ANALYSIS_OUTPUTS` defs (and, to use MSAA's alpha-to-coverage instead
+    /// of the alpha test, `ALPHA_TO_COVERAGE`: no discard, alpha at location 0). The source is
+    /// composed and validated for the opaque, masked and alpha-to-coverage PCF variants, with
+    /// and without spot and point shadows, first; if that fails, the error is returned and the
     /// current shader stays in use.
     pub fn set_forward_source(&mut self, file: &str, source: &str) -> Result<(), ShaderError> {
-        for alpha_mask in [false, true] {
+        for (alpha_mask, samples) in [(false, 1), (true, 1), (true, 4)] {
             for local_shadows in [false, true] {
                 let variant = ForwardVariant {
                     spot_shadows: local_shadows,
                     point_shadows: local_shadows,
-                    ..ForwardVariant::for_settings(&Default::default(), alpha_mask)
+                    ..ForwardVariant::for_settings(&Default::default(), alpha_mask).with_samples(samples)
                 };
                 self.compose(file, source, variant.shader_defs())?;
             }
@@ -301,9 +303,26 @@ impl ShaderLibrary {
         self.compose(PREPASS.file, PREPASS.source, HashMap::new())
     }
 
-    /// The compute visibility resolve (`main`), with the filters of `variant`.
+    /// The compute visibility resolve (`main`), with the filters of `variant`, reading a
+    /// single-sample depth and normals.
     pub fn resolve(&mut self, variant: ForwardVariant) -> Result<naga::Module, ShaderError> {
-        self.compose(RESOLVE.file, RESOLVE.source, variant.shader_defs())
+        self.resolve_multisampled(variant, 1)
+    }
+
+    /// [`resolve`](Self::resolve) reading depth and normals of `samples` samples per pixel
+    /// (1, 2 or 4; MSAA): each pixel from its sample 0.
+    pub fn resolve_multisampled(&mut self, variant: ForwardVariant, samples: u32) -> Result<naga::Module, ShaderError> {
+        let mut defs = variant.shader_defs();
+        if samples > 1 {
+            defs.insert(
+                "MULTISAMPLED".to_string(),
+                naga_oil::compose::ShaderDefValue::Bool(true),
+            );
+        }
+        if samples == 2 {
+            defs.insert("MSAA_X2".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
+        }
+        self.compose(RESOLVE.file, RESOLVE.source, defs)
     }
 
     /// The shadow-probe compute shader (`main`), with the filter of `variant`.

@@ -37,6 +37,11 @@ pub struct ForwardVariant {
     pub debug_cascades: bool,
     /// Discard fragments below the material's alpha cutoff.
     pub alpha_mask: bool,
+    /// With `alpha_mask`, under MSAA: instead of discarding, output the alpha sharpened
+    /// around the cutoff for the pipeline's alpha-to-coverage (`ALPHA_TO_COVERAGE`). Such a
+    /// material is drawn outside the depth prepass, so it filters its own shadows instead of
+    /// reading resolved ones (`UNRESOLVED_SHADOWS`, which `penumbra::lights` honours).
+    pub alpha_to_coverage: bool,
     /// Also write the shadow factor, world position and normal of every pixel (three extra
     /// `Rgba32Float` targets), for scoring against a reference.
     pub analysis: bool,
@@ -56,6 +61,7 @@ impl ForwardVariant {
             sun_moments: settings.mode.effective(true).is_sun_moments(),
             debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
             alpha_mask,
+            alpha_to_coverage: false,
             analysis: false,
         }
     }
@@ -90,6 +96,7 @@ impl ForwardVariant {
                 .chain(lights.points.iter().map(|p| &p.settings))
                 .any(|s| s.debug_view == ShadowDebugView::Cascades),
             alpha_mask,
+            alpha_to_coverage: false,
             analysis: false,
         }
     }
@@ -97,9 +104,10 @@ impl ForwardVariant {
     /// This variant for a lighting pass that reads every shadowed light's resolved visibility
     /// (the compute resolve ran): the filters' code is left out, so its registers do not weigh
     /// on the pass (compiled in, point-light PCSS made it 20 % slower on the H100). The cube
-    /// debug tint and the analysis outputs still need their modules, so those keep them.
+    /// debug tint and the analysis outputs still need their modules, so those keep them; an
+    /// alpha-to-coverage variant filters its own shadows, so it stays whole.
     pub fn reading_resolved(self) -> Self {
-        if self.analysis {
+        if self.analysis || self.alpha_to_coverage {
             return self;
         }
         ForwardVariant {
@@ -111,7 +119,16 @@ impl ForwardVariant {
         }
     }
 
-    /// Every variant the renderer can ask for.
+    /// This variant with alpha-to-coverage in place of the alpha test when the pass draws
+    /// `samples` samples per pixel (more than one) and the material is alpha-masked.
+    pub fn with_samples(self, samples: u32) -> Self {
+        Self {
+            alpha_to_coverage: self.alpha_mask && samples > 1,
+            ..self
+        }
+    }
+
+    /// Every variant the renderer can ask for (alpha-to-coverage only with the alpha mask).
     pub fn all() -> Vec<ForwardVariant> {
         let filters = [
             ShadowFilter::Pcf,
@@ -124,7 +141,7 @@ impl ForwardVariant {
             for (spot_shadows, point_shadows) in [(false, false), (true, false), (false, true), (true, true)] {
                 for sun_moments in [false, true] {
                     for debug_cascades in [false, true] {
-                        for alpha_mask in [false, true] {
+                        for (alpha_mask, alpha_to_coverage) in [(false, false), (true, false), (true, true)] {
                             for analysis in [false, true] {
                                 all.push(ForwardVariant {
                                     filter,
@@ -133,6 +150,7 @@ impl ForwardVariant {
                                     sun_moments,
                                     debug_cascades,
                                     alpha_mask,
+                                    alpha_to_coverage,
                                     analysis,
                                 });
                             }
@@ -173,6 +191,10 @@ impl ForwardVariant {
         if self.alpha_mask {
             defs.insert("ALPHA_MASK".to_string(), ShaderDefValue::Bool(true));
         }
+        if self.alpha_mask && self.alpha_to_coverage {
+            defs.insert("ALPHA_TO_COVERAGE".to_string(), ShaderDefValue::Bool(true));
+            defs.insert("UNRESOLVED_SHADOWS".to_string(), ShaderDefValue::Bool(true));
+        }
         if self.analysis {
             defs.insert("ANALYSIS_OUTPUTS".to_string(), ShaderDefValue::Bool(true));
         }
@@ -200,6 +222,9 @@ impl ForwardVariant {
         if self.alpha_mask {
             s.push_str("+mask");
         }
+        if self.alpha_mask && self.alpha_to_coverage {
+            s.push_str("+a2c");
+        }
         if self.analysis {
             s.push_str("+analysis");
         }
@@ -220,6 +245,7 @@ mod tests {
             sun_moments: true,
             debug_cascades: false,
             alpha_mask: true,
+            alpha_to_coverage: false,
             analysis: false,
         };
         let lean = full.reading_resolved();
@@ -234,5 +260,15 @@ mod tests {
         assert!(debug.reading_resolved().point_shadows);
         let analysis = ForwardVariant { analysis: true, ..full };
         assert_eq!(analysis.reading_resolved(), analysis);
+        // Alpha-to-coverage materials are drawn outside the prepass: nothing resolved to read.
+        let covered = full.with_samples(4);
+        assert!(covered.alpha_to_coverage);
+        assert_eq!(covered.reading_resolved(), covered);
+        assert!(!full.with_samples(1).alpha_to_coverage);
+        let opaque = ForwardVariant {
+            alpha_mask: false,
+            ..full
+        };
+        assert!(!opaque.with_samples(4).alpha_to_coverage, "only masked materials");
     }
 }

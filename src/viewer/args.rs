@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::render::Msaa;
 use crate::render::limits::MAX_TEXTURE_SIDE;
 use crate::viewer::options::ViewerOptions;
 
@@ -37,6 +38,10 @@ pub struct ViewerArgs {
     /// settings changes that recreate GPU resources.
     #[arg(long)]
     pub exercise: bool,
+    /// Samples per pixel (MSAA): 1 (off), 2 or 4; falls back, with a warning, to what the
+    /// GPU supports. The inspector changes it live.
+    #[arg(long, default_value = "4")]
+    pub msaa: Msaa,
 }
 
 /// Window sides accepted: 1 to the largest texture side of any adapter (the surface is
@@ -56,6 +61,7 @@ impl ViewerArgs {
             settings: self.settings.clone(),
             shader: self.shader.clone(),
             exercise: self.exercise,
+            msaa: self.msaa,
         }
     }
 }

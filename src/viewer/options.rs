@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 use crate::app::SpawnError;
-use crate::render::GpuError;
+use crate::render::{GpuError, Msaa};
 use crate::scene::SceneError;
 
 /// Why the viewer stopped with an error.
@@ -64,6 +64,8 @@ pub struct ViewerOptions {
     pub shader: Option<PathBuf>,
     /// Run the scripted robustness steps (resize, minimise, lost surface, settings changes).
     pub exercise: bool,
+    /// Samples per pixel to start with (the inspector's "MSAA" changes it).
+    pub msaa: Msaa,
 }
 
 impl Default for ViewerOptions {
@@ -76,6 +78,7 @@ impl Default for ViewerOptions {
             settings: None,
             shader: None,
             exercise: false,
+            msaa: Msaa::default(),
         }
     }
 }

@@ -22,7 +22,7 @@ use crate::ecs::stats::ShadowStats;
 use crate::export::{OutputKind, prepare_output};
 use crate::render::frame::FrameInputs;
 use crate::render::target::TargetViews;
-use crate::render::{GpuContext, Renderer};
+use crate::render::{GpuContext, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, load_settings};
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
@@ -88,6 +88,10 @@ pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, V
     app.insert_resource(ViewportSize {
         width: options.width.max(1),
         height: options.height.max(1),
+    });
+    app.insert_resource(RenderOptions {
+        msaa: options.msaa,
+        ..RenderOptions::default()
     });
     PreparedScene::new(&desc)?.spawn(app.world_mut());
     if let Some(path) = watched_settings {

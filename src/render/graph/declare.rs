@@ -39,7 +39,8 @@ impl ResourceHandle for BufferId {
     }
 }
 
-/// A transient texture: single mip, 2D (or a 2D array when `layers` > 1), one sample.
+/// A transient texture: single mip, 2D (or a 2D array when `layers` > 1), with `samples`
+/// samples per texel (1, or a multisampled attachment: then `layers` must be 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TextureDesc {
     /// Debug label.
@@ -54,6 +55,8 @@ pub struct TextureDesc {
     pub format: wgpu::TextureFormat,
     /// Usages.
     pub usage: wgpu::TextureUsages,
+    /// Samples per texel (1 for a plain texture).
+    pub samples: u32,
 }
 
 /// A transient buffer.
@@ -70,7 +73,7 @@ pub struct BufferDesc {
 /// What makes two transient resources interchangeable in the pool: everything but the label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PoolKey {
-    /// A texture of this size, layer count, format and usage.
+    /// A texture of this size, layer count, format, usage and sample count.
     Texture {
         /// Width, height, layers.
         size: (u32, u32, u32),
@@ -78,6 +81,8 @@ pub enum PoolKey {
         format: wgpu::TextureFormat,
         /// Usages.
         usage: wgpu::TextureUsages,
+        /// Samples per texel.
+        samples: u32,
     },
     /// A buffer of this size and usage.
     Buffer {
@@ -94,6 +99,7 @@ impl From<&TextureDesc> for PoolKey {
             size: (d.width.max(1), d.height.max(1), d.layers.max(1)),
             format: d.format,
             usage: d.usage,
+            samples: d.samples.max(1),
         }
     }
 }

@@ -58,6 +58,11 @@ pub struct FrameResources {
     pub color_format: wgpu::TextureFormat,
     /// The target's size in pixels.
     pub size: (u32, u32),
+    /// Samples per pixel of the camera's colour and depth (1 without MSAA; decided once per
+    /// frame by the renderer from [`RenderOptions::msaa`](crate::render::RenderOptions) and
+    /// what the adapter supports). With more than one, the lighting pass draws into a
+    /// multisampled transient and resolves it into `color`.
+    pub samples: u32,
     /// The analysis targets, when the frame is scored (imported).
     pub analysis: Option<[TextureId; 3]>,
     /// The cascades' depth array (imported: it persists between frames).

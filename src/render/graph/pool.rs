@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use crate::render::graph::declare::{BufferId, PoolKey, TextureId};
 use crate::render::graph::schedule::Schedule;
-use crate::render::target::texture_2d;
+use crate::render::target::texture_2d_multisampled;
 
 /// Frames a pooled resource may go unused before it is freed (a resized window leaves its
 /// old depth buffer behind).
@@ -35,8 +35,10 @@ fn create(device: &wgpu::Device, key: PoolKey) -> Physical {
             size: (width, height, layers),
             format,
             usage,
+            samples,
         } => {
-            let texture = texture_2d(device, "graph transient", (width, height, layers), format, usage);
+            let extent = (width, height, layers);
+            let texture = texture_2d_multisampled(device, "graph transient", extent, format, usage, samples);
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             Physical::Texture(texture, view)
         }

@@ -163,6 +163,7 @@ mod tests {
             layers: 1,
             format: wgpu::TextureFormat::Depth32Float,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            samples: 1,
         }
     }
 

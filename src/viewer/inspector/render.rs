@@ -1,9 +1,9 @@
 //! The render-wide switches of [`RenderOptions`]: the depth prepass, the shadow cache, the
-//! compute visibility resolve and single-pass cascades.
+//! compute visibility resolve, single-pass cascades and MSAA.
 
 use egui::Ui;
 
-use crate::render::{DepthPrepass, RenderOptions};
+use crate::render::{DepthPrepass, Msaa, RenderOptions};
 
 /// Draws the switches over `options`; true when one changed.
 pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
@@ -27,5 +27,13 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
         .on_hover_text("filter the shadows per pixel in a compute pass after the prepass");
     ui.checkbox(&mut edited.single_pass_cascades, "single-pass cascades")
         .on_hover_text("draw a sun's cascades in one multiview pass where the GPU supports it");
+    ui.horizontal(|ui| {
+        ui.label("MSAA").on_hover_text(
+            "samples per pixel: smooth edges, and alpha-to-coverage for alpha-masked materials; 1× alpha-tests them",
+        );
+        for (value, name) in [(Msaa::Off, "1×"), (Msaa::Sample2, "2×"), (Msaa::Sample4, "4×")] {
+            ui.radio_value(&mut edited.msaa, value, name);
+        }
+    });
     *edited != before
 }
