@@ -143,7 +143,7 @@ struct RenderArgs {
     count_fragments: bool,
     /// Samples per pixel of the image (MSAA): 1 (off), 2 or 4; falls back, with a warning,
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
-    #[arg(long, default_value = "4")]
+    #[arg(long, default_value = "1")]
     msaa: Msaa,
     /// Print the summary (timings, counts, memory) as one JSON object instead of text.
     #[arg(long)]

@@ -280,10 +280,10 @@ fn render_switches_reach_the_render_options() {
     h.get_by_label("off").click();
     h.run();
     assert_eq!(options(&h).depth_prepass, DepthPrepass::Off);
-    assert_eq!(before.msaa, Msaa::Sample4, "4× MSAA by default");
-    h.get_by_label("1×").click();
+    assert_eq!(before.msaa, Msaa::Off, "MSAA off by default");
+    h.get_by_label("4×").click();
     h.run();
-    assert_eq!(options(&h).msaa, Msaa::Off);
+    assert_eq!(options(&h).msaa, Msaa::Sample4);
     // The renderer draws with them: without the cache every cascade is drawn each frame.
     h.state_mut().app.update();
     h.state_mut().app.update();

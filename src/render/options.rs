@@ -22,13 +22,16 @@ pub enum DepthPrepass {
 /// to the single-sample target at the end of the lighting pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Msaa {
-    /// One sample: no anti-aliasing; alpha-masked materials are alpha-tested.
+    /// One sample, the default: no anti-aliasing; alpha-masked materials are alpha-tested.
+    #[default]
     Off,
     /// Two samples (where the adapter has them for the target's format, else one).
     Sample2,
-    /// Four samples, the default: edges get intermediate coverage and alpha-masked materials
-    /// use alpha-to-coverage.
-    #[default]
+    /// Four samples: edges get intermediate coverage and alpha-masked materials use
+    /// alpha-to-coverage. Alpha-masked materials then filter their own shadows in the lighting
+    /// pass (the depth prepass cannot match their coverage, so the compute resolve has no
+    /// surface for them): on the H100 the default scene's frame went from 1.08 to 8.09 ms,
+    /// most of it the foliage's filtering (see `docs/benchmarks.md`).
     Sample4,
 }
 
@@ -102,7 +105,7 @@ pub struct RenderOptions {
     /// lavapipe draws primitives its clipper splits into the pass's first layer, so casters
     /// crossing a cascade's bounds land in the wrong cascade there.
     pub single_pass_cascades: bool,
-    /// Multisample anti-aliasing of the camera view (default [`Msaa::Sample4`]): the colour
+    /// Multisample anti-aliasing of the camera view (default [`Msaa::Off`]): the colour
     /// and depth the prepass and the lighting pass draw into have this many samples per
     /// pixel, resolved into the target. Where the adapter cannot multisample the target's
     /// format that many times, the largest count it can is used, with a logged warning. A
@@ -119,7 +122,7 @@ impl Default for RenderOptions {
             shadow_cache: true,
             visibility_resolve: true,
             single_pass_cascades: false,
-            msaa: Msaa::Sample4,
+            msaa: Msaa::Off,
         }
     }
 }
@@ -164,7 +167,7 @@ mod tests {
         assert!("four".parse::<Msaa>().is_err());
         assert_eq!(Msaa::from_samples(3), None);
         assert_eq!(Msaa::from_samples(8), None);
-        assert_eq!(RenderOptions::default().msaa, Msaa::Sample4);
+        assert_eq!(RenderOptions::default().msaa, Msaa::Off);
     }
 
     #[test]

@@ -40,7 +40,7 @@ pub struct ViewerArgs {
     pub exercise: bool,
     /// Samples per pixel (MSAA): 1 (off), 2 or 4; falls back, with a warning, to what the
     /// GPU supports. The inspector changes it live.
-    #[arg(long, default_value = "4")]
+    #[arg(long, default_value = "1")]
     pub msaa: Msaa,
 }
 
