@@ -30,6 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 base_color_texture: None,
                 alpha_mode: AlphaMode::Opaque,
                 double_sided: false,
+                transmission: 0.0,
             }),
         )
     };

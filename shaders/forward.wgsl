@@ -83,12 +83,23 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     for (var i = 0u; i < light_count(); i++) {
         let light = get_light(i);
         let incidence = light_incidence(light, in.world_position);
-        let n_dot_l = max(dot(normal, incidence.to_light), 0.0);
+        let cosine = dot(normal, incidence.to_light);
+        let n_dot_l = max(cosine, 0.0);
         var visibility = 1.0;
         if receives && n_dot_l > 0.0 {
             visibility = shadow_visibility(light, surface);
         }
         direct += incidence.radiance * n_dot_l * visibility;
+        if in.transmission > 0.0 && cosine < 0.0 {
+            // Diffuse transmission: the light on the other side, shadowed as that side is
+            // (what the resolve wrote for this pixel, or the filters with the normal turned
+            // towards the light).
+            var through = 1.0;
+            if receives {
+                through = shadow_visibility(light, make_surface(in.world_position, -normal, view_depth, in.clip_position.xy));
+            }
+            direct += incidence.radiance * (-cosine) * in.transmission * through;
+        }
 #ifdef ANALYSIS_OUTPUTS
         if i == frame.focus_light {
             focus = vec4<f32>(visibility, -1.0, select(0.0, 1.0, receives && n_dot_l > 0.0), n_dot_l);

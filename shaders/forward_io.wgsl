@@ -18,6 +18,9 @@ struct ForwardVertexOutput {
     @location(4) @interpolate(flat) cutoff: f32,
     // The instance flags (INSTANCE_FLAG_RECEIVE_SHADOWS).
     @location(5) @interpolate(flat) flags: u32,
+    // Diffuse transmission (0 for solids): the share of the light on the surface's other side
+    // that this side shows.
+    @location(6) @interpolate(flat) transmission: f32,
 }
 
 // The vertex stage for vertex `position`/`normal`/`uv` of draw instance `instance_index`.
@@ -32,5 +35,6 @@ fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, u
     out.base_color = instance.base_color;
     out.cutoff = instance.alpha_cutoff;
     out.flags = instance.flags;
+    out.transmission = instance.transmission;
     return out;
 }

@@ -12,8 +12,10 @@ struct Instance {
     alpha_cutoff: f32,
     // Bit 0: receives shadows.
     flags: u32,
-    padding_a: u32,
-    padding_b: u32,
+    // Diffuse transmission of a double-sided material (0 for solids): the share of the light
+    // on its lit side that its other side shows.
+    transmission: f32,
+    padding: u32,
 }
 
 const INSTANCE_FLAG_RECEIVE_SHADOWS: u32 = 1u;

@@ -37,7 +37,7 @@ fn surface_normal(in: ForwardVertexOutput, front_facing: bool) -> u32 {
     if !front_facing {
         normal = -normal;
     }
-    return pack_normal(normal, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u);
+    return pack_normal(normal, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u, in.transmission > 0.0);
 }
 
 @fragment

@@ -12,7 +12,7 @@
 // pixel whose sample 0 saw another surface reads that surface's shadow.
 #import penumbra::frame::frame
 #import penumbra::lights::{filtered_visibility, get_light, light_count, light_incidence, make_surface}
-#import penumbra::normal_packing::unpack_normal
+#import penumbra::normal_packing::{packed_transmits, unpack_normal}
 #import penumbra::shadows::types::RESOLVE_NONE
 
 #ifdef MULTISAMPLED
@@ -46,7 +46,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pixel = vec2<i32>(id.xy);
     // NOTE: the last argument is the mip level, or with MSAA the sample index: sample 0.
     let depth = textureLoad(camera_depth, pixel, 0);
-    let normal_flag = unpack_normal(textureLoad(camera_normals, pixel, 0).r);
+    let packed = textureLoad(camera_normals, pixel, 0).r;
+    let normal_flag = unpack_normal(packed);
+    // A surface with diffuse transmission facing away from a light shows the light its other
+    // side receives: that side's shadow (the normal turned towards the light).
+    let transmits = packed_transmits(packed);
     // Reverse-Z: 0 is the far plane, where nothing was drawn.
     let covered = depth > 0.0;
     let frag_coord = vec2<f32>(id.xy) + 0.5;
@@ -74,6 +78,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let to_light = light_incidence(light, world).to_light;
             if dot(normal, to_light) > 0.0 {
                 shadow = filtered_visibility(light, surface);
+            } else if transmits {
+                shadow = filtered_visibility(light, make_surface(world, -normal, view_depth, frag_coord));
             }
         }
         textureStore(visibility, pixel, i32(light.resolve_layer), vec4<f32>(shadow, 0.0, 0.0, 0.0));

@@ -131,10 +131,13 @@ fn shipped_sample_loads() {
     assert_eq!(leaf.alpha_mode, AlphaMode::Mask(0.5));
     assert_eq!(leaf.base_color_texture, Some(0));
     assert!(leaf.double_sided);
+    // KHR_materials_diffuse_transmission, read without a warning.
+    assert_eq!(leaf.transmission, 0.4);
     for opaque in &model.materials[..3] {
         assert_eq!(opaque.alpha_mode, AlphaMode::Opaque);
         assert_eq!(opaque.base_color_texture, None);
         assert!(!opaque.double_sided);
+        assert_eq!(opaque.transmission, 0.0);
     }
     assert_eq!(model.materials[0].base_color, glam::Vec4::new(0.60, 0.22, 0.10, 1.0));
 
@@ -311,9 +314,23 @@ fn approximations_are_warned() {
         root.meshes[0].primitives[1].mode = Checked::Valid(json::mesh::Mode::TriangleFan);
         root.meshes[2].primitives[0].mode = Checked::Valid(json::mesh::Mode::Points);
         root.materials[3].alpha_mode = Checked::Valid(json::material::AlphaMode::Blend);
+        let transmission = root.materials[3].extensions.as_mut().expect("the frond's extension");
+        transmission.others.insert(
+            "KHR_materials_diffuse_transmission".to_owned(),
+            json::Value::Object(
+                [("diffuseTransmissionFactor".to_owned(), json::Value::from(2.0))]
+                    .into_iter()
+                    .collect(),
+            ),
+        );
     });
     let model = load(&path).unwrap();
     let warnings = model.warnings.join("\n");
+    assert!(
+        warnings.contains("material 3 (`frond`): diffuseTransmissionFactor 2 clamped to 0..=1"),
+        "{warnings}"
+    );
+    assert_eq!(model.materials[3].transmission, 1.0);
     assert!(
         warnings.contains("mesh 1 primitive 0: no NORMAL attribute; flat normals computed"),
         "{warnings}"

@@ -185,6 +185,7 @@ impl PreparedScene {
                     scene::AlphaMode::Mask(c) => AlphaMode::Mask(c),
                 },
                 double_sided: m.is_double_sided(),
+                transmission: m.transmission,
             });
         }
         Ok(())

@@ -190,7 +190,8 @@ fn rebuild<'a>(
             base_color: mat.base_color,
             alpha_cutoff: mat.alpha_cutoff(),
             flags: if *receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 },
-            _pad: [0; 2],
+            transmission: mat.effective_transmission(),
+            _pad: 0,
         });
         let (center, radius) = bounds.bounding_sphere();
         out.keys.push(*key);

@@ -107,7 +107,8 @@ pub(super) fn load(path: &Path, io: &AssetIo) -> Result<GltfModel, GltfError> {
     validate(&cx, &root, json_text(&bytes))?;
     drop(bytes);
     for ext in &root.extensions_used {
-        if !root.extensions_required.contains(ext) {
+        // NOTE: only the diffuse transmission factor is read of the one extension supported.
+        if ext != material::DIFFUSE_TRANSMISSION && !root.extensions_required.contains(ext) {
             cx.warn(format!("extension {ext} is ignored"));
         }
     }

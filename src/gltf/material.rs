@@ -1,4 +1,5 @@
-//! Materials: base colour factor and texture, alpha mode, double-sidedness.
+//! Materials: base colour factor and texture, alpha mode, double-sidedness, diffuse
+//! transmission (`KHR_materials_diffuse_transmission`).
 
 use ::gltf::Document;
 use ::gltf::material::AlphaMode as GltfAlphaMode;
@@ -51,13 +52,43 @@ pub(super) fn read_materials(cx: &mut Cx, document: &Document) -> Vec<GltfMateri
                 AlphaMode::Mask(DEFAULT_CUTOFF)
             }
         };
+        let transmission = diffuse_transmission(cx, &label, &material);
         out.push(GltfMaterial {
             name: material.name().map(str::to_owned),
             base_color: Vec4::from(pbr.base_color_factor()),
             base_color_texture,
             alpha_mode,
             double_sided: material.double_sided(),
+            transmission,
         });
     }
     out
+}
+
+/// The glTF extension for thin, light-passing surfaces such as leaves.
+pub(super) const DIFFUSE_TRANSMISSION: &str = "KHR_materials_diffuse_transmission";
+
+/// `diffuseTransmissionFactor` of the material's `KHR_materials_diffuse_transmission`
+/// (default 0, and 0 without the extension); a value outside 0–1 or not a number is clamped
+/// or ignored with a warning. Its texture and colour are not read.
+fn diffuse_transmission(cx: &mut Cx, label: &str, material: &::gltf::Material<'_>) -> f32 {
+    let Some(ext) = material.extension_value(DIFFUSE_TRANSMISSION) else {
+        return 0.0;
+    };
+    match ext.get("diffuseTransmissionFactor") {
+        None => 0.0,
+        Some(v) => match v.as_f64() {
+            Some(f) if (0.0..=1.0).contains(&f) => f as f32,
+            Some(f) if f.is_finite() => {
+                cx.warn(format!("{label}: diffuseTransmissionFactor {f} clamped to 0..=1"));
+                f.clamp(0.0, 1.0) as f32
+            }
+            _ => {
+                cx.warn(format!(
+                    "{label}: diffuseTransmissionFactor {v} is not a number; ignored"
+                ));
+                0.0
+            }
+        },
+    }
 }

@@ -80,6 +80,9 @@ pub struct GltfMaterial {
     pub alpha_mode: AlphaMode,
     /// Whether back faces are drawn (and cast shadows) too.
     pub double_sided: bool,
+    /// `KHR_materials_diffuse_transmission`'s `diffuseTransmissionFactor` (0 without the
+    /// extension): the share of light a thin double-sided surface passes to its other side.
+    pub transmission: f32,
 }
 
 /// A node of the scene that draws a mesh, with its transform composed through its ancestors.

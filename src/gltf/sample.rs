@@ -22,6 +22,8 @@ use glam::{DQuat, Vec2, Vec3};
 use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 
+use crate::gltf::material::DIFFUSE_TRANSMISSION;
+
 /// File name of the sample's glTF JSON.
 pub const SAMPLE_GLTF: &str = "fern.gltf";
 /// File name of the sample's binary buffer, referenced by [`SAMPLE_GLTF`].
@@ -39,6 +41,8 @@ pub const LEAF_TEXTURE_HEIGHT: u32 = 128;
 pub const FROND_HALF_WIDTH: f32 = 0.15;
 /// Length of a leaf card from its base (mesh origin) to its tip at (0, this, 0), in metres.
 pub const FROND_LENGTH: f32 = 0.7;
+/// The fronds' diffuse transmission (`KHR_materials_diffuse_transmission`).
+pub const LEAF_TRANSMISSION: f64 = 0.4;
 
 /// The three files of the sample model, ready to write side by side.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -134,6 +138,7 @@ pub fn build() -> SampleFiles {
     });
     b.root.scene = Some(scene);
     b.root.asset.generator = Some("penumbra::gltf::sample".into());
+    b.root.extensions_used.push(DIFFUSE_TRANSMISSION.to_owned());
     b.root.buffers.push(json::Buffer {
         byte_length: USize64::from(b.bin.len()),
         name: Some("fern".into()),
@@ -408,7 +413,16 @@ impl Builder {
         texture: Option<Index<json::Texture>>,
     ) -> Index<json::Material> {
         let masked = texture.is_some();
+        // The leaves pass some light to their undersides.
+        let extensions = masked.then(|| {
+            let factor = json::Value::from(LEAF_TRANSMISSION);
+            let extension =
+                json::Value::Object([("diffuseTransmissionFactor".to_owned(), factor)].into_iter().collect());
+            let others = [(DIFFUSE_TRANSMISSION.to_owned(), extension)].into_iter().collect();
+            json::extensions::material::Material { others }
+        });
         self.root.push(json::Material {
+            extensions,
             alpha_cutoff: masked.then_some(AlphaCutoff(0.5)),
             alpha_mode: Checked::Valid(if masked { AlphaMode::Mask } else { AlphaMode::Opaque }),
             double_sided: masked,

@@ -104,8 +104,10 @@ pub struct InstanceGpu {
     pub alpha_cutoff: f32,
     /// `INSTANCE_FLAG_*` bits.
     pub flags: u32,
+    /// Diffuse transmission ([`Material::effective_transmission`](crate::ecs::assets::Material::effective_transmission)).
+    pub transmission: f32,
     /// Padding to the WGSL size.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// The instance receives shadows.
@@ -228,8 +230,8 @@ mod tests {
                         ("base_color", offset_of!(InstanceGpu, base_color)),
                         ("alpha_cutoff", offset_of!(InstanceGpu, alpha_cutoff)),
                         ("flags", offset_of!(InstanceGpu, flags)),
-                        ("padding_a", offset_of!(InstanceGpu, _pad)),
-                        ("padding_b", offset_of!(InstanceGpu, _pad) + 4),
+                        ("transmission", offset_of!(InstanceGpu, transmission)),
+                        ("padding", offset_of!(InstanceGpu, _pad)),
                     ],
                     size_of::<InstanceGpu>(),
                 ),

@@ -198,6 +198,10 @@ pub struct MaterialDesc {
     /// [`is_double_sided`](Self::is_double_sided).
     #[serde(default)]
     pub double_sided: Option<bool>,
+    /// Diffuse transmission of a double-sided material, 0–1 (default 0): the share of the
+    /// light on one side that the other side shows, as a leaf's underside in the sun.
+    #[serde(default)]
+    pub transmission: f32,
 }
 
 impl MaterialDesc {

@@ -298,6 +298,10 @@ fn check_material(c: &mut Checks, i: usize, m: &MaterialDesc, materials: &FieldP
             c.add(at.field("texture"), expected, format!("{shown} ({e})"));
         }
     }
+    if !(0.0..=1.0).contains(&m.transmission) {
+        let expected = "a diffuse transmission from 0 to 1";
+        c.add(at.field("transmission"), expected, m.transmission.shown());
+    }
     if let AlphaMode::Mask(cutoff) = m.alpha
         && !(cutoff > 0.0 && cutoff <= 1.0)
     {

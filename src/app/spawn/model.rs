@@ -34,6 +34,7 @@ impl PreparedScene {
             base_color_texture: m.base_color_texture.map(|i| ImageHandle((first_image + i) as u32)),
             alpha_mode: m.alpha_mode,
             double_sided: m.double_sided,
+            transmission: m.transmission,
         }));
         self.images.extend(model.images);
         // Mesh index of each primitive, per glTF mesh.

@@ -269,7 +269,8 @@ impl Geometry {
                 base_color: Vec4::ONE,
                 alpha_cutoff: 0.0,
                 flags: 0,
-                _pad: [0; 2],
+                transmission: 0.0,
+                _pad: 0,
             })
             .collect();
         let draw_indices: Vec<u32> = (0..casters.len().max(1) as u32).collect();
