@@ -8,7 +8,7 @@
 // every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
 // point-light shadows) and the filter defs of penumbra::shadows.
 #import penumbra::frame::frame
-#import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
@@ -75,6 +75,9 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     let view_depth = -(frame.view_from_world * vec4<f32>(in.world_position, 1.0)).z;
     let surface = make_surface(in.world_position, normal, view_depth, in.clip_position.xy);
     let receives = (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u;
+#ifdef TRANSMISSION
+    let through_share = transmission(in);
+#endif
 
     var direct = vec3<f32>(0.0);
 #ifdef ANALYSIS_OUTPUTS
@@ -90,7 +93,8 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
             visibility = shadow_visibility(light, surface);
         }
         direct += incidence.radiance * n_dot_l * visibility;
-        if in.transmission > 0.0 && cosine < 0.0 {
+#ifdef TRANSMISSION
+        if through_share > 0.0 && cosine < 0.0 {
             // Diffuse transmission: the light on the other side, shadowed as that side is
             // (what the resolve wrote for this pixel, or the filters with the normal turned
             // towards the light).
@@ -98,8 +102,9 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
             if receives {
                 through = shadow_visibility(light, make_surface(in.world_position, -normal, view_depth, in.clip_position.xy));
             }
-            direct += incidence.radiance * (-cosine) * in.transmission * through;
+            direct += incidence.radiance * (-cosine) * through_share * through;
         }
+#endif
 #ifdef ANALYSIS_OUTPUTS
         if i == frame.focus_light {
             focus = vec4<f32>(visibility, -1.0, select(0.0, 1.0, receives && n_dot_l > 0.0), n_dot_l);

@@ -16,11 +16,15 @@ struct ForwardVertexOutput {
     @location(3) @interpolate(flat) base_color: vec4<f32>,
     // Alpha below this is discarded (masked materials only).
     @location(4) @interpolate(flat) cutoff: f32,
-    // The instance flags (INSTANCE_FLAG_RECEIVE_SHADOWS).
+    // The instance flags (INSTANCE_FLAG_RECEIVE_SHADOWS) in bits 0–7 and the diffuse
+    // transmission in bits 8–15 (255 = 1; read it with `transmission`).
     @location(5) @interpolate(flat) flags: u32,
-    // Diffuse transmission (0 for solids): the share of the light on the surface's other side
-    // that this side shows.
-    @location(6) @interpolate(flat) transmission: f32,
+}
+
+// The share of the light on the surface's other side that this side shows (diffuse
+// transmission; 0 for solids).
+fn transmission(in: ForwardVertexOutput) -> f32 {
+    return f32((in.flags >> 8u) & 0xffu) / 255.0;
 }
 
 // The vertex stage for vertex `position`/`normal`/`uv` of draw instance `instance_index`.
@@ -34,7 +38,8 @@ fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, u
     out.uv = uv;
     out.base_color = instance.base_color;
     out.cutoff = instance.alpha_cutoff;
-    out.flags = instance.flags;
-    out.transmission = instance.transmission;
+    // NOTE: in the flags, so that it costs no interpolant of its own.
+    let share = u32(round(saturate(instance.transmission) * 255.0));
+    out.flags = (instance.flags & 0xffu) | (share << 8u);
     return out;
 }

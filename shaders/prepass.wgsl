@@ -5,7 +5,7 @@
 // fragment stage; the masked one discards texels below the material's alpha cutoff. When the
 // frame resolves shadows in a compute pass, the `*_normal` stages also write each pixel's
 // normal (facing the camera) and whether it receives shadows, for the resolve.
-#import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
+#import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::normal_packing::pack_normal
 
@@ -37,7 +37,7 @@ fn surface_normal(in: ForwardVertexOutput, front_facing: bool) -> u32 {
     if !front_facing {
         normal = -normal;
     }
-    return pack_normal(normal, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u, in.transmission > 0.0);
+    return pack_normal(normal, (in.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u, transmission(in) > 0.0);
 }
 
 @fragment

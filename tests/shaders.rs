@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        384,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view and analysis outputs, and opaque, alpha-masked or alpha-to-coverage"
+        768,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, transmission and analysis outputs, and opaque, alpha-masked or alpha-to-coverage"
     );
     let mut covered = 0;
     for variant in variants {
@@ -28,7 +28,17 @@ fn every_forward_variant_validates() {
         );
         covered += variant.alpha_to_coverage as u32;
     }
-    assert_eq!(covered, 128);
+    assert_eq!(covered, 256);
+    // The transmission code is compiled in only when asked for.
+    let base = ForwardVariant::all()[0];
+    assert!(!base.transmission);
+    let mut size = |v: ForwardVariant| library.forward(v).unwrap().entry_points[1].function.expressions.len();
+    let without = size(base);
+    let with = size(ForwardVariant {
+        transmission: true,
+        ..base
+    });
+    assert!(with > without + 10, "transmission adds {with} − {without} expressions");
 }
 
 /// Whether `function` has a `discard` anywhere in its body.

@@ -252,6 +252,7 @@ impl RenderNode for ForwardPass {
         let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
             let variant = ForwardVariant {
                 analysis,
+                transmission: ctx.scene.any_transmission,
                 ..ForwardVariant::for_lights(lights, alpha_mask).with_samples(samples)
             };
             let variant = match visibility {

@@ -53,6 +53,9 @@ pub struct SceneGpu {
     pub view_group: wgpu::BindGroup,
     mesh_generation: u64,
     material_generation: (u64, u64),
+    /// Whether a material has diffuse transmission: the lighting pass compiles its code in
+    /// only then.
+    pub any_transmission: bool,
 }
 
 pub(crate) fn instances_group(
@@ -128,6 +131,7 @@ impl SceneGpu {
             view_group,
             mesh_generation: u64::MAX,
             material_generation: (u64::MAX, u64::MAX),
+            any_transmission: false,
         }
     }
 
@@ -265,6 +269,7 @@ impl SceneGpu {
         // NOTE: keyed by image and alpha test (bit patterns: cutoff, factor), so materials
         // that sample an image the same way share one texture.
         let mut views: HashMap<TextureKey, wgpu::TextureView> = HashMap::new();
+        self.any_transmission = materials.as_slice().iter().any(|m| m.effective_transmission() > 0.0);
         self.material_groups = materials
             .as_slice()
             .iter()
