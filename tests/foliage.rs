@@ -9,7 +9,9 @@ use penumbra::render::target::HEADLESS_FORMAT;
 use penumbra::render::{DepthPrepass, GpuContext, Msaa, RenderOptions};
 use penumbra::scene::SceneDesc;
 
-const INSTALL: &str = "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)";
+mod common;
+
+use common::{INSTALL, plane_region as region, still_frame as render_with};
 
 fn render(desc: &SceneDesc, size: (u32, u32), msaa: Msaa, analysis: bool) -> HeadlessFrame {
     let options = RenderOptions {
@@ -17,23 +19,6 @@ fn render(desc: &SceneDesc, size: (u32, u32), msaa: Msaa, analysis: bool) -> Hea
         ..RenderOptions::default()
     };
     render_with(desc, size, options, analysis)
-}
-
-fn render_with(desc: &SceneDesc, (width, height): (u32, u32), options: RenderOptions, analysis: bool) -> HeadlessFrame {
-    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.temporal_rotation = false;
-    render_scene_with(
-        desc,
-        &RenderRequest {
-            width,
-            height,
-            frames: 1,
-            tweak: Some(&tweak),
-            analysis,
-            options,
-            count_fragments: false,
-        },
-    )
-    .expect(INSTALL)
 }
 
 /// The garden, looking up at its tallest fern against the sky.
@@ -151,18 +136,6 @@ const BACK_FACES: &str = r#"Scene(
         (shape: Cuboid(size: (0.4, 0.02, 0.4)), material: "one", translation: (2.23, -0.3, -0.17)),
     ],
 )"#;
-
-/// Where on a plane centred at `(x, 0, 0)` a point `p` lies: in the slab's shadow, in the
-/// sun, or near the shadow's edge or off the plane (None).
-fn region(p: Vec3, x: f32) -> Option<bool> {
-    let (u, v) = (p.x - x, p.z);
-    if p.y.abs() > 1e-3 || u.abs() > 0.7 || v.abs() > 0.7 {
-        return None;
-    }
-    let inside = u.abs() < 0.1 && v.abs() < 0.1;
-    let outside = u.abs() > 0.35 || v.abs() > 0.35;
-    (inside || outside).then_some(inside)
-}
 
 /// Mean colour of the pixels in the shadow (`shadowed`) or the sun on the plane at `x`, and
 /// their count.

@@ -6,11 +6,12 @@
 
 use glam::Vec3;
 use image::RgbaImage;
-use penumbra::app::{HeadlessFrame, RenderRequest, render_scene_with};
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::SceneDesc;
 
-const INSTALL: &str = "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)";
+mod common;
+
+use common::{plane_region as region, still_frame as render};
 
 /// Three 1.5 m planes seen from below with a low sun above them (n·l = 0.36): an opaque one and an
 /// alpha-masked one passing half the light through, and one passing none. A small slab 0.3 m
@@ -37,35 +38,6 @@ const LEAVES: &str = r#"Scene(
         (shape: Cuboid(size: (0.4, 0.02, 0.4)), material: "slab", translation: (1.23, 0.3, -0.17)),
     ],
 )"#;
-
-fn render(desc: &SceneDesc, (width, height): (u32, u32), options: RenderOptions, analysis: bool) -> HeadlessFrame {
-    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.temporal_rotation = false;
-    render_scene_with(
-        desc,
-        &RenderRequest {
-            width,
-            height,
-            frames: 1,
-            tweak: Some(&tweak),
-            analysis,
-            options,
-            count_fragments: false,
-        },
-    )
-    .expect(INSTALL)
-}
-
-/// Where on the plane centred at `(x, 0, 0)` a point lies: under the slab's shadow (true), in
-/// the sun (false), or near the shadow's edge or off the plane (None).
-fn region(p: Vec3, x: f32) -> Option<bool> {
-    let (u, v) = (p.x - x, p.z);
-    if p.y.abs() > 1e-3 || u.abs() > 0.7 || v.abs() > 0.7 {
-        return None;
-    }
-    let inside = u.abs() < 0.1 && v.abs() < 0.1;
-    let outside = u.abs() > 0.35 || v.abs() > 0.35;
-    (inside || outside).then_some(inside)
-}
 
 /// Mean sRGB level (of the three channels) of the pixels of one region of the plane at `x`,
 /// and their count.

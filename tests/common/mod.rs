@@ -10,10 +10,10 @@ use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
 use glam::{Vec3, Vec4};
-use penumbra::app::{headless_app, spawn_scene};
+use penumbra::app::{HeadlessFrame, RenderRequest, headless_app, render_scene_with, spawn_scene};
 use penumbra::ecs::{Material, Materials, Mesh3d, MeshMaterial3d, Meshes, Transform};
 use penumbra::mesh::cuboid;
-use penumbra::render::Renderer;
+use penumbra::render::{RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
 
@@ -71,4 +71,45 @@ pub fn spawn_box(world: &mut World, size: Vec3, color: Vec4, at: Vec3) -> Entity
     world
         .spawn((Transform::from_translation(at), Mesh3d(mesh), MeshMaterial3d(material)))
         .id()
+}
+
+/// What a GPU test says when it finds no adapter.
+pub const INSTALL: &str =
+    "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)";
+
+/// One frame of `desc` at `width × height` with `options` and temporal rotation off, with the
+/// analysis targets when `analysis` is set.
+pub fn still_frame(
+    desc: &SceneDesc,
+    (width, height): (u32, u32),
+    options: RenderOptions,
+    analysis: bool,
+) -> HeadlessFrame {
+    let tweak = |s: &mut ShadowSettings| s.temporal_rotation = false;
+    render_scene_with(
+        desc,
+        &RenderRequest {
+            width,
+            height,
+            frames: 1,
+            tweak: Some(&tweak),
+            analysis,
+            options,
+            count_fragments: false,
+        },
+    )
+    .expect(INSTALL)
+}
+
+/// Where on a 1.5 m plane in y = 0 centred at `(x, 0, 0)` a point `p` lies, for a 0.4 m
+/// square of shadow cast onto its middle: in the shadow (true), in the sun (false), or near
+/// the shadow's edge or off the plane (None).
+pub fn plane_region(p: Vec3, x: f32) -> Option<bool> {
+    let (u, v) = (p.x - x, p.z);
+    if p.y.abs() > 1e-3 || u.abs() > 0.7 || v.abs() > 0.7 {
+        return None;
+    }
+    let inside = u.abs() < 0.1 && v.abs() < 0.1;
+    let outside = u.abs() > 0.35 || v.abs() > 0.35;
+    (inside || outside).then_some(inside)
 }
