@@ -11,7 +11,7 @@ use penumbra::scene::SceneDesc;
 
 mod common;
 
-use common::{INSTALL, plane_region as region, still_frame as render_with};
+use common::{INSTALL, plane_colour, plane_region as region, still_frame as render_with};
 
 fn render(desc: &SceneDesc, size: (u32, u32), msaa: Msaa, analysis: bool) -> HeadlessFrame {
     let options = RenderOptions {
@@ -136,22 +136,6 @@ const BACK_FACES: &str = r#"Scene(
         (shape: Cuboid(size: (0.4, 0.02, 0.4)), material: "one", translation: (2.23, -0.3, -0.17)),
     ],
 )"#;
-
-/// Mean colour of the pixels in the shadow (`shadowed`) or the sun on the plane at `x`, and
-/// their count.
-fn plane_colour(image: &RgbaImage, positions: &[Vec3], x: f32, shadowed: bool) -> ([f32; 3], usize) {
-    let mut sum = [0.0f32; 3];
-    let mut n = 0;
-    for (p, pixel) in positions.iter().zip(image.pixels()) {
-        if region(*p, x) == Some(shadowed) {
-            for (total, &channel) in sum.iter_mut().zip(&pixel.0) {
-                *total += f32::from(channel);
-            }
-            n += 1;
-        }
-    }
-    (sum.map(|s| s / n.max(1) as f32), n)
-}
 
 #[test]
 fn the_back_of_a_double_sided_surface_is_lit_by_a_sun_on_its_side() {

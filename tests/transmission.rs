@@ -11,7 +11,7 @@ use penumbra::scene::SceneDesc;
 
 mod common;
 
-use common::{plane_region as region, still_frame as render};
+use common::{plane_colour, still_frame as render};
 
 /// Three 1.5 m planes seen from below with a low sun above them (n·l = 0.36): an opaque one and an
 /// alpha-masked one passing half the light through, and one passing none. A small slab 0.3 m
@@ -42,14 +42,8 @@ const LEAVES: &str = r#"Scene(
 /// Mean sRGB level (of the three channels) of the pixels of one region of the plane at `x`,
 /// and their count.
 fn level(image: &RgbaImage, positions: &[Vec3], x: f32, shadowed: bool) -> (f32, usize) {
-    let (mut sum, mut n) = (0.0, 0);
-    for (p, pixel) in positions.iter().zip(image.pixels()) {
-        if region(*p, x) == Some(shadowed) {
-            sum += pixel.0[..3].iter().map(|&c| f32::from(c)).sum::<f32>() / 3.0;
-            n += 1;
-        }
-    }
-    (sum / n.max(1) as f32, n)
+    let (colour, n) = plane_colour(image, positions, x, shadowed);
+    (colour.iter().sum::<f32>() / 3.0, n)
 }
 
 #[test]

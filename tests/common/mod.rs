@@ -10,6 +10,7 @@ use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
 use glam::{Vec3, Vec4};
+use image::RgbaImage;
 use penumbra::app::{HeadlessFrame, RenderRequest, headless_app, render_scene_with, spawn_scene};
 use penumbra::ecs::{Material, Materials, Mesh3d, MeshMaterial3d, Meshes, Transform};
 use penumbra::mesh::cuboid;
@@ -112,4 +113,20 @@ pub fn plane_region(p: Vec3, x: f32) -> Option<bool> {
     let inside = u.abs() < 0.1 && v.abs() < 0.1;
     let outside = u.abs() > 0.35 || v.abs() > 0.35;
     (inside || outside).then_some(inside)
+}
+
+/// Mean colour (sRGB levels) of the pixels of `image` whose `positions` lie in the shadow
+/// (`shadowed`) or the sun on the plane at `x` ([`plane_region`]), and their count.
+pub fn plane_colour(image: &RgbaImage, positions: &[Vec3], x: f32, shadowed: bool) -> ([f32; 3], usize) {
+    let mut sum = [0.0f32; 3];
+    let mut n = 0;
+    for (p, pixel) in positions.iter().zip(image.pixels()) {
+        if plane_region(*p, x) == Some(shadowed) {
+            for (total, &channel) in sum.iter_mut().zip(&pixel.0) {
+                *total += f32::from(channel);
+            }
+            n += 1;
+        }
+    }
+    (sum.map(|s| s / n.max(1) as f32), n)
 }
