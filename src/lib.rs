@@ -28,6 +28,12 @@ pub use glam;
 /// The `wgpu` this crate is built with (the renderer's device, textures and passes).
 pub use wgpu;
 
+/// The commit this crate was built from: the short hash of the checkout's `HEAD`, with
+/// `-dirty` when its sources (`src`, `shaders`, `Cargo.toml`, `Cargo.lock`, `build.rs`) had
+/// uncommitted changes, or `unknown` when it was not built from a git checkout. Embedded at
+/// build time by `build.rs`; reports name it as the code they measured.
+pub const BUILD_COMMIT: &str = env!("PENUMBRA_BUILD_COMMIT");
+
 #[cfg(feature = "bench")]
 pub mod analysis;
 pub mod app;

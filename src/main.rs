@@ -298,6 +298,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         return Ok(());
     }
     println!("scene      {}", scene.display());
+    println!("commit     {}", penumbra::BUILD_COMMIT);
     println!("adapter    {}", result.adapter);
     println!(
         "image      {} ({}x{}, {} frames)",

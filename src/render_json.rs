@@ -10,7 +10,7 @@ use penumbra::render::timer::median_passes;
 use penumbra::settings::ShadowSettings;
 
 /// The summary of a headless render of `scene` into `out` (`size`: width, height, frames)
-/// with the sun's `settings` (None for a scene without a sun): the adapter, counts, shadow
+/// with the sun's `settings` (None for a scene without a sun): the commit built from, the adapter, counts, shadow
 /// memory, per-view casters and draws, CPU times of the last frame, and each GPU pass's median
 /// time (with the total; empty without timestamp queries).
 pub fn summary_json(
@@ -31,6 +31,7 @@ pub fn summary_json(
     let stats = &result.stats;
     json!({
         "scene": scene.display().to_string(),
+        "commit": penumbra::BUILD_COMMIT,
         "adapter": result.adapter,
         "image": { "path": out.display().to_string(), "width": width, "height": height, "frames": frames.max(1) },
         "instances": { "total": result.instances, "visible": stats.visible_instances },

@@ -270,10 +270,32 @@ fn the_instance_budget_is_set_on_the_command_line() {
 fn a_render_prints_its_summary_as_json_when_asked() {
     let dir = scratch("json");
     let image = dir.join("out.png");
-    let out = small_render(&["--json", "--mode", "msm", "--out", image.to_str().unwrap()]);
+    // The commit is the one the binary was built from, whatever the environment says.
+    let out = Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args([
+            "render",
+            "assets/scenes/default.ron",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--frames",
+            "1",
+        ])
+        .args(["--json", "--mode", "msm", "--out", image.to_str().unwrap()])
+        .env("PENUMBRA_COMMIT", "not-this-one")
+        .output()
+        .expect("the penumbra binary runs");
     assert!(out.status.success(), "{}", stderr(&out));
     let summary: serde_json::Value =
         serde_json::from_str(&stdout(&out)).unwrap_or_else(|e| panic!("{e}: {}", stdout(&out)));
+    assert_eq!(summary["commit"], penumbra::BUILD_COMMIT);
+    let hash = penumbra::BUILD_COMMIT.trim_end_matches("-dirty");
+    assert!(
+        penumbra::BUILD_COMMIT == "unknown" || (hash.len() == 12 && hash.chars().all(|c| c.is_ascii_hexdigit())),
+        "{}",
+        penumbra::BUILD_COMMIT
+    );
     assert_eq!(summary["image"]["width"], 48);
     assert_eq!(summary["image"]["height"], 32);
     assert_eq!(summary["sun"]["mode"], "Msm");

@@ -253,7 +253,7 @@ pub fn run_bench_collecting(
         adapter: info.name.clone(),
         driver: format!("{} {}", info.driver, info.driver_info),
         backend: format!("{:?}", info.backend),
-        commit: commit(),
+        commit: crate::BUILD_COMMIT.to_string(),
         date: today(),
         width: config.width,
         height: config.height,
@@ -294,20 +294,6 @@ fn reference_description(r: &ReferenceSettings) -> String {
         "{}–{} rays per point, adaptive, seed {}",
         r.min_samples, r.max_samples, r.seed
     )
-}
-
-/// The commit being measured: `PENUMBRA_COMMIT` if set, else `git rev-parse`, else "unknown".
-fn commit() -> String {
-    if let Ok(c) = std::env::var("PENUMBRA_COMMIT") {
-        return c;
-    }
-    std::process::Command::new("git")
-        .args(["rev-parse", "--short=12", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-        .unwrap_or_else(|| "unknown".to_string())
 }
 
 /// Today's date (UTC) as YYYY-MM-DD, from the system clock.
