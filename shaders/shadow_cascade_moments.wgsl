@@ -3,10 +3,18 @@
 // (`blur`, once along each axis: from the moments into a one-layer scratch, and back), and
 // with contact hardening averages them down a mip chain (`downsample`, one level at a time).
 // Reverse-Z orthographic depth is linear in the distance from the light, so d = 1 − z grows
-// away from the light from 0 (the box's light side) to 1 (its far side).
+// away from the light from 0 (the box's light side) to 1 (its far side); the moments are of d
+// remapped from the cascade's receiver span [depth_start, 1] to [0, 1] (casters above every
+// receiver clamp to 0), so the format's precision and the warp cover the depths receivers
+// have. Without contact hardening, half-float EVSM moments are stored with their variance
+// rounded down, so rounding never lights a caster's foot (with it, a foot compares the depth
+// itself, and rounding to the nearest keeps penumbrae their width).
 //
-// Shader defs: MOMENTS_RG32 (the moments are `rg32float`: EVSM2 in 32 bits), MOMENTS_RGBA32
-// (`rgba32float`), MOMENTS_RGBA16_UNORM (`rgba16unorm`: MSM only), else `rgba16float`.
+// EVSM2 stores its moments with their coverage, (o·w, o·w², o), o being 1 where a caster was
+// drawn and 0 in an empty texel, so the test can light a footprint's empty share.
+//
+// Shader defs: MOMENTS_RGBA32 (the moments are `rgba32float`), MOMENTS_RGBA16_UNORM
+// (`rgba16unorm`: MSM only), else `rgba16float`.
 
 #import penumbra::shadows::moments::{negative_warp, positive_warp}
 #import penumbra::shadows::msm::{msm_moments, msm_quantize}
@@ -30,12 +38,15 @@ struct CascadeMomentsJob {
     radius: f32,
     // Blur: 0 along x, 1 along y. Downsample: the side of the level read, in texels.
     axis: u32,
+    // Where the cascade's receivers start in d (`ShadowView::range.w`).
+    depth_start: f32,
+    // 1: half-float EVSM moments are stored with their variance rounded down
+    // (`half_moments_rounded_down`).
+    variance_down: u32,
 }
 
 @group(0) @binding(0) var depth_layers: texture_depth_2d_array;
-#ifdef MOMENTS_RG32
-@group(0) @binding(1) var moments_out: texture_storage_2d_array<rg32float, write>;
-#else ifdef MOMENTS_RGBA32
+#ifdef MOMENTS_RGBA32
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba32float, write>;
 #else ifdef MOMENTS_RGBA16_UNORM
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba16unorm, write>;
@@ -45,25 +56,63 @@ struct CascadeMomentsJob {
 @group(0) @binding(2) var<uniform> job: CascadeMomentsJob;
 @group(0) @binding(3) var moments_in: texture_2d_array<f32>;
 
-// The moments of one texel at depth `d` (0 at the light's side).
-fn texel_moments(d: f32) -> vec4<f32> {
+// The moments of one texel at depth `d` (0 at the light's side); `occupied`: a caster was
+// drawn there.
+fn texel_moments(d: f32, occupied: bool) -> vec4<f32> {
     if job.technique == TECHNIQUE_EVSM2 {
+        let o = select(0.0, 1.0, occupied);
         let w = positive_warp(d, job.c_positive);
-        return vec4<f32>(w, w * w, 0.0, 0.0);
+        return vec4<f32>(o * w, o * w * w, o, 0.0);
     }
     if job.technique == TECHNIQUE_EVSM4 {
         let p = positive_warp(d, job.c_positive);
         let n = negative_warp(d, job.c_negative);
         return vec4<f32>(p, p * p, n, n * n);
     }
-#ifdef MOMENTS_RG32
-    return msm_moments(d);
-#else ifdef MOMENTS_RGBA32
+#ifdef MOMENTS_RGBA32
     // 32-bit channels hold the raw power moments.
     return msm_moments(d);
 #else
     // 16-bit channels need the optimised quantisation.
     return msm_quantize(msm_moments(d));
+#endif
+}
+
+// The half float nearest `x` (ties away from zero), as an f32: the 13 mantissa bits a half
+// float lacks rounded off (`pack2x16float` needs a capability not every device has). For `x`
+// in the half floats' normal range.
+fn half_nearest(x: f32) -> f32 {
+    return bitcast<f32>((bitcast<u32>(x) + 0x1000u) & 0xffffe000u);
+}
+
+// The largest half float at or below `x` ≥ 0: the lacking bits cut.
+fn half_at_or_below(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) & 0xffffe000u);
+}
+
+// A pair of moments (m, m²) as half floats whose variance about the stored mean is never above
+// the pair's: the mean rounded to the nearest, the second moment down. Rounded to the
+// nearest, a uniform occluder got a variance of up to about a thousandth of m², which
+// Chebyshev's bound reads as depth spread: receivers within centimetres behind it were lit.
+fn half_moments_rounded_down(m: vec2<f32>) -> vec2<f32> {
+    let mean = half_nearest(m.x);
+    let variance = max(m.y - m.x * m.x, 0.0);
+    return vec2<f32>(mean, half_at_or_below(mean * mean + variance));
+}
+
+// Writes one texel of moments; half-float EVSM moments through `half_moments_rounded_down`
+// when the job asks for it.
+fn store_moments(texel: vec2<u32>, layer: u32, m: vec4<f32>) {
+#ifdef MOMENTS_RGBA32
+    textureStore(moments_out, texel, layer, m);
+#else ifdef MOMENTS_RGBA16_UNORM
+    textureStore(moments_out, texel, layer, m);
+#else
+    var out = m;
+    if job.variance_down != 0u && (job.technique == TECHNIQUE_EVSM2 || job.technique == TECHNIQUE_EVSM4) {
+        out = vec4<f32>(half_moments_rounded_down(m.xy), half_moments_rounded_down(m.zw));
+    }
+    textureStore(moments_out, texel, layer, out);
 #endif
 }
 
@@ -74,7 +123,9 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let z = clamp(textureLoad(depth_layers, id.xy, job.src_layer, 0), 0.0, 1.0);
-    textureStore(moments_out, id.xy, job.dst_layer, texel_moments(1.0 - z));
+    let d = saturate((1.0 - z - job.depth_start) / max(1.0 - job.depth_start, 1e-6));
+    // NOTE: an empty texel holds the cleared far depth, exactly 0.
+    store_moments(id.xy, job.dst_layer, texel_moments(d, z > 0.0));
 }
 
 // One axis of the separable Gaussian pre-blur; taps past the view's edge repeat its edge
@@ -96,7 +147,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
         sum += w * textureLoad(moments_in, texel, job.src_layer, 0);
         weights += w;
     }
-    textureStore(moments_out, id.xy, job.dst_layer, sum / weights);
+    store_moments(id.xy, job.dst_layer, sum / weights);
 }
 
 // One mip level of the cascade's view from the level before: the mean of the 2×2 texels each
@@ -113,5 +164,5 @@ fn downsample(@builtin(global_invocation_id) id: vec3<u32>) {
         let texel = min(base + vec2<i32>(k & 1, k >> 1u), last);
         sum += textureLoad(moments_in, texel, job.src_layer, 0);
     }
-    textureStore(moments_out, id.xy, job.dst_layer, 0.25 * sum);
+    store_moments(id.xy, job.dst_layer, 0.25 * sum);
 }

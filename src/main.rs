@@ -97,9 +97,10 @@ struct RenderArgs {
     /// Storage of a sun's EVSM or MSM moments (default: the scene's).
     #[arg(long)]
     moment_precision: Option<Precision>,
-    /// MSM contact hardening from mipmapped moments (experimental; default: the scene's).
+    /// Contact hardening of a sun's EVSM or MSM moments, true or false (default: the scene's,
+    /// on unless it turns it off); false filters every pixel with `moment_blur`.
     #[arg(long)]
-    moment_contact_hardening: bool,
+    moment_contact_hardening: Option<bool>,
     /// The sun's angular diameter in degrees, 0-30 (default: the scene's).
     #[arg(long, value_parser = sun_degrees)]
     sun_diameter: Option<f32>,
@@ -256,8 +257,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         if let Some(r) = pcf_radius {
             s.pcf_radius = r;
         }
-        if moment_contact_hardening {
-            s.moment_contact_hardening = true;
+        if let Some(on) = moment_contact_hardening {
+            s.moment_contact_hardening = on;
         }
         if debug_cascades {
             s.debug_view = ShadowDebugView::Cascades;

@@ -1,62 +1,30 @@
-//! A sun's moment shadows (EVSM2 in 16 and 32 bits, EVSM4, MSM in 16 and 32 bits) on a real
-//! wgpu device (lavapipe in CI): the shadow lands where rays say, the umbra under two stacked
-//! occluders (where moment techniques bleed light) stays within each technique's stated
-//! limit, and a penumbra that is the same all along a line stays continuous where the line
-//! crosses from one cascade into the next.
+//! A sun's moment shadows (EVSM2 in 16 and 32 bits, EVSM4, MSM in 16 and 32 bits) with a
+//! fixed softness (`moment_contact_hardening: false`: moments pre-blurred by `moment_blur`) on
+//! a real wgpu device (lavapipe in CI): the shadow lands where rays say, casters' feet
+//! (as far as each technique's precision can tell them), the umbra under two stacked
+//! occluders (where moment techniques bleed light), the shadow edge over a receiver that casts
+//! nothing, a penumbra that is the same all along a line across cascades, and when moments are
+//! baked. `tests/sun_moments_hardening.rs` tests the default, contact hardening.
 
 mod common;
 
 use bevy_app::App;
-use common::rays::{Aabb, evaluate_on, scene_with};
+use common::rays::Aabb;
 use common::still_scene;
+use common::suns::{Device, GROUND, TECHNIQUES, visibility};
 use glam::Vec3;
 use penumbra::math::splits::pssm_splits;
 use penumbra::render::Renderer;
 use penumbra::settings::{ShadowMode, ShadowSettings};
 
-/// What the device may store moments in.
-#[derive(Clone, Copy, PartialEq)]
-enum Device {
-    /// Whatever it has (lavapipe: 32-bit filtering and 16-bit unorm).
-    Full,
-    /// Neither 16-bit unorm textures nor 32-bit filtering: 16-bit MSM falls back to half
-    /// floats.
-    HalfFloatsOnly,
-}
-
-/// Every sun moment technique: name, settings, and the device it runs on.
-const TECHNIQUES: [(&str, &str, Device); 6] = [
-    ("evsm-fp16", "mode: Evsm, moment_precision: Fp16", Device::Full),
-    ("evsm-fp32", "mode: Evsm, moment_precision: Fp32", Device::Full),
-    ("evsm4", "mode: Evsm4", Device::Full),
-    ("msm-unorm16", "mode: Msm, moment_precision: Fp16", Device::Full),
-    ("msm-half", "mode: Msm, moment_precision: Fp16", Device::HalfFloatsOnly),
-    ("msm-fp32", "mode: Msm, moment_precision: Fp32", Device::Full),
-];
-
-/// A ground slab that casts (its top at y = 0): moment techniques need receivers in the map.
-const GROUND: Aabb = Aabb {
-    min: Vec3::new(-40.0, -0.2, -100.0),
-    max: Vec3::new(40.0, 0.0, 40.0),
-};
+/// The settings every test here adds: the fixed softness.
+const FIXED: &str = "moment_contact_hardening: false";
 
 /// A 2 m wall along z: under a sun from +x at 45° its shadow's edge runs along x = −2.1.
 const WALL: Aabb = Aabb {
     min: Vec3::new(-0.1, 0.0, -80.0),
     max: Vec3::new(0.1, 2.0, 20.0),
 };
-
-/// The focus sun's visibility at `probes` for one technique.
-fn visibility(boxes: &[Aabb], sun: &str, settings: &str, device: Device, probes: &[(Vec3, Vec3)]) -> Vec<f32> {
-    let light = format!("Directional({sun}, shadows: ({settings}))");
-    let desc = scene_with(boxes, &light);
-    evaluate_on(&desc, probes, None, |gpu| {
-        if device == Device::HalfFloatsOnly {
-            gpu.unorm16_moments = false;
-            gpu.moments_format = wgpu::TextureFormat::Rgba16Float;
-        }
-    })
-}
 
 #[test]
 fn a_sun_moment_shadow_lands_where_a_ray_to_the_sun_is_blocked() {
@@ -72,8 +40,25 @@ fn a_sun_moment_shadow_lands_where_a_ray_to_the_sun_is_blocked() {
     let probes: Vec<(Vec3, Vec3)> = (-75..=75)
         .flat_map(|i| (-75..=75).map(move |j| (Vec3::new(i as f32 * 0.04, 0.0, j as f32 * 0.04), Vec3::Y)))
         .collect();
-    for (name, settings, device) in TECHNIQUES {
-        let values = visibility(&boxes, sun, &format!("{settings}, moment_blur: 0.02"), device, &probes);
+    // Most probes each technique may get wrong, and its largest mean error: three times what
+    // lavapipe measured (in the comments), and 3 probes or 1e-5 where it measured 0.
+    let limits = [
+        ("evsm-fp16", (3, 0.00014)),   // 1, 0.000045
+        ("evsm-fp32", (3, 0.00002)),   // 0, 0.000006
+        ("evsm4", (3, 0.00002)),       // 0, 0.000007
+        ("msm-unorm16", (3, 0.00002)), // 0, 0.000006
+        ("msm-half", (6, 0.0004)),     // 2, 0.000134
+        ("msm-fp32", (3, 0.00002)),    // 0, 0.000007
+    ];
+    for ((name, settings, device), (limited, (wrong_limit, mean_limit))) in TECHNIQUES.into_iter().zip(limits) {
+        assert_eq!(name, limited);
+        let values = visibility(
+            &boxes,
+            sun,
+            &format!("{settings}, {FIXED}, moment_blur: 0.02"),
+            device,
+            &probes,
+        );
         let (mut judged, mut shadowed, mut wrong, mut error) = (0, 0, 0, 0.0);
         for (&(p, n), &v) in probes.iter().zip(&values) {
             let blocked_at = |q: Vec3| boxes.iter().any(|b| b.blocks(q + n * 1e-3, q + towards_sun * 50.0));
@@ -91,47 +76,127 @@ fn a_sun_moment_shadow_lands_where_a_ray_to_the_sun_is_blocked() {
             error += f64::from((v - if here { 0.0 } else { 1.0 }).abs());
         }
         let mean = error / judged as f64;
-        println!("{name}: {wrong} of {judged} wrong ({shadowed} shadowed), mean error {mean:.4}");
+        println!("{name}: {wrong} of {judged} wrong ({shadowed} shadowed), mean error {mean:.6}");
         assert!(judged >= 15_000, "{name}: only {judged} probes judged");
         assert!(shadowed >= 1_000, "{name}: only {shadowed} shadowed probes judged");
         assert!(
-            wrong * 200 <= judged,
-            "{name}: {wrong} of {judged} probes disagree with the rays"
+            wrong <= wrong_limit,
+            "{name}: {wrong} of {judged} probes disagree with the rays (limit {wrong_limit})"
         );
-        // Measured: 16-bit EVSM2 0.4 % wrong, mean error 0.0065 (contact leaks); the others
-        // at most 0.0004.
-        assert!(mean <= 0.01, "{name}: mean error {mean:.4} against the rays");
+        assert!(
+            mean <= mean_limit,
+            "{name}: mean error {mean:.6} against the rays (limit {mean_limit})"
+        );
+    }
+}
+
+/// Casters standing on the ground (which casts): a 1 m cube, 4 m and 6 m pillars, a 10 cm
+/// post and a wall, under a sun about 44° up.
+fn standing() -> [Aabb; 6] {
+    [
+        Aabb::cuboid(Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 1.0, 1.0)),
+        Aabb::cuboid(Vec3::new(3.0, 2.0, -1.0), Vec3::new(1.0, 4.0, 1.0)),
+        Aabb::cuboid(Vec3::new(-3.0, 3.0, -2.0), Vec3::new(1.0, 6.0, 1.0)),
+        Aabb::cuboid(Vec3::new(1.5, 1.25, 2.5), Vec3::new(0.1, 2.5, 0.1)),
+        Aabb::cuboid(Vec3::new(-1.5, 0.75, 2.0), Vec3::new(3.0, 1.5, 0.3)),
+        GROUND,
+    ]
+}
+
+#[test]
+fn casters_standing_on_their_receiver_shadow_their_feet() {
+    let boxes = standing();
+    let travel = Vec3::new(-0.6, -0.7, -0.4).normalize();
+    let sun = "direction: (-0.6, -0.7, -0.4), angular_diameter: 0";
+    // Ground probes every 2 cm within 30 cm of each caster's footprint, outside it.
+    let near_a_foot = |p: Vec3| {
+        let outside = |b: &Aabb| p.x < b.min.x || p.x > b.max.x || p.z < b.min.z || p.z > b.max.z;
+        let within = |b: &Aabb| {
+            let dx = (b.min.x - p.x).max(p.x - b.max.x).max(0.0);
+            let dz = (b.min.z - p.z).max(p.z - b.max.z).max(0.0);
+            dx.hypot(dz) <= 0.3
+        };
+        let casters = &boxes[..5];
+        casters.iter().all(outside) && casters.iter().any(within)
+    };
+    let probes: Vec<(Vec3, Vec3)> = (-250..=250)
+        .flat_map(|i| (-200..=200).map(move |j| Vec3::new(i as f32 * 0.02, 0.0, j as f32 * 0.02)))
+        .filter(|&p| near_a_foot(p))
+        .map(|p| (p, Vec3::Y))
+        .collect();
+    let blocked_at = |q: Vec3| {
+        boxes[..5]
+            .iter()
+            .any(|b| b.blocks(q + Vec3::Y * 1e-3, q - travel * 50.0))
+    };
+    // The largest share of the feet's umbra each technique may light: three times what
+    // lavapipe measured (in the comments), and 0.001 where it measured 0.
+    let limits = [
+        ("evsm-fp16", 0.001),    // 0 (0.71 with half floats rounded to the nearest)
+        ("evsm-fp32", 0.0024),   // 0.0008
+        ("evsm4", 0.0024),       // 0.0008
+        ("msm-unorm16", 0.0075), // 0.0025
+        ("msm-half", 0.051),     // 0.0170
+        ("msm-fp32", 0.004),     // 0.0013
+    ];
+    for ((name, settings, device), (limited, leak_limit)) in TECHNIQUES.into_iter().zip(limits) {
+        assert_eq!(name, limited);
+        let values = visibility(&boxes, sun, &format!("{settings}, {FIXED}"), device, &probes);
+        let (mut shadowed, mut lit, mut leaks, mut acne) = (0u32, 0u32, 0u32, 0u32);
+        for (&(p, _), &v) in probes.iter().zip(&values) {
+            let here = blocked_at(p);
+            // NOTE: the default 3 cm blur softens the edge; probes within 5 cm of it are
+            // not judged.
+            let offsets = [Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z];
+            if offsets.iter().any(|&o| blocked_at(p + o * 0.05) != here) {
+                continue;
+            }
+            if here {
+                shadowed += 1;
+                leaks += u32::from(v > 0.1);
+            } else {
+                lit += 1;
+                acne += u32::from(v < 0.9);
+            }
+        }
+        let (leak, acne_rate) = (f64::from(leaks) / f64::from(shadowed), f64::from(acne) / f64::from(lit));
+        println!("{name}: leak {leak:.4} of {shadowed} shadowed probes, acne {acne_rate:.4} of {lit} lit");
+        assert!(
+            shadowed >= 5_000 && lit >= 5_000,
+            "{name}: {shadowed} shadowed, {lit} lit probes judged"
+        );
+        assert!(
+            leak <= leak_limit,
+            "{name}: {leak:.4} of the feet's umbra is lit (limit {leak_limit})"
+        );
+        assert_eq!(acne, 0, "{name}: {acne} of {lit} lit probes are shadowed");
     }
 }
 
 #[test]
-fn over_a_receiver_that_casts_nothing_only_evsm2_moves_the_shadow_edge() {
-    // The wall's shadow edge across the ground, which is not in the map: empty texels hold
-    // the box's far depth, whose positive warp outweighs an occluder's in any footprint
-    // that reaches them, so EVSM2 lights the umbra's rim as far as its blur and bilinear
-    // footprint reach. The negative warp (EVSM4) and MSM's reconstruction do not.
+fn over_a_receiver_that_casts_nothing_the_shadow_edge_stays_where_the_rays_put_it() {
+    // The wall's shadow edge across the ground, which is not in the map. Its empty texels hold
+    // the box's far depth; EVSM2 counts them as lit by their coverage (without it, their
+    // warp outweighed the occluder's and lit the umbra's rim 10 cm out), the negative warp
+    // (EVSM4) and MSM's reconstruction keep the edge near its place.
     let sun = "direction: (-1, -1, 0), angular_diameter: 0";
     let probes: Vec<(Vec3, Vec3)> = (0..=60)
         .map(|k| (Vec3::new(-2.6 + 0.01 * k as f32, 0.0, -10.0), Vec3::Y))
         .collect();
     // The truth: the edge at x = −2.1 (the wall's top corner at x = −0.1, 2 m up).
     for (name, settings, device) in [("pcf", "mode: Pcf", Device::Full)].into_iter().chain(TECHNIQUES) {
-        let values = visibility(&[WALL], sun, settings, device, &probes);
+        let values = visibility(&[WALL], sun, &format!("{settings}, {FIXED}"), device, &probes);
         let edge = probes
             .iter()
             .zip(&values)
             .find(|(_, v)| **v < 0.5)
             .map_or(f32::NAN, |((p, _), _)| p.x);
         println!("{name}: the shadow starts at x = {edge:.2}");
-        // Measured: PCF and MSM at −2.09 to −2.10, EVSM4 at −2.03, EVSM2 at −2.00 to −2.01.
-        let limit = match name {
-            "evsm-fp16" | "evsm-fp32" => 0.15,
-            "evsm4" => 0.1,
-            _ => 0.03,
-        };
+        // Measured on lavapipe: at −2.09 or −2.10, EVSM4 at −2.06 (probes 1 cm apart).
+        let limit = if name == "evsm4" { 0.12 } else { 0.03 };
         assert!(
             (edge + 2.1).abs() <= limit,
-            "{name}: the edge at {edge}, limit {limit} from −2.1"
+            "{name}: the edge at {edge:.2}, limit {limit} from −2.1"
         );
     }
 }
@@ -159,33 +224,41 @@ fn the_umbra_under_stacked_occluders_stays_dark_within_each_techniques_limit() {
     let probes: Vec<(Vec3, Vec3)> = (0..=200)
         .map(|k| (Vec3::new(-1.0 + 0.01 * k as f32, 0.0, 0.1), Vec3::Y))
         .collect();
-    for (name, settings, device) in TECHNIQUES {
+    // The brightest probe each technique may leave, without light-bleed reduction and with
+    // the default 0.15: three times what lavapipe measured (in the comments), and 0.01 where
+    // it measured 0.
+    let limits = [
+        ("evsm-fp16", (0.28, 0.01)),    // 0.0917, 0
+        ("evsm-fp32", (0.11, 0.01)),    // 0.0374, 0
+        ("evsm4", (0.11, 0.01)),        // 0.0374, 0
+        ("msm-unorm16", (0.055, 0.01)), // 0.0182, 0
+        ("msm-half", (0.19, 0.01)),     // 0.0642, 0
+        ("msm-fp32", (0.005, 0.01)),    // 0.0017, 0
+    ];
+    let mut brightest: f32 = 0.0;
+    for ((name, settings, device), (limited, (raw_limit, reduced_limit))) in TECHNIQUES.into_iter().zip(limits) {
+        assert_eq!(name, limited);
         let with = |bleed: f32| {
-            let s = format!("{settings}, moment_blur: 0.2, moment_bleed_reduction: {bleed}");
+            let s = format!("{settings}, {FIXED}, moment_blur: 0.2, moment_bleed_reduction: {bleed}");
             let values = visibility(&stacked(), sun, &s, device, &probes);
             values.into_iter().fold(0.0, f32::max)
         };
         let (raw, reduced) = (with(0.0), with(0.15));
         println!("{name}: brightest in the umbra {raw:.4} without bleed reduction, {reduced:.4} with 0.15");
-        // Measured on lavapipe: EVSM2 in 16 bits 0.16 (its warp, 5.2 over the deepest
-        // cascade, is weak); 32-bit EVSM2 and EVSM4 0.04; MSM 0.002 (32 bits) to 0.06 (half
-        // floats); with the default reduction of 0.15, at most 0.013.
-        let limit = if name == "evsm-fp16" { 0.2 } else { 0.08 };
         assert!(
-            raw <= limit,
-            "{name}: {raw} of the light bleeds through the umbra (limit {limit})"
+            raw <= raw_limit,
+            "{name}: {raw:.4} of the light bleeds through the umbra (limit {raw_limit})"
         );
         assert!(
-            reduced <= 0.02,
-            "{name}: {reduced} bleeds through with the default reduction"
+            reduced <= reduced_limit,
+            "{name}: {reduced:.4} bleeds through with the default reduction (limit {reduced_limit})"
         );
-        if name == "evsm-fp16" {
-            assert!(
-                raw > 0.1,
-                "{name}: no bleeding without the reduction ({raw}): the case tests nothing"
-            );
-        }
+        brightest = brightest.max(raw);
     }
+    assert!(
+        brightest > 0.03,
+        "no technique bleeds without the reduction ({brightest:.4}): the case tests nothing"
+    );
 }
 
 #[test]
@@ -220,16 +293,19 @@ fn a_constant_penumbra_stays_continuous_across_cascade_splits() {
         if device == Device::HalfFloatsOnly {
             continue;
         }
-        let values = visibility(&wall, sun, settings, device, &probes);
+        let values = visibility(&wall, sun, &format!("{settings}, {FIXED}"), device, &probes);
         let jump = values.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f32::max);
         let (lo, hi) = values.iter().fold((1.0f32, 0.0f32), |(a, b), &v| (a.min(v), b.max(v)));
+        let off = (0.5 - lo).max(hi - 0.5);
         println!("{name}: largest step {jump:.4}, values {lo:.3}..{hi:.3}");
-        // Measured: steps of at most 0.006 between probes 10 cm apart, and values within
-        // 0.41..0.67 (the true penumbra is the same all along the line).
-        assert!(jump <= 0.03, "{name}: a step of {jump} along a constant penumbra");
+        // Measured on lavapipe: steps of at most 0.0063 between probes 10 cm apart; values at
+        // most 0.094 from the true 0.5, 0.238 for 16-bit EVSM2 (its variance rounded down:
+        // darker penumbrae, but no light through casters' feet).
+        let off_limit = if name == "evsm-fp16" { 0.26 } else { 0.1 };
+        assert!(jump <= 0.019, "{name}: a step of {jump:.4} along a constant penumbra");
         assert!(
-            lo >= 0.3 && hi <= 0.75,
-            "{name}: {lo}..{hi} along a penumbra centred on 0.5"
+            off <= off_limit,
+            "{name}: {lo:.3}..{hi:.3} along a penumbra centred on 0.5 (limit {off_limit} from it)"
         );
     }
 }
@@ -267,63 +343,13 @@ fn a_still_sun_bakes_its_moments_once_and_again_when_its_settings_change() {
             .collect()
     };
     assert_eq!(bakes(&mut app, 5), [4, 0, 0, 0, 0]);
-    // A new blur radius changes what every cascade's moments are made from.
+    // A new warp exponent changes what every cascade's moments are made from.
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        s.moment_blur = 0.05;
+        s.evsm_exponent = 3.0;
     }
     assert_eq!(bakes(&mut app, 3), [4, 0, 0]);
     let mut renderer = app.world_mut().resource_mut::<Renderer>();
     assert_eq!(renderer.take_errors(), Vec::<String>::new());
-}
-
-/// The width (metres) over which visibility along `probes` (a line across a shadow edge)
-/// rises from 0.1 to 0.9.
-fn penumbra_width(probes: &[(Vec3, Vec3)], values: &[f32]) -> f32 {
-    let at = |level: f32| {
-        probes
-            .iter()
-            .zip(values)
-            .find(|(_, v)| **v >= level)
-            .map_or(f32::NAN, |((p, _), _)| p.x)
-    };
-    (at(0.9) - at(0.1)).abs()
-}
-
-#[test]
-fn msm_contact_hardening_widens_the_penumbra_with_the_casters_height() {
-    // A 1 m plate at 0.5 m and one at 3 m over a casting ground, under a 3° sun straight
-    // above: their penumbrae on the ground are about 0.03 and 0.16 m wide.
-    let sun = "direction: (0, -1, 0.001), angular_diameter: 3";
-    let probes: Vec<(Vec3, Vec3)> = (0..=200)
-        .map(|k| (Vec3::new(0.3 + 0.002 * k as f32, 0.0, 0.0), Vec3::Y))
-        .collect();
-    let widths = |settings: &str| -> Vec<f32> {
-        [0.5f32, 3.0]
-            .iter()
-            .map(|&h| {
-                let plate = Aabb {
-                    min: Vec3::new(-0.5, h, -0.5),
-                    max: Vec3::new(0.5, h + 0.05, 0.5),
-                };
-                let values = visibility(&[plate, GROUND], sun, settings, Device::Full, &probes);
-                penumbra_width(&probes, &values)
-            })
-            .collect()
-    };
-    let fixed = widths("mode: Msm, moment_blur: 0.01");
-    let hardening = widths("mode: Msm, moment_blur: 0.01, moment_contact_hardening: true");
-    println!("penumbra widths (0.5 m, 3 m): fixed {fixed:?}, contact hardening {hardening:?}");
-    // Measured on lavapipe: fixed 0.016 and 0.016 m; contact hardening 0.024 and 0.198 m
-    // (the sun's geometry gives 0.026 and 0.157).
-    assert!(
-        fixed.iter().chain(&hardening).all(|w| w.is_finite()),
-        "an edge was not found"
-    );
-    assert!(hardening[1] > 2.0 * hardening[0], "no contact hardening: {hardening:?}");
-    assert!(
-        hardening[1] > 1.5 * fixed[1],
-        "the high plate's penumbra did not widen: {hardening:?} against {fixed:?}"
-    );
 }

@@ -14,11 +14,11 @@
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row,
     normal_offset_metres, poisson_rotation,
 }
-#import penumbra::shadows::filters::{MapSample, find_blockers, pcf_grid, pcss_filter}
-#import penumbra::shadows::moments::{evsm2_visibility, evsm4_visibility, reduce_light_bleeding}
-#import penumbra::shadows::msm::{msm_blockers, msm_dequantize, msm_visibility}
+#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter}
+#import penumbra::shadows::moments::{evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding}
+#import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
 #import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
+    Light, ShadowView, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
     SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
@@ -145,69 +145,89 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
 #endif
 
 #ifdef SHADOW_SUN_MOMENTS
-// MSM's contact hardening: the occluders in front of the receiver over the region a blocker
-// could shadow it from (one fetch of the mip level as wide as that region), from the
-// Hamburger bound's three-node distribution (`msm_blockers`; empty texels at the far plane
-// do not pull the estimate back as a mean would), then the penumbra their mean depth gives,
-// as in PCSS. (EVSM's warped moments overweight whatever lies beyond the receiver, so EVSM
-// keeps its fixed blur.) Returns the penumbra's radius in texels of the layer, −1 when
-// nothing in the region is nearer the light than the receiver (lit).
-fn msm_penumbra_texels(light: Light, index: u32, p: MapSample, receiver: f32) -> f32 {
-    let view = shadow_views.items[light.first_view + index];
-    let pcss_scale = view.params.z * view.rect.z;
-    let side = 1.0 / p.texel;
-    let search = clamp(0.5 * receiver * pcss_scale * side, 1.0, MAX_PENUMBRA_TEXELS);
-    let m = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, log2(2.0 * search));
-    let power = select(m, msm_dequantize(m), light.cone.y > 0.5);
-    // The receiver's own plane across the region is no blocker.
-    let depth = receiver - plane_depth_spread(p, search * p.texel);
-    let blockers = msm_blockers(power, depth, light.cone.x);
-    if blockers.y <= 0.0 {
-        // No node in front: lit where the bound agrees; else (a thin blocker the nodes
-        // missed) the sharpest filter.
-        return select(0.0, -1.0, msm_visibility(power, depth, light.cone.x) >= 0.999);
-    }
-    let gap = clamp(depth - blockers.x, 0.0, 1.0);
-    return clamp(0.5 * gap * pcss_scale * side, 0.0, MAX_PENUMBRA_TEXELS);
+// The depth a sun's moments hold for a receiver at reverse-Z depth `z` of a cascade: d = 1 − z
+// remapped from the cascade's receiver span [range.w, 1] to [0, 1], as the bake stores it.
+fn cascade_moment_depth(view: ShadowView, z: f32) -> f32 {
+    let start = view.range.w;
+    return saturate((1.0 - z - start) / max(1.0 - start, 1e-6));
 }
 
-// How far the receiver's plane rises towards the light within `radius` (layer UV) of the
-// receiver, in depth units: a filter that wide sees that much of the receiver's own surface
-// nearer the light than the receiver (zero without the receiver-plane gradient).
-fn plane_depth_spread(p: MapSample, radius: f32) -> f32 {
-    return 0.5 * radius * (abs(p.dz_duv_true.x) + abs(p.dz_duv_true.y));
-}
-
-// EVSM2, EVSM4 or MSM in a cascade: one bilinear fetch of the pre-blurred moments and the
-// technique's bound, at the receiver's depth d = 1 − z (0 at the box's light side). EVSM's
-// variance floor is the light's minimum (square metres, in the cascade's depth units) plus
-// the receiver plane's depth change across a texel (zero without the receiver-plane
-// gradient), so sloped receivers do not shadow themselves.
-fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
-    let view = shadow_views.items[light.first_view + index];
-    let depth = 1.0 - p.depth;
-    var lod = 0.0;
-    let hardening = (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u;
-    if hardening && light.shadow_filter == SHADOW_FILTER_MSM {
-        let penumbra = msm_penumbra_texels(light, index, p, depth);
-        if penumbra < 0.0 {
-            return 1.0;
-        }
-        lod = log2(max(2.0 * penumbra, 1.0));
-    }
-    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, lod);
+// The visibility a sun's moment technique gives `power` (moments filtered around the
+// receiver) for a receiver at moment depth `depth`: MSM's Hamburger bound, or EVSM's
+// Chebyshev bound in warped space with a variance floor of `min_variance` (moment depth units
+// squared), with light-bleed reduction (EVSM2's moments carry their coverage: the empty
+// share of the footprint is lit).
+fn moments_bound(light: Light, view: ShadowView, moments: vec4<f32>, depth: f32, min_variance: f32) -> f32 {
     let bleed = light.cone.w;
     if light.shadow_filter == SHADOW_FILTER_MSM {
         let power = select(moments, msm_dequantize(moments), light.cone.y > 0.5);
         return reduce_light_bleeding(msm_visibility(power, depth, light.cone.x), bleed);
     }
-    let range = max(view.range.z, 1e-6);
-    let slope = p.dz_duv_true * p.texel;
-    let min_variance = light.cone.z / (range * range) + 0.25 * dot(slope, slope);
     if light.shadow_filter == SHADOW_FILTER_EVSM4 {
         return evsm4_visibility(moments, depth, view.exponents.x, view.exponents.y, min_variance, bleed);
     }
-    return evsm2_visibility(moments.xy, depth, view.exponents.x, min_variance, bleed);
+    return evsm2_covered_visibility(moments, depth, view.exponents.x, min_variance, bleed);
+}
+
+// The variance floor of EVSM's bound in cascade `view` at `p` (moment depth units squared):
+// the light's minimum (square metres) plus the receiver plane's depth change across a texel
+// (zero without the receiver-plane gradient), so sloped receivers do not shadow themselves.
+fn moments_min_variance(light: Light, view: ShadowView, p: MapSample) -> f32 {
+    let span = max(1.0 - view.range.w, 1e-6);
+    // Metres of the moment depth's [0, 1].
+    let range = max(view.range.z * span, 1e-6);
+    let slope = p.dz_duv_true * p.texel / span;
+    return light.cone.z / (range * range) + 0.25 * dot(slope, slope);
+}
+
+// Contact hardening for a sun's moments, sized by the sun as PCSS is: PCSS's blocker search
+// over the cascade's depth map gives the blockers' mean depth and so the penumbra's radius;
+// the moments are then filtered over that radius in one fetch per quarter of it (four
+// fetches at 0.4 of the radius around the receiver, rotated per pixel, from the mip level
+// whose texel is the radius wide). A receiver whose search finds no blocker is lit, one whose
+// every tap is blocked is in the umbra (with the light's early-out), and one whose penumbra
+// is under a texel (a caster's foot) compares the depth itself: no moment filter resolves a
+// gap that small.
+fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
+    let view = shadow_views.items[light.first_view + index];
+    let pcss_scale = view.params.z * view.rect.z;
+    let aspect = vec2<f32>(1.0, view.params.w);
+    let min_radius = min(p.filter_step.x, p.filter_step.y / aspect.y);
+    let max_radius = MAX_PENUMBRA_TEXELS * p.texel;
+    let rotation = poisson_rotation(frag_coord, light.flags);
+    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, min_radius, max_radius);
+    let blockers = find_blockers(cascade_maps, p, search_radius, aspect, rotation);
+    if blockers.count == 0.0 {
+        return 1.0;
+    }
+    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
+    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
+        return 0.0;
+    }
+    let radius = min(0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale, max_radius);
+    let texels = radius / p.texel;
+    if texels < 1.0 {
+        return compare_tap(cascade_maps, p, vec2<f32>(0.0));
+    }
+    let lod = log2(texels);
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < 4u; i++) {
+        let corner = vec2<f32>(select(-0.4, 0.4, (i & 1u) == 1u), select(-0.4, 0.4, i >= 2u));
+        let offset = rotation * corner * radius * aspect;
+        sum += textureSampleLevel(cascade_moments, moments_sampler, p.uv + offset, p.layer, lod);
+    }
+    let depth = cascade_moment_depth(view, p.depth);
+    return moments_bound(light, view, 0.25 * sum, depth, moments_min_variance(light, view, p));
+}
+
+// EVSM2, EVSM4 or MSM in a cascade with a fixed softness: one bilinear fetch of the
+// moments pre-blurred by `moment_blur` and the technique's bound at the receiver's moment
+// depth (`cascade_moment_depth`).
+fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
+    let view = shadow_views.items[light.first_view + index];
+    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
+    let depth = cascade_moment_depth(view, p.depth);
+    return moments_bound(light, view, moments, depth, moments_min_variance(light, view, p));
 }
 #endif
 
@@ -226,6 +246,9 @@ fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
 #endif
 #ifdef SHADOW_SUN_MOMENTS
     if light.shadow_filter >= SHADOW_FILTER_EVSM2 {
+        if (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u {
+            return cascade_moments_hardened(light, index, p, surface.frag_coord);
+        }
         return cascade_moments_visibility(light, index, p);
     }
 #endif

@@ -61,3 +61,19 @@ fn evsm4_visibility(moments: vec4<f32>, depth: f32, c_positive: f32, c_negative:
     let negative = warped_bound(moments.zw, n, -c_negative * n, min_variance);
     return reduce_light_bleeding(min(positive, negative), bleed);
 }
+
+// Smallest coverage `evsm2_covered_visibility` divides by (`math::evsm::MIN_COVERAGE`).
+const MIN_COVERAGE: f32 = 1.0e-4;
+
+// EVSM2 from filtered covered moments (o·w, o·w², o; o is 1 where a caster was drawn, 0 in an
+// empty texel): the footprint's empty share is lit, its occupied share gets the bound of the
+// occupied texels' own moments. Without coverage an empty texel stands for the farthest
+// depth, whose warp outweighs any occluder's.
+fn evsm2_covered_visibility(moments: vec4<f32>, depth: f32, c: f32, min_variance: f32, bleed: f32) -> f32 {
+    let coverage = saturate(moments.z);
+    if coverage < MIN_COVERAGE {
+        return 1.0;
+    }
+    let lit = evsm2_visibility(moments.xy / coverage, depth, c, min_variance, bleed);
+    return 1.0 - coverage + coverage * lit;
+}

@@ -79,43 +79,6 @@ fn msm_visibility(stored_moments_dequantized: vec4<f32>, depth: f32, moment_bias
     return clamp(1.0 - shadow, 0.0, 1.0);
 }
 
-// The mean depth of the occluders in front of a receiver at `depth` and their share of the
-// footprint, (mean, weight), from filtered, dequantised moments: the three-node distribution
-// of the Hamburger bound (the receiver and the nodes z₂, z₃), its nodes in front of the
-// receiver weighted by their weights. (0, 0) when nothing is in front.
-fn msm_blockers(stored_moments_dequantized: vec4<f32>, depth: f32, moment_bias: f32) -> vec2<f32> {
-    let b = mix(stored_moments_dequantized, vec4<f32>(0.5), moment_bias);
-    let z0 = depth;
-    if b.y - b.x * b.x <= MSM_MIN_VARIANCE {
-        return select(vec2<f32>(0.0), vec2<f32>(b.x, 1.0), b.x < z0);
-    }
-    let nodes = msm_nodes(b, z0);
-    let z2 = nodes.x;
-    let z3 = nodes.y;
-    // The weights that match b₁ and b₂ on the nodes {z₀, z₂, z₃} (Lagrange form).
-    let w2 = (z0 * z3 - b.x * (z0 + z3) + b.y) / msm_nonzero((z2 - z0) * (z2 - z3));
-    let w3 = (z0 * z2 - b.x * (z0 + z2) + b.y) / msm_nonzero((z3 - z0) * (z3 - z2));
-    var sum = 0.0;
-    var weight = 0.0;
-    if z2 < z0 && w2 > 0.0 {
-        sum += w2 * z2;
-        weight += w2;
-    }
-    if z3 < z0 && w3 > 0.0 {
-        sum += w3 * z3;
-        weight += w3;
-    }
-    if weight <= 0.0 {
-        return vec2<f32>(0.0);
-    }
-    return vec2<f32>(sum / weight, min(weight, 1.0));
-}
-
-// `x`, moved away from 0 to at least 1e-30 in magnitude (keeping its sign).
-fn msm_nonzero(x: f32) -> f32 {
-    return select(max(x, 1e-30), min(x, -1e-30), x < 0.0);
-}
-
 // The two nodes z₂ ≤ z₃ that, with the receiver's depth z₀, carry the Hamburger bound's
 // distribution for biased moments `b` (whose variance is above MSM_MIN_VARIANCE).
 fn msm_nodes(b: vec4<f32>, z0: f32) -> vec2<f32> {

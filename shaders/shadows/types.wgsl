@@ -79,7 +79,9 @@ struct ShadowView {
     // z = NDC depth difference -> penumbra width in UV, w = width_x / width_y.
     // Spot: x = world size of one texel per metre of distance, y = near, z = far, w = 0.
     params: vec4<f32>,
-    // Cascade: x = view depth where it starts, y = where it ends, z = depth range in metres.
+    // Cascade: x = view depth where it starts, y = where it ends, z = depth range in metres,
+    // w = a moment sun's receiver start: its moments are of the depth d = 1 − z remapped
+    // from [w, 1] to [0, 1] (`cascade_moment_depth`).
     range: vec4<f32>,
     // Where the view lies in its layer: xy = UV offset, zw = UV scale.
     rect: vec4<f32>,

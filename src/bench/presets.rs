@@ -39,7 +39,8 @@ fn moments(s: &mut ShadowSettings, mode: ShadowMode, precision: MomentFormat) {
 
 /// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, receiver-plane bias and
 /// cascade blending switched off on the mid presets, VSM without and with pre-blur, and the
-/// suns' EVSM2 (16 and 32 bits), EVSM4 and MSM (16 and 32 bits).
+/// suns' EVSM2 (16 and 32 bits), EVSM4 and MSM (16 and 32 bits) with contact hardening (the
+/// default), and EVSM2 and MSM with a fixed blur instead.
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -155,11 +156,19 @@ pub fn presets() -> Vec<Preset> {
             apply: |s| moments(s, ShadowMode::Msm, MomentFormat::Fp32),
         },
         Preset {
-            name: "msm-soft",
-            description: "4-moment shadow map, 16 bits, with contact hardening (mipmapped moments), suns",
+            name: "evsm-fixed",
+            description: "EVSM2, 32-bit moments, a fixed blur (no contact hardening), suns",
+            apply: |s| {
+                moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
+                s.moment_contact_hardening = false;
+            },
+        },
+        Preset {
+            name: "msm-fixed",
+            description: "4-moment shadow map, 16 bits, a fixed blur (no contact hardening), suns",
             apply: |s| {
                 moments(s, ShadowMode::Msm, MomentFormat::Fp16);
-                s.moment_contact_hardening = true;
+                s.moment_contact_hardening = false;
             },
         },
     ]

@@ -83,6 +83,12 @@ pub struct Cascade {
     pub pcss_scale: f32,
     /// `width_x / width_y`: scale from a u-extent to the v-extent of the same world size.
     pub uv_scale_y: f32,
+    /// Where the slice's own coverage starts in the box's depth `d = 1 − clip.z` (0 at the
+    /// light's side, 1 at the far side): every receiver this cascade shades lies in
+    /// `[receiver_start, 1]`, and what lies nearer the light is a caster above all of them
+    /// (the box reaches up to the scene's casters). Moment techniques spend their precision
+    /// on that span.
+    pub receiver_start: f32,
 }
 
 /// The cascades of one frame.
@@ -262,6 +268,7 @@ impl Frame {
         let z_min = z_max - depth_range;
 
         let pcss = pcss_params_f64(angular_diameter, x.width, y.width, depth_range);
+        let receiver_start = ((z_max - hi.z) / depth_range).clamp(0.0, 1.0);
         let light_min = Vec3::new(f32_down(x.min()), f32_down(y.min()), f32_down(z_min));
         // NOTE: rounded outwards, and at least one ulp apart: far beyond any real scene the
         // extent can vanish even in f64, but the published box must never be flat.
@@ -277,6 +284,8 @@ impl Frame {
             light_size_uv: pcss.light_size_uv,
             pcss_scale: pcss.pcss_scale,
             uv_scale_y: pcss.uv_scale_y,
+            // NOTE: rounded down, so the span it starts is never shorter than the slice's.
+            receiver_start: f32_down(receiver_start).clamp(0.0, 1.0),
         }
     }
 
@@ -385,12 +394,21 @@ mod tests {
         for c in set.active() {
             assert!(c.light_max.z >= top - 1e-3, "{} < {top}", c.light_max.z);
         }
+        // The slice's corners lie in the receiver span [receiver_start, 1] of the box's depth.
+        for (c, i) in set.active().iter().zip(0..) {
+            assert!(c.receiver_start > 0.0 && c.receiver_start < 1.0, "{c:?}");
+            for p in slice_corners(&inp.camera, c.near, c.far) {
+                let d = 1.0 - project(c.clip_from_world, p).z;
+                assert!(d >= c.receiver_start - 1e-5 && d <= 1.0 + 1e-5, "cascade {i}: {d}");
+            }
+        }
         // Without scene bounds the box is only as deep as the slice.
         let bare = compute_cascades(&CascadeInput {
             scene_bounds: Aabb::EMPTY,
             ..inp
         });
         for (a, b) in bare.active().iter().zip(set.active()) {
+            assert_eq!(a.receiver_start, 0.0);
             assert!(a.depth_range < b.depth_range);
             assert_eq!(a.light_min.z, b.light_min.z);
         }

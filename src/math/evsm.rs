@@ -112,6 +112,34 @@ pub fn evsm4_moments(depth: f32, c_positive: f32, c_negative: f32) -> Vec4 {
     Vec4::new(p, p * p, n, n * n)
 }
 
+/// The moments EVSM2 stores for one texel at `depth`, with its coverage (`occupied`: a caster
+/// was drawn there; an empty texel holds nothing): `(o·w, o·w², o)` for `o` 1 or 0, so that
+/// filtering averages the occupied texels' moments and counts their share of the footprint.
+pub fn evsm2_covered_moments(depth: f32, c: f32, occupied: bool) -> Vec4 {
+    let o = if occupied { 1.0 } else { 0.0 };
+    let w = positive_warp(depth, c);
+    Vec4::new(o * w, o * w * w, o, 0.0)
+}
+
+/// Smallest coverage [`evsm2_covered_visibility`] divides by; below it the footprint counts
+/// as empty (lit).
+pub const MIN_COVERAGE: f32 = 1.0e-4;
+
+/// EVSM2 from filtered covered moments ([`evsm2_covered_moments`]): the footprint's empty
+/// share is lit, its occupied share gets the bound of the occupied texels' own moments (with
+/// light-bleed reduction). Without coverage, an empty texel would stand for the farthest
+/// depth, whose warp outweighs any occluder's, and light the rim of every umbra over a
+/// receiver that casts nothing.
+pub fn evsm2_covered_visibility(moments: Vec4, depth: f32, c: f32, min_variance: f32, bleed: f32) -> f32 {
+    let coverage = moments.z.clamp(0.0, 1.0);
+    if coverage < MIN_COVERAGE {
+        return 1.0;
+    }
+    let occupied = Vec2::new(moments.x, moments.y) / coverage;
+    let lit = evsm2_visibility(occupied, depth, c, min_variance, bleed);
+    1.0 - coverage + coverage * lit
+}
+
 /// Chebyshev's bound in one warped space: the receiver warped by the same function, the
 /// variance floor `min_variance` (in depth units squared) scaled by the warp's derivative
 /// `slope` at the receiver, so it means the same depth spread at every distance.
@@ -227,6 +255,35 @@ mod tests {
         let c = MomentPrecision::Fp32.exponent();
         let strong = evsm2_visibility(filtered(&depths, |d| positive_warp(d, c)), 0.8, c, 1e-5, 0.0);
         assert!(strong < 0.05, "a strong warp keeps the umbra dark: {strong}");
+    }
+
+    #[test]
+    fn coverage_lights_the_empty_share_of_a_footprint_and_bounds_the_rest() {
+        let c = MomentPrecision::Fp32.exponent();
+        // A quarter of the footprint holds an occluder at 0.3; the rest is empty. A receiver
+        // at 0.6 is lit by the empty three quarters alone.
+        let texels = [(0.3, true), (1.0, false), (1.0, false), (1.0, false)];
+        let m = texels
+            .iter()
+            .map(|&(d, o)| evsm2_covered_moments(d, c, o))
+            .fold(Vec4::ZERO, |a, b| a + b)
+            / 4.0;
+        let v = evsm2_covered_visibility(m, 0.6, c, 1e-6, 0.0);
+        assert!((v - 0.75).abs() < 1e-3, "{v}");
+        // Without coverage the empty texels' far depth outweighs the occluder: lit.
+        let plain = filtered(&[0.3, 1.0, 1.0, 1.0], |d| positive_warp(d, c));
+        assert_eq!(evsm2_visibility(plain, 0.6, c, 1e-6, 0.0), 1.0);
+        // Fully covered, it is plain EVSM2; fully empty, lit.
+        let full = evsm2_covered_moments(0.4, c, true);
+        let moments = Vec2::new(full.x, full.y);
+        assert_eq!(
+            evsm2_covered_visibility(full, 0.45, c, 1e-6, 0.0),
+            evsm2_visibility(moments, 0.45, c, 1e-6, 0.0)
+        );
+        assert_eq!(
+            evsm2_covered_visibility(evsm2_covered_moments(0.2, c, false), 0.9, c, 1e-6, 0.0),
+            1.0
+        );
     }
 
     #[test]

@@ -96,40 +96,6 @@ pub fn hamburger_visibility(moments: Vec4, depth: f32, moment_bias: f32) -> f32 
     (1.0 - shadow).clamp(0.0, 1.0)
 }
 
-/// The mean depth of the occluders in front of a receiver at `depth` and their share of the
-/// footprint, `(mean, weight)`, from filtered, dequantised moments: the three-node
-/// distribution of the Hamburger bound (the receiver and the nodes z₂, z₃), its nodes in
-/// front of the receiver weighted by their weights; `(0, 0)` when nothing is in front. MSM's
-/// contact hardening sizes the penumbra from it.
-pub fn hamburger_blockers(moments: Vec4, depth: f32, moment_bias: f32) -> (f32, f32) {
-    let b = moments.lerp(Vec4::splat(0.5), moment_bias);
-    let z0 = depth;
-    if b.y - b.x * b.x <= MIN_VARIANCE {
-        return if b.x < z0 { (b.x, 1.0) } else { (0.0, 0.0) };
-    }
-    let (z2, z3) = nodes(b, z0);
-    // The weights that match b₁ and b₂ on the nodes {z₀, z₂, z₃} (Lagrange form).
-    let w2 = (z0 * z3 - b.x * (z0 + z3) + b.y) / nonzero((z2 - z0) * (z2 - z3));
-    let w3 = (z0 * z2 - b.x * (z0 + z2) + b.y) / nonzero((z3 - z0) * (z3 - z2));
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for (z, w) in [(z2, w2), (z3, w3)] {
-        if z < z0 && w > 0.0 {
-            sum += w * z;
-            weight += w;
-        }
-    }
-    if weight > 0.0 {
-        (sum / weight, weight.min(1.0))
-    } else {
-        (0.0, 0.0)
-    }
-}
-
-/// `x`, moved away from 0 to at least 1e-30 in magnitude (keeping its sign).
-fn nonzero(x: f32) -> f32 {
-    if x < 0.0 { x.min(-1e-30) } else { x.max(1e-30) }
-}
-
 /// The two nodes z₂ ≤ z₃ that, with the receiver's depth z₀, carry the Hamburger bound's
 /// distribution for biased moments `b` (whose variance is above [`MIN_VARIANCE`]).
 fn nodes(b: Vec4, z0: f32) -> (f32, f32) {
@@ -158,33 +124,6 @@ fn nodes(b: Vec4, z0: f32) -> (f32, f32) {
 mod tests {
     use super::*;
 
-    #[test]
-    fn the_blockers_are_the_occluders_in_front_of_the_receiver() {
-        let mix = |parts: &[(f32, f32)]| parts.iter().map(|&(z, w)| w * msm_moments(z)).sum::<Vec4>();
-        // Half the footprint at 0.3, half empty (the far plane): the blockers are at 0.3 and
-        // cover half of it, though the mean depth (0.65) lies behind the receiver at 0.6.
-        let (mean, weight) = hamburger_blockers(mix(&[(0.3, 0.5), (1.0, 0.5)]), 0.6, MSM_BIAS_32);
-        assert!(
-            (mean - 0.3).abs() < 0.02 && (weight - 0.5).abs() < 0.02,
-            "{mean} {weight}"
-        );
-        // Two stacked occluders in front and a lit part behind: four moments allow one node for
-        // the occluders, so their mean (0.3) and share (0.5) come out approximately (measured:
-        // 0.25 and 0.43).
-        let (mean, weight) = hamburger_blockers(mix(&[(0.2, 0.25), (0.4, 0.25), (0.9, 0.5)]), 0.8, MSM_BIAS_32);
-        assert!(
-            (mean - 0.3).abs() < 0.06 && (weight - 0.5).abs() < 0.1,
-            "{mean} {weight}"
-        );
-        // Nothing in front: none (but for the bias's share, 1e-6).
-        let (_, weight) = hamburger_blockers(mix(&[(0.7, 1.0)]), 0.6, MSM_BIAS_32);
-        assert!(weight < 1e-4, "{weight}");
-        // All in front: all of it.
-        let (mean, weight) = hamburger_blockers(mix(&[(0.25, 1.0)]), 0.6, MSM_BIAS_32);
-        assert!((mean - 0.25).abs() < 0.01 && weight > 0.99, "{mean} {weight}");
-    }
-
-    /// The filtered moments of a footprint: `(depth, weight)` parts, weights summing to 1.
     fn filtered(parts: &[(f32, f32)]) -> Vec4 {
         parts.iter().map(|&(depth, weight)| msm_moments(depth) * weight).sum()
     }

@@ -38,16 +38,16 @@ pub enum ShadowMode {
     /// [`Evsm`](Self::Evsm), its moment technique.
     Vsm,
     /// Exponentially warped variance shadow map, two moments (EVSM2; suns): each redrawn
-    /// cascade's depth is warped `exp(c·d)` and its moments `(w, w²)` pre-blurred by
-    /// `moment_blur` metres; a pixel's shadow is one filtered fetch, whatever the penumbra
-    /// width. A spot or point light asked for it uses [`Vsm`](Self::Vsm). Like every moment
-    /// technique it wants receivers in the map: over a receiver that casts nothing (a ground
-    /// with `NotShadowCaster`), empty texels hold the far depth, whose warp outweighs an
-    /// occluder's, and shadow edges recede by the blur's reach ([`Evsm4`](Self::Evsm4) and
-    /// [`Msm`](Self::Msm) keep them).
+    /// cascade's depth is warped `exp(c·d)` and stored as moments `(w, w²)` with their
+    /// coverage (empty texels count as lit, so a receiver that casts nothing, such as a ground
+    /// with `NotShadowCaster`, keeps its shadow edges); a pixel's shadow is a few filtered
+    /// fetches over its penumbra (`moment_contact_hardening`) or one fetch of moments
+    /// pre-blurred by `moment_blur`, whatever the penumbra's width. A spot or point light
+    /// asked for it uses [`Vsm`](Self::Vsm).
     Evsm,
     /// EVSM4 (suns): the positive and the negative warp, four moments, the smaller of the two
-    /// bounds: less light bleeding than EVSM2 for twice the memory.
+    /// bounds. It stores no coverage: over a receiver that casts nothing, the rims of umbrae
+    /// are lit further than with [`Evsm`](Self::Evsm).
     Evsm4,
     /// Moment shadow map (suns; Peters & Klein 2015): four power moments of the depth, stored
     /// with an optimised quantisation, and the Hamburger reconstruction of the occluders'
@@ -215,24 +215,24 @@ pub struct ShadowSettings {
     pub vsm_min_variance: f32,
     /// EVSM, MSM: how the moments are stored.
     pub moment_precision: MomentFormat,
-    /// EVSM: the warp exponent of the deepest cascade, 0–42; 0 takes the largest the format
-    /// holds (5.2 for 16 bits, 42 for 32). Larger values are cut to the format's limit;
-    /// shallower cascades scale it by their depth range, so the warp is the same in metres.
+    /// EVSM: the warp exponent over the deepest cascade's receivers, 0–42; 0 takes the largest
+    /// the format holds (5.2 for 16 bits, 42 for 32). Larger values are cut to the format's
+    /// limit; shallower cascades scale it by the depth their receivers span, so the warp is
+    /// the same in metres.
     pub evsm_exponent: f32,
-    /// EVSM, MSM: radius in metres (0–1) of the separable Gaussian pre-blur of the moments,
-    /// the same in every cascade (at most 8 of a cascade's texels); 0 keeps only the bilinear
-    /// filter.
+    /// EVSM, MSM without contact hardening: radius in metres (0–1) of the separable Gaussian
+    /// pre-blur of the moments, the same in every cascade (at most 8 of a cascade's texels);
+    /// 0 keeps only the bilinear filter. Every pixel then gets this softness, whatever the
+    /// sun's size.
     pub moment_blur: f32,
     /// EVSM, MSM: light-bleed reduction, 0–0.95 (as `vsm_bleed_reduction`).
     pub moment_bleed_reduction: f32,
-    /// MSM: contact hardening. The occluders' mean depth is estimated from the moments over
-    /// the region a blocker could shadow the receiver from (one fetch of a coarse mip level),
-    /// and the moments are then filtered over the penumbra that depth gives (one fetch at the
-    /// matching level): soft shadows that harden where casters touch, at a cost that does not
-    /// depend on the penumbra's width. Off (the default, and always for EVSM, whose warped
-    /// moments overweight what lies beyond the receiver): every pixel filters `moment_blur`.
-    /// Experimental: over receivers that slope away from the light, a wide search can misjudge
-    /// the penumbra (see `tests/sun_moments.rs`).
+    /// EVSM, MSM: contact hardening (on by default). PCSS's blocker search over the cascade's
+    /// depth gives each pixel's penumbra from the sun's angular diameter, and the moments
+    /// (unblurred, with a mip chain) are filtered over it in four fetches; a pixel whose
+    /// penumbra is under a texel (a caster's foot) compares the depth itself. Soft shadows
+    /// that follow the sun's size and harden where casters touch, at a cost that does not
+    /// grow with the penumbra. Off: every pixel filters `moment_blur`.
     pub moment_contact_hardening: bool,
     /// EVSM: smallest variance of the occluders' depth, square metres, 0–0.01 (scaled by the
     /// warp's slope; the receiver plane's slope across a texel adds to it when
@@ -268,7 +268,7 @@ impl Default for ShadowSettings {
             evsm_exponent: 0.0,
             moment_blur: 0.03,
             moment_bleed_reduction: 0.15,
-            moment_contact_hardening: false,
+            moment_contact_hardening: true,
             moment_min_variance: 1e-5,
         }
     }

@@ -282,12 +282,10 @@ impl ShaderLibrary {
     }
 
     /// The sun's moments shader (`resolve` and `blur`: EVSM2, EVSM4 or MSM from the depth
-    /// cascades), writing moments in `format` (`Rg32Float`, `Rgba32Float`, `Rgba16Unorm` or
-    /// `Rgba16Float`).
+    /// cascades), writing moments in `format` (`Rgba32Float`, `Rgba16Unorm` or `Rgba16Float`).
     pub fn cascade_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
         let mut defs = HashMap::new();
         let def = match format {
-            wgpu::TextureFormat::Rg32Float => Some("MOMENTS_RG32"),
             wgpu::TextureFormat::Rgba32Float => Some("MOMENTS_RGBA32"),
             wgpu::TextureFormat::Rgba16Unorm => Some("MOMENTS_RGBA16_UNORM"),
             _ => None,

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod rays;
+pub mod suns;
 
 use bevy_app::App;
 use bevy_ecs::entity::Entity;

@@ -34,7 +34,9 @@ struct JobGpu {
     c_negative: f32,
     radius: f32,
     axis: u32,
-    _pad: [u32; 56],
+    depth_start: f32,
+    variance_down: u32,
+    _pad: [u32; 54],
 }
 
 /// One cascade whose moments are made this frame.
@@ -82,7 +84,7 @@ struct Pipelines {
 }
 
 /// What a layer's moments were made from: the depth's content version and the parameters.
-type Held = (u64, [f32; 4]);
+type Held = (u64, [f32; 6]);
 
 /// The cascade moments node.
 #[derive(Default)]
@@ -194,7 +196,9 @@ impl RenderNode for CascadeMomentsPass {
                     c_negative: m.c_negative,
                     radius: m.blur_texels,
                     axis,
-                    _pad: [0; 56],
+                    depth_start: m.depth_start,
+                    variance_down: u32::from(m.variance_down),
+                    _pad: [0; 54],
                 });
             }
         }
@@ -319,10 +323,12 @@ impl CascadeMomentsPass {
                 moments.c_positive,
                 moments.c_negative,
                 moments.blur_texels,
+                moments.depth_start,
+                f32::from(u8::from(moments.variance_down)),
             ];
             let slot = view.slot as usize;
             if self.held.len() <= slot {
-                self.held.resize(slot + 1, (0, [0.0; 4]));
+                self.held.resize(slot + 1, (0, [0.0; 6]));
             }
             let made = (view.version, params);
             if self.cache && self.held[slot] == made {
@@ -356,6 +362,8 @@ mod tests {
                 c_positive: 0.0,
                 c_negative: 0.0,
                 blur_texels,
+                depth_start: 0.0,
+                variance_down: false,
             },
             sun: 0,
             cascade: 2,
@@ -401,6 +409,8 @@ mod tests {
             ("c_negative", offset_of!(JobGpu, c_negative)),
             ("radius", offset_of!(JobGpu, radius)),
             ("axis", offset_of!(JobGpu, axis)),
+            ("depth_start", offset_of!(JobGpu, depth_start)),
+            ("variance_down", offset_of!(JobGpu, variance_down)),
         ];
         assert_eq!(wgsl, rust);
         assert_eq!(size_of::<JobGpu>(), 256);

@@ -90,7 +90,7 @@ pub struct ShadowViewGpu {
     pub clip_from_world: Mat4,
     /// Per kind, see the WGSL.
     pub params: Vec4,
-    /// Cascade split range and depth range.
+    /// Cascade: split range, depth range, and where a moment sun's receivers start in depth.
     pub range: Vec4,
     /// UV offset and scale of the view in its layer.
     pub rect: Vec4,
@@ -287,6 +287,7 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
             }
             if let Some(m) = cascade_moments(sun, c as usize, support.fp32_filterable) {
                 gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
+                gpu.range.w = m.depth_start;
             }
         }
         ShadowViewKind::Spot => {

@@ -1,10 +1,12 @@
 //! What a sun's moment shadows (EVSM2, EVSM4, MSM) are made with, per cascade: the technique,
-//! the warp exponents (the same warp in metres in every cascade) and the blur radius in texels
-//! (the same softness in metres), and the format of the cascades' moments. The bake pass
+//! the depth span the moments cover (the cascade's receivers), the warp exponents (the
+//! format's strongest over that span) and the blur radius in texels (the same softness in
+//! metres), and the format of the cascades' moments. The bake pass
 //! ([`cascade_moments_pass`](super::cascade_moments_pass)) and the packed shadow views read the
 //! same values from here, so what is baked is what is tested.
 
 use crate::ecs::frame_lights::{FrameLights, SunView};
+use crate::math::cascades::Cascade;
 use crate::math::evsm::{MomentPrecision, cascade_blur_texels, cascade_exponent};
 use crate::math::msm::{MSM_BIAS_16, MSM_BIAS_32};
 use crate::render::shadows::gpu::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
@@ -21,6 +23,17 @@ pub struct CascadeMoments {
     pub c_negative: f32,
     /// Radius of the Gaussian pre-blur, texels of this cascade.
     pub blur_texels: f32,
+    /// Where the cascade's receivers start in its depth ([`Cascade::receiver_start`]): the
+    /// moments are of `clamp((d − depth_start) / (1 − depth_start), 0, 1)`, so the format's
+    /// precision and the warp are spent on the depths receivers can have.
+    ///
+    /// [`Cascade::receiver_start`]: crate::math::cascades::Cascade::receiver_start
+    pub depth_start: f32,
+    /// EVSM moments stored in half floats are rounded so their variance is never above the
+    /// true one: without contact hardening, rounding to the nearest lit casters' feet (71 %
+    /// of their umbra in `tests/sun_moments.rs`); with it a foot compares the depth itself,
+    /// and rounding down would only darken penumbrae.
+    pub variance_down: bool,
 }
 
 /// The precision of `sun`'s moments on a device that does (`fp32_filterable`) or does not
@@ -53,36 +66,57 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     } else {
         format_max
     };
+    // NOTE: the warp is the same in metres in every cascade, with the format's strongest
+    // exponent over the deepest receiver span: the spans, not the boxes (which reach up to
+    // the scene's casters), so 16-bit moments keep enough warp to shadow contacts.
     let deepest = cascades
         .iter()
-        .map(|c| c.depth_range)
+        .map(receiver_span)
         .filter(|r| r.is_finite() && *r > 0.0)
         .fold(0.0, f32::max);
-    let range = cascade.depth_range;
+    let span = receiver_span(cascade);
     Some(CascadeMoments {
         technique,
-        c_positive: cascade_exponent(range, deepest, max_exponent),
-        c_negative: cascade_exponent(range, deepest, precision.negative_exponent().min(max_exponent)),
-        blur_texels: cascade_blur_texels(s.moment_blur, cascade.texel_world_size, MAX_MOMENT_BLUR_TEXELS),
+        c_positive: cascade_exponent(span, deepest, max_exponent),
+        // NOTE: the negative warp's moments stay within ±1 at any exponent, so every cascade
+        // takes the format's: scaled down like the positive one, near cascades' negative warp
+        // was almost linear and let a receiver that casts nothing light the rim of umbrae.
+        c_negative: precision.negative_exponent().min(max_exponent),
+        // NOTE: contact hardening filters the unblurred moments over each pixel's penumbra.
+        blur_texels: if s.moment_contact_hardening {
+            0.0
+        } else {
+            cascade_blur_texels(s.moment_blur, cascade.texel_world_size, MAX_MOMENT_BLUR_TEXELS)
+        },
+        depth_start: cascade.receiver_start.clamp(0.0, MAX_DEPTH_START),
+        variance_down: precision == MomentPrecision::Fp16 && !s.moment_contact_hardening,
     })
 }
 
+/// Metres of a cascade's depth its receivers span (what its moments cover).
+fn receiver_span(cascade: &Cascade) -> f32 {
+    cascade.depth_range * (1.0 - cascade.receiver_start.clamp(0.0, MAX_DEPTH_START))
+}
+
+/// Largest [`CascadeMoments::depth_start`]: the receiver span keeps at least a thousandth of
+/// the box's depth.
+pub const MAX_DEPTH_START: f32 = 0.999;
+
 /// True when a shadowed sun that filters moments blurs them (the bake then needs its scratch).
 pub fn sun_moment_blur(lights: &FrameLights) -> bool {
-    lights
-        .suns
-        .iter()
-        .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.moment_blur > 0.0)
+    lights.suns.iter().any(|s| {
+        s.cascades.count > 0
+            && technique(s).is_some()
+            && !s.settings.moment_contact_hardening
+            && s.settings.moment_blur > 0.0
+    })
 }
 
 /// True when MSM moments in `format` are stored quantised: 16-bit channels need the
 /// optimised quantisation; 32-bit ones hold the raw moments (the quantisation's own f32
 /// round trip would cost more than the 32-bit bias).
 pub fn msm_quantised(format: wgpu::TextureFormat) -> bool {
-    !matches!(
-        format,
-        wgpu::TextureFormat::Rg32Float | wgpu::TextureFormat::Rgba32Float
-    )
+    format != wgpu::TextureFormat::Rgba32Float
 }
 
 /// What the device can store moments in: 32-bit floats it filters (`FLOAT32_FILTERABLE`),
@@ -99,9 +133,10 @@ pub struct MomentSupport {
 /// hardening's widest filter ([`MOMENT_MIPS`]) while a shadowed sun filters MSM with it, else
 /// 1 (EVSM keeps a fixed blur).
 pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
-    let hardening = lights.suns.iter().any(|s| {
-        s.cascades.count > 0 && technique(s) == Some(SHADOW_FILTER_MSM) && s.settings.moment_contact_hardening
-    });
+    let hardening = lights
+        .suns
+        .iter()
+        .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.moment_contact_hardening);
     if hardening {
         MOMENT_MIPS.min(32 - side.max(1).leading_zeros())
     } else {
@@ -132,15 +167,14 @@ pub fn any_sun_moments(lights: &FrameLights) -> bool {
 }
 
 /// The format of the cascades' moments this frame, None while no shadowed sun filters
-/// moments: four channels when one uses EVSM4 or MSM, else two; 32-bit floats when one
-/// resolves to 32 bits (which needs 32-bit filtering), else 16 bits: `Rgba16Unorm` when every
-/// such sun uses MSM and the device has it, else `Rgba16Float` (there is no two-channel
-/// 16-bit storage format every device writes). 16-bit MSM without unorm takes 32 bits where
-/// they filter: in half floats the quantised moments are too coarse for a receiver lying on a
-/// caster (the ground in a far cascade shadows itself; see `tests/sun_moments.rs`).
+/// moments: four channels (EVSM2's two moments and their coverage; EVSM4's or MSM's four
+/// moments), in 32-bit floats when a sun resolves to 32 bits (which needs 32-bit filtering),
+/// else 16 bits: `Rgba16Unorm` when every such sun uses MSM and the device has it, else
+/// `Rgba16Float`. 16-bit MSM without unorm takes 32 bits where they filter: in half floats the
+/// quantised moments are too coarse for a receiver lying on a caster (the ground in a far
+/// cascade shadows itself; see `tests/sun_moments.rs`).
 pub fn cascade_moment_format(lights: &FrameLights, support: MomentSupport) -> Option<wgpu::TextureFormat> {
     let mut any = false;
-    let mut four = false;
     let mut fp32 = false;
     let mut all_msm = true;
     for sun in lights.suns.iter().filter(|s| s.cascades.count > 0) {
@@ -148,16 +182,14 @@ pub fn cascade_moment_format(lights: &FrameLights, support: MomentSupport) -> Op
             continue;
         };
         any = true;
-        four |= technique != SHADOW_FILTER_EVSM2;
         all_msm &= technique == SHADOW_FILTER_MSM;
         fp32 |= sun_precision(sun, support.fp32_filterable) == MomentPrecision::Fp32;
     }
-    any.then_some(match (four, fp32) {
-        (false, true) => wgpu::TextureFormat::Rg32Float,
-        (true, true) => wgpu::TextureFormat::Rgba32Float,
-        (_, false) if all_msm && support.unorm16 => wgpu::TextureFormat::Rgba16Unorm,
-        (_, false) if all_msm && support.fp32_filterable => wgpu::TextureFormat::Rgba32Float,
-        (_, false) => wgpu::TextureFormat::Rgba16Float,
+    any.then_some(match fp32 {
+        true => wgpu::TextureFormat::Rgba32Float,
+        false if all_msm && support.unorm16 => wgpu::TextureFormat::Rgba16Unorm,
+        false if all_msm && support.fp32_filterable => wgpu::TextureFormat::Rgba32Float,
+        false => wgpu::TextureFormat::Rgba16Float,
     })
 }
 
@@ -194,18 +226,37 @@ mod tests {
     }
 
     #[test]
-    fn the_warp_and_blur_are_the_same_in_metres_in_every_cascade() {
-        let s = sun(ShadowMode::Evsm, MomentFormat::Auto, &[20.0, 40.0, 100.0, 200.0]);
+    fn the_positive_warp_and_the_blur_are_the_same_in_metres_over_every_receiver_span() {
+        let mut s = sun(ShadowMode::Evsm, MomentFormat::Auto, &[20.0, 40.0, 100.0, 400.0]);
+        s.settings.moment_contact_hardening = false;
+        for (i, c) in s.cascades.cascades.iter_mut().enumerate() {
+            c.receiver_start = [0.5, 0.25, 0.0, 0.5][i];
+        }
+        // Receiver spans: 10, 30, 100 and 200 m.
+        let spans = [10.0, 30.0, 100.0, 200.0];
         let m: Vec<_> = (0..4).map(|i| cascade_moments(&s, i, true).unwrap()).collect();
         assert_eq!(m[3].c_positive, 42.0);
         for (i, c) in m.iter().enumerate() {
-            let range = s.cascades.cascades[i].depth_range;
-            assert!((c.c_positive / range - 42.0 / 200.0).abs() < 1e-6);
-            assert!((c.c_negative / range - 10.0 / 200.0).abs() < 1e-6);
+            assert!((c.c_positive / spans[i] - 42.0 / 200.0).abs() < 1e-6, "{c:?}");
+            // The negative warp's moments stay within ±1: the format's exponent everywhere.
+            assert_eq!(c.c_negative, 10.0);
             let texel = s.cascades.cascades[i].texel_world_size;
             let metres = c.blur_texels * texel;
             assert!((metres - 0.05).abs() < 1e-6 || c.blur_texels == MAX_MOMENT_BLUR_TEXELS);
         }
+        let starts: Vec<f32> = m.iter().map(|c| c.depth_start).collect();
+        assert_eq!(starts, [0.5, 0.25, 0.0, 0.5]);
+        // Contact hardening filters unblurred moments; a fixed blur in 16 bits rounds the
+        // variance down.
+        assert!(m.iter().all(|c| !c.variance_down));
+        s.settings.moment_precision = MomentFormat::Fp16;
+        assert!(cascade_moments(&s, 0, true).unwrap().variance_down);
+        s.settings.moment_contact_hardening = true;
+        let hardened = cascade_moments(&s, 0, true).unwrap();
+        assert_eq!((hardened.blur_texels, hardened.variance_down), (0.0, false));
+        // A span that vanishes keeps a thousandth of its box.
+        s.cascades.cascades[0].receiver_start = 1.0;
+        assert_eq!(cascade_moments(&s, 0, true).unwrap().depth_start, MAX_DEPTH_START);
         assert_eq!(cascade_moments(&s, 4, true), None);
     }
 
@@ -225,7 +276,7 @@ mod tests {
             unorm16: true,
         };
         let format = |lights: &FrameLights, support| cascade_moment_format(lights, support);
-        assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rg32Float));
+        assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rgba32Float));
         assert_eq!(format(&lights, fp16), Some(wgpu::TextureFormat::Rgba16Float));
         lights.suns.push(sun(ShadowMode::Msm, MomentFormat::Auto, &[100.0]));
         assert_eq!(format(&lights, all), Some(wgpu::TextureFormat::Rgba32Float));

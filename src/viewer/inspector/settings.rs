@@ -127,15 +127,15 @@ fn sun_moments_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     if s.mode != ShadowMode::Msm {
         ui.add(Slider::new(&mut s.evsm_exponent, 0.0..=MAX_EVSM_EXPONENT).text("exponent (0: format's)"));
     }
-    ui.add(
-        Slider::new(&mut s.moment_blur, 0.0..=1.0)
-            .logarithmic(true)
-            .text("blur (m)"),
-    );
-    ui.add(Slider::new(&mut s.moment_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
-    if s.mode == ShadowMode::Msm {
-        ui.checkbox(&mut s.moment_contact_hardening, "contact hardening (experimental)");
+    ui.checkbox(&mut s.moment_contact_hardening, "contact hardening");
+    if !s.moment_contact_hardening {
+        ui.add(
+            Slider::new(&mut s.moment_blur, 0.0..=1.0)
+                .logarithmic(true)
+                .text("blur (m)"),
+        );
     }
+    ui.add(Slider::new(&mut s.moment_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
     if s.mode != ShadowMode::Msm {
         ui.add(
             Slider::new(&mut s.moment_min_variance, 0.0..=0.01)
