@@ -68,6 +68,7 @@ fn frame_input() -> CascadeInput {
         },
         light_direction: Vec3::new(0.4, -0.6, 0.3),
         scene_bounds: Aabb::new(Vec3::new(-1010.0, -10.0, -1010.0), Vec3::new(1010.0, 50.0, 1010.0)),
+        receiver_bounds: Aabb::new(Vec3::new(-1010.0, -10.0, -1010.0), Vec3::new(1010.0, 50.0, 1010.0)),
         count: 4,
         split_lambda: 0.6,
         max_distance: 300.0,

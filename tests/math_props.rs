@@ -133,6 +133,7 @@ fn input() -> BoxedStrategy<CascadeInput> {
                     camera,
                     light_direction,
                     scene_bounds,
+                    receiver_bounds: Aabb::EMPTY,
                     count,
                     split_lambda: lambda,
                     // Shadow distance from just past the near plane to far beyond it.
@@ -206,6 +207,7 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
                 camera,
                 light_direction: dir,
                 scene_bounds: bounds,
+                receiver_bounds: bounds,
                 count,
                 split_lambda: lambda,
                 max_distance: dist,
@@ -361,7 +363,37 @@ proptest! {
     }
 
     #[test]
-    fn stable_fit_ignores_camera_rotation(inp in input(), q in unit_quat()) {
+    fn receivers_in_a_slice_project_inside_their_cascade(
+        inp in input(), receivers in scene_bounds(), samples in prop::collection::vec(prop::array::uniform3(0.0f64..=1.0), 64),
+    ) {
+        let inp = CascadeInput { receiver_bounds: receivers, ..inp };
+        let set = compute_cascades(&inp);
+        let (rmin, rmax) = (receivers.min.as_dvec3(), receivers.max.as_dvec3());
+        for (i, c) in set.active().iter().enumerate() {
+            let start = if i > 0 { c.near - inp.blend_width * (c.near - set.splits[i - 1]) } else { c.near };
+            let k = slice_corners(&inp.camera, start, c.far).map(|p| p.as_dvec3());
+            // Points of the slice (trilinear in its corners) that lie in the receivers' box.
+            for [u, v, w] in &samples {
+                let near = k[0] + (k[1] - k[0]) * *u + (k[3] - k[0]) * *v;
+                let far = k[4] + (k[5] - k[4]) * *u + (k[7] - k[4]) * *v;
+                let p = near + (far - near) * *w;
+                if !(p.cmpge(rmin).all() && p.cmple(rmax).all()) {
+                    continue;
+                }
+                let (q, mag) = project_f64(&c.clip_from_world, p.as_vec3());
+                let tol = mag.map(|m| 1e-4 + 16.0 * f64::from(f32::EPSILON) * m);
+                prop_assert!(q[0].abs() <= 1.0 + tol[0], "cascade {i}: x {} ({:?})", q[0], tol);
+                prop_assert!(q[1].abs() <= 1.0 + tol[1], "cascade {i}: y {} ({:?})", q[1], tol);
+                prop_assert!(q[2] >= -tol[2] && q[2] <= 1.0 + tol[2], "cascade {i}: z {}", q[2]);
+            }
+        }
+    }
+
+    #[test]
+    fn stable_fit_ignores_camera_rotation_with_or_without_receivers(
+        inp in input(), q in unit_quat(), receivers in scene_bounds(),
+    ) {
+        let inp = CascadeInput { fit: CascadeFit::Stable, receiver_bounds: receivers, ..inp };
         let inp = CascadeInput { fit: CascadeFit::Stable, ..inp };
         let a = compute_cascades(&inp);
         let mut turned = inp;

@@ -323,6 +323,7 @@ pub fn update_frame_lights(
                     camera: *camera,
                     light_direction: sun.direction,
                     scene_bounds: instances.caster_bounds,
+                    receiver_bounds: instances.receiver_bounds,
                     count: sun.settings.cascade_count as usize,
                     split_lambda: sun.settings.split_lambda,
                     max_distance: sun.settings.max_distance,

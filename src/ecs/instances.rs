@@ -24,6 +24,10 @@ use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
 
+/// Cells per side of the grid the receivers' bounds given to the cascades are grown onto
+/// ([`Aabb::snapped_out`]): a receiver moving inside them leaves every cascade as it was.
+const RECEIVER_GRID: f32 = 256.0;
+
 /// Draw order key: opaque before masked, single-sided before double-sided, then by mesh and
 /// material, so every run of equal keys is one instanced draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -70,6 +74,9 @@ pub struct RenderInstances {
     pub chunks: SphereChunks,
     /// World bounds of all casters.
     pub caster_bounds: Aabb,
+    /// World bounds of everything that receives shadows, grown onto a grid of 1/256 of their
+    /// size ([`Aabb::snapped_out`]) so that objects moving inside them leave them unchanged.
+    pub receiver_bounds: Aabb,
     /// The render origin every position here is relative to.
     pub origin: Vec3,
     /// Bumped on every rebuild, so the renderer knows to re-upload.
@@ -180,6 +187,7 @@ fn rebuild<'a>(
     out.caster_boxes.clear();
     out.mesh_caster_radius.clear();
     out.caster_bounds = Aabb::EMPTY;
+    out.receiver_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
     for (i, (key, _, world_from_local, cast, receive, bounds)) in rows.iter().enumerate() {
         let mat = &materials.as_slice()[key.material.0 as usize];
@@ -193,6 +201,9 @@ fn rebuild<'a>(
             transmission: mat.effective_transmission(),
             _pad: 0,
         });
+        if *receive {
+            out.receiver_bounds = out.receiver_bounds.union(*bounds);
+        }
         let (center, radius) = bounds.bounding_sphere();
         out.keys.push(*key);
         out.centers.push(center);
@@ -213,6 +224,7 @@ fn rebuild<'a>(
             }
         }
     }
+    out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);
     out.origin = origin;

@@ -26,9 +26,9 @@ const CHUNK_EXPAND_FRACTION: f32 = 0.25;
 /// Marks a receiver id as a chunk index (else it is an instance index).
 const CHUNK_BIT: usize = 1 << (usize::BITS - 1);
 
-/// How far, in shadow texels, a receiver's filter reads around it: the widest PCSS kernel
-/// (32 texels) plus the largest PCF radius and normal offset, rounded up.
-pub const FILTER_REACH_TEXELS: f32 = 48.0;
+/// How far, in shadow texels, a receiver's filter reads around it
+/// ([`cascades::FILTER_REACH_TEXELS`](crate::math::cascades::FILTER_REACH_TEXELS)).
+pub const FILTER_REACH_TEXELS: f32 = crate::math::cascades::FILTER_REACH_TEXELS as f32;
 
 /// Switches of shadow-caster culling.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]

@@ -47,6 +47,27 @@ impl Aabb {
         }
     }
 
+    /// This box grown outwards onto a grid whose cell is the power of two at or above its
+    /// largest side divided by `divisions`: small changes of the box (an object moving
+    /// inside it, or past its edge by less than a cell) mostly leave the result unchanged.
+    /// Empty and non-finite boxes are returned as they are.
+    pub fn snapped_out(self, divisions: f32) -> Self {
+        if self.is_empty() || !self.is_finite() {
+            return self;
+        }
+        let side = (self.max - self.min).max_element().max(f32::MIN_POSITIVE);
+        let cell = (side / divisions.max(1.0)).log2().ceil().exp2();
+        if !(cell.is_finite() && cell > 0.0) {
+            return self;
+        }
+        let snapped = Self {
+            min: (self.min / cell).floor() * cell,
+            max: (self.max / cell).ceil() * cell,
+        };
+        // NOTE: at huge coordinates the division and product round; never shrink.
+        if snapped.is_finite() { snapped.union(self) } else { self }
+    }
+
     /// The smallest box holding both boxes.
     pub fn union(self, other: Aabb) -> Self {
         Self {
@@ -124,6 +145,23 @@ impl Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn snapping_grows_onto_a_power_of_two_grid_and_ignores_small_moves() {
+        let b = Aabb::new(Vec3::new(-100.0, 0.0, -100.0), Vec3::new(100.0, 8.0, 100.0));
+        // 200 m / 256 → a 1 m cell: already on it.
+        assert_eq!(b.snapped_out(256.0), b);
+        let moved = Aabb::new(Vec3::new(-100.3, 0.0, -99.6), Vec3::new(100.2, 8.4, 100.0));
+        let s = moved.snapped_out(256.0);
+        assert_eq!(
+            s,
+            Aabb::new(Vec3::new(-101.0, 0.0, -100.0), Vec3::new(101.0, 9.0, 100.0))
+        );
+        assert_eq!(moved.with_point(Vec3::new(0.0, 8.7, 0.0)).snapped_out(256.0), s);
+        assert_eq!(Aabb::EMPTY.snapped_out(256.0), Aabb::EMPTY);
+        let huge = Aabb::new(Vec3::splat(-f32::MAX), Vec3::splat(f32::MAX));
+        assert_eq!(huge.snapped_out(256.0), huge);
+    }
     use glam::Quat;
 
     #[test]

@@ -285,6 +285,7 @@ mod tests {
             camera: camera(),
             light_direction: Vec3::new(0.3, -0.8, 0.2),
             scene_bounds: Aabb::new(Vec3::splat(-210.0), Vec3::splat(210.0)),
+            receiver_bounds: Aabb::EMPTY,
             count: 4,
             split_lambda: 0.6,
             max_distance: 150.0,

@@ -208,6 +208,7 @@ mod tests {
             camera,
             light_direction: Vec3::new(0.2, -1.0, 0.3),
             scene_bounds: Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)),
+            receiver_bounds: Aabb::EMPTY,
             count,
             split_lambda: 0.5,
             max_distance: 100.0,

@@ -1,5 +1,5 @@
 //! Pure math of the shadow system: bounding boxes, reverse-Z projections, the light frame,
-//! camera frusta, cascade splitting, fitting and snapping, PCSS parameters, caster culling,
+//! camera frusta, cascade splitting, fitting (clipped to the receivers' box) and snapping, PCSS parameters, caster culling,
 //! Poisson-disk kernels, spot-light views with their perspective penumbra estimate, and the
 //! choice of shadowed lights under a budget. Only `glam` and `std`; no GPU types.
 //!
@@ -11,6 +11,7 @@
 pub mod aabb;
 pub mod cascades;
 pub mod chunks;
+pub mod clip;
 pub mod culling;
 pub mod evsm;
 pub mod footprint;
