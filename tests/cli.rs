@@ -12,18 +12,21 @@ fn penumbra(args: &[&str]) -> Output {
         .expect("the penumbra binary runs")
 }
 
+/// The arguments of `penumbra render` of the default scene at 48×32, one frame.
+const SMALL_RENDER: [&str; 8] = [
+    "render",
+    "assets/scenes/default.ron",
+    "--width",
+    "48",
+    "--height",
+    "32",
+    "--frames",
+    "1",
+];
+
 /// `penumbra render` of the default scene at 48×32, one frame, with `extra` arguments.
 fn small_render(extra: &[&str]) -> Output {
-    let mut args = vec![
-        "render",
-        "assets/scenes/default.ron",
-        "--width",
-        "48",
-        "--height",
-        "32",
-        "--frames",
-        "1",
-    ];
+    let mut args = SMALL_RENDER.to_vec();
     args.extend_from_slice(extra);
     penumbra(&args)
 }
@@ -272,16 +275,7 @@ fn a_render_prints_its_summary_as_json_when_asked() {
     let image = dir.join("out.png");
     // The commit is the one the binary was built from, whatever the environment says.
     let out = Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args([
-            "render",
-            "assets/scenes/default.ron",
-            "--width",
-            "48",
-            "--height",
-            "32",
-            "--frames",
-            "1",
-        ])
+        .args(SMALL_RENDER)
         .args(["--json", "--mode", "msm", "--out", image.to_str().unwrap()])
         .env("PENUMBRA_COMMIT", "not-this-one")
         .output()

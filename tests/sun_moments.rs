@@ -12,7 +12,7 @@ mod common;
 use bevy_app::App;
 use common::rays::Aabb;
 use common::still_scene;
-use common::suns::{Device, GROUND, TECHNIQUES, visibility};
+use common::suns::{Device, GROUND, STANDING, TECHNIQUES, TRAVEL, probes_near_the_feet, visibility};
 use glam::Vec3;
 use penumbra::math::splits::pssm_splits;
 use penumbra::render::Renderer;
@@ -91,45 +91,14 @@ fn a_sun_moment_shadow_lands_where_a_ray_to_the_sun_is_blocked() {
     }
 }
 
-/// Casters standing on the ground (which casts): a 1 m cube, 4 m and 6 m pillars, a 10 cm
-/// post and a wall, under a sun about 44° up.
-fn standing() -> [Aabb; 6] {
-    [
-        Aabb::cuboid(Vec3::new(0.0, 0.5, 0.0), Vec3::new(1.0, 1.0, 1.0)),
-        Aabb::cuboid(Vec3::new(3.0, 2.0, -1.0), Vec3::new(1.0, 4.0, 1.0)),
-        Aabb::cuboid(Vec3::new(-3.0, 3.0, -2.0), Vec3::new(1.0, 6.0, 1.0)),
-        Aabb::cuboid(Vec3::new(1.5, 1.25, 2.5), Vec3::new(0.1, 2.5, 0.1)),
-        Aabb::cuboid(Vec3::new(-1.5, 0.75, 2.0), Vec3::new(3.0, 1.5, 0.3)),
-        GROUND,
-    ]
-}
-
 #[test]
 fn casters_standing_on_their_receiver_shadow_their_feet() {
-    let boxes = standing();
-    let travel = Vec3::new(-0.6, -0.7, -0.4).normalize();
+    let mut boxes = STANDING.to_vec();
+    boxes.push(GROUND);
     let sun = "direction: (-0.6, -0.7, -0.4), angular_diameter: 0";
-    // Ground probes every 2 cm within 30 cm of each caster's footprint, outside it.
-    let near_a_foot = |p: Vec3| {
-        let outside = |b: &Aabb| p.x < b.min.x || p.x > b.max.x || p.z < b.min.z || p.z > b.max.z;
-        let within = |b: &Aabb| {
-            let dx = (b.min.x - p.x).max(p.x - b.max.x).max(0.0);
-            let dz = (b.min.z - p.z).max(p.z - b.max.z).max(0.0);
-            dx.hypot(dz) <= 0.3
-        };
-        let casters = &boxes[..5];
-        casters.iter().all(outside) && casters.iter().any(within)
-    };
-    let probes: Vec<(Vec3, Vec3)> = (-250..=250)
-        .flat_map(|i| (-200..=200).map(move |j| Vec3::new(i as f32 * 0.02, 0.0, j as f32 * 0.02)))
-        .filter(|&p| near_a_foot(p))
-        .map(|p| (p, Vec3::Y))
-        .collect();
-    let blocked_at = |q: Vec3| {
-        boxes[..5]
-            .iter()
-            .any(|b| b.blocks(q + Vec3::Y * 1e-3, q - travel * 50.0))
-    };
+    let probes = probes_near_the_feet();
+    let travel = TRAVEL.normalize();
+    let blocked_at = |q: Vec3| STANDING.iter().any(|b| b.blocks(q + Vec3::Y * 1e-3, q - travel * 50.0));
     // The largest share of the feet's umbra each technique may light: three times what
     // lavapipe measured (in the comments), and 0.001 where it measured 0.
     let limits = [

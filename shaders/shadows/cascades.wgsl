@@ -112,35 +112,57 @@ fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: ve
     return out;
 }
 
-#ifdef SHADOW_FILTER_PCSS
-// Percentage-closer soft shadows in a cascade: average the depth of occluders found around
-// the receiver, size the filter from the receiver-blocker distance, then filter with that
-// kernel.
-fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
+// What PCSS's blocker search over a cascade's depth map found around a receiver.
+struct CascadeSearch {
+    // 1: no blocker (lit); 0: every tap blocked and the light early-outs (umbra); -1: filter.
+    settled: f32,
+    // The penumbra's half width from the blockers' mean depth (layer UV, along u): the
+    // distance to them times tan(θ/2), at most the reach of the search.
+    radius: f32,
+    // Blocker texels found, of 4 · PCSS_BLOCKER_SAMPLES.
+    count: f32,
+    // The smallest kernel radius (one filter step along u).
+    min_radius: f32,
+    // Scale from a u-extent to the v-extent of the same world size.
+    aspect: vec2<f32>,
+    // The per-pixel rotation of the sampling patterns.
+    rotation: mat2x2<f32>,
+}
+
+// PCSS's blocker search in a cascade: over the widest penumbra any caster between the
+// light-side plane and the receiver could throw (at most MAX_PENUMBRA_TEXELS), the blockers'
+// mean depth, and the penumbra it gives: full width = distance to the blockers times
+// 2 tan(θ/2), the radius half of it. Shared by PCSS and the moment techniques' contact
+// hardening.
+fn cascade_search(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> CascadeSearch {
     let view = shadow_views.items[light.first_view + index];
     let pcss_scale = view.params.z * view.rect.z;
-    let aspect = vec2<f32>(1.0, view.params.w);
+    var out: CascadeSearch;
+    out.aspect = vec2<f32>(1.0, view.params.w);
     // Smallest kernel radius in u units (the kernel's v extent is the radius times aspect.y).
-    let min_radius = min(p.filter_step.x, p.filter_step.y / aspect.y);
+    out.min_radius = min(p.filter_step.x, p.filter_step.y / out.aspect.y);
     let max_radius = MAX_PENUMBRA_TEXELS * p.texel;
-    let rotation = poisson_rotation(frag_coord, light.flags);
-
-    // Blocker search: the widest penumbra any caster between the light-side plane and the
-    // receiver could throw, bounded to MAX_PENUMBRA_TEXELS.
-    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, min_radius, max_radius);
-    let blockers = find_blockers(cascade_maps, p, search_radius, aspect, rotation);
-    if blockers.count == 0.0 {
-        return 1.0;
-    }
+    out.rotation = poisson_rotation(frag_coord, light.flags);
+    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, out.min_radius, max_radius);
+    let blockers = find_blockers(cascade_maps, p, search_radius, out.aspect, out.rotation);
+    out.count = blockers.count;
+    out.radius = min(0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale, max_radius);
     let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
-        return 0.0;
+    let early_out = (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u;
+    out.settled = select(select(-1.0, 0.0, early_out && blockers.count >= total_taps), 1.0, blockers.count == 0.0);
+    return out;
+}
+
+#ifdef SHADOW_FILTER_PCSS
+// Percentage-closer soft shadows in a cascade: the blocker search, then PCSS's filter over
+// the penumbra it gives.
+fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
+    let search = cascade_search(light, index, p, frag_coord);
+    if search.settled >= 0.0 {
+        return search.settled;
     }
-    // Penumbra: full width = distance to the blockers times 2 tan(θ/2); the filter radius is
-    // half of it.
-    let penumbra = 0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale;
-    let radius = clamp(penumbra, min_radius, max_radius);
-    return pcss_filter(cascade_maps, p, radius, aspect, rotation, blockers.count);
+    let radius = max(search.radius, search.min_radius);
+    return pcss_filter(cascade_maps, p, radius, search.aspect, search.rotation, search.count);
 }
 #endif
 
@@ -190,21 +212,11 @@ fn moments_min_variance(light: Light, view: ShadowView, p: MapSample) -> f32 {
 // gap that small.
 fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -> f32 {
     let view = shadow_views.items[light.first_view + index];
-    let pcss_scale = view.params.z * view.rect.z;
-    let aspect = vec2<f32>(1.0, view.params.w);
-    let min_radius = min(p.filter_step.x, p.filter_step.y / aspect.y);
-    let max_radius = MAX_PENUMBRA_TEXELS * p.texel;
-    let rotation = poisson_rotation(frag_coord, light.flags);
-    let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, min_radius, max_radius);
-    let blockers = find_blockers(cascade_maps, p, search_radius, aspect, rotation);
-    if blockers.count == 0.0 {
-        return 1.0;
+    let search = cascade_search(light, index, p, frag_coord);
+    if search.settled >= 0.0 {
+        return search.settled;
     }
-    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
-        return 0.0;
-    }
-    let radius = min(0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale, max_radius);
+    let radius = search.radius;
     let texels = radius / p.texel;
     if texels < 1.0 {
         return compare_tap(cascade_maps, p, vec2<f32>(0.0));
@@ -213,7 +225,7 @@ fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: 
     var sum = vec4<f32>(0.0);
     for (var i = 0u; i < 4u; i++) {
         let corner = vec2<f32>(select(-0.4, 0.4, (i & 1u) == 1u), select(-0.4, 0.4, i >= 2u));
-        let offset = rotation * corner * radius * aspect;
+        let offset = search.rotation * corner * radius * search.aspect;
         sum += textureSampleLevel(cascade_moments, moments_sampler, p.uv + offset, p.layer, lod);
     }
     let depth = cascade_moment_depth(view, p.depth);

@@ -1,6 +1,6 @@
 //! What the sun moment tests share: every moment technique with the device it runs on, a
-//! casting ground, the focus sun's visibility at probe points, and the ray-cast truth of a
-//! sun disc over boxes.
+//! casting ground, casters standing on it with probes around their feet, the focus sun's
+//! visibility at probe points, and the ray-cast truth of a sun disc over boxes.
 
 use glam::Vec3;
 use penumbra::math::light_space::light_rotation;
@@ -79,4 +79,49 @@ pub fn penumbra_width(probes: &[(Vec3, Vec3)], values: &[f32]) -> f32 {
             .map_or(f32::NAN, |((p, _), _)| p.x)
     };
     (at(0.9) - at(0.1)).abs()
+}
+
+/// Casters standing at y = 0: a 1 m cube, 4 m and 6 m pillars, a 10 cm post and a wall.
+pub const STANDING: [Aabb; 5] = [
+    Aabb {
+        min: Vec3::new(-0.5, 0.0, -0.5),
+        max: Vec3::new(0.5, 1.0, 0.5),
+    },
+    Aabb {
+        min: Vec3::new(2.5, 0.0, -1.5),
+        max: Vec3::new(3.5, 4.0, -0.5),
+    },
+    Aabb {
+        min: Vec3::new(-3.5, 0.0, -2.5),
+        max: Vec3::new(-2.5, 6.0, -1.5),
+    },
+    Aabb {
+        min: Vec3::new(1.45, 0.0, 2.45),
+        max: Vec3::new(1.55, 2.5, 2.55),
+    },
+    Aabb {
+        min: Vec3::new(-3.0, 0.0, 1.85),
+        max: Vec3::new(0.0, 1.5, 2.15),
+    },
+];
+
+/// Where the light travels: a sun about 44° up.
+pub const TRAVEL: Vec3 = Vec3::new(-0.6, -0.7, -0.4);
+
+/// Ground probes every 2 cm within 30 cm of a caster's footprint, outside every footprint.
+pub fn probes_near_the_feet() -> Vec<(Vec3, Vec3)> {
+    let near_a_foot = |p: Vec3| {
+        let outside = |b: &Aabb| p.x < b.min.x || p.x > b.max.x || p.z < b.min.z || p.z > b.max.z;
+        let within = |b: &Aabb| {
+            let dx = (b.min.x - p.x).max(p.x - b.max.x).max(0.0);
+            let dz = (b.min.z - p.z).max(p.z - b.max.z).max(0.0);
+            dx.hypot(dz) <= 0.3
+        };
+        STANDING.iter().all(outside) && STANDING.iter().any(within)
+    };
+    (-250..=250)
+        .flat_map(|i| (-200..=200).map(move |j| Vec3::new(i as f32 * 0.02, 0.0, j as f32 * 0.02)))
+        .filter(|&p| near_a_foot(p))
+        .map(|p| (p, Vec3::Y))
+        .collect()
 }
