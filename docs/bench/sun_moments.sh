@@ -44,7 +44,8 @@ MODES=(
   "evsm4|--mode evsm4 --moment-precision fp32"
   "msm-fp16|--mode msm --moment-precision fp16"
   "msm-fp32|--mode msm --moment-precision fp32"
-  "msm-soft|--mode msm --moment-precision fp16 --moment-contact-hardening"
+  "evsm-fixed|--mode evsm --moment-precision fp32 --moment-contact-hardening false"
+  "msm-fixed|--mode msm --moment-precision fp16 --moment-contact-hardening false"
 )
 
 echo "## Default scene (assets/scenes/default.ron), per filter"
@@ -65,7 +66,7 @@ echo "## Lighting cost against the sun's angular diameter (pillars.ron, still)"
 for d in 0.25 0.5 1 2 3 5; do
   for entry in "pcss-low|--mode pcss --quality low" "pcss-high|--mode pcss --quality high" \
                "evsm-fp16|--mode evsm --moment-precision fp16" "msm-fp16|--mode msm --moment-precision fp16" \
-               "msm-soft|--mode msm --moment-precision fp16 --moment-contact-hardening"; do
+               "msm-fixed|--mode msm --moment-precision fp16 --moment-contact-hardening false"; do
     printf "%-5s %-10s " "$d°" "${entry%%|*}"
     # shellcheck disable=SC2086
     "$BIN" render assets/scenes/pillars.ron $R --sun-diameter "$d" ${entry#*|} 2>&1 | sum

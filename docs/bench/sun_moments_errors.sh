@@ -12,7 +12,7 @@
 set -euo pipefail
 BIN=${1:-target/release/penumbra}
 OUT=${2:-out/sun-moments}
-P=pcf1,pcss-low,pcss-medium,pcss-high,evsm-fp16,evsm-fp32,evsm4,msm-fp16,msm-fp32,msm-soft
+P=pcf1,pcss-low,pcss-medium,pcss-high,evsm-fp16,evsm-fp32,evsm4,msm-fp16,msm-fp32,evsm-fixed,msm-fixed
 S=assets/scenes
 trap 'rm -f "$S/pillars-ground.ron" "$S/field-ground.ron"' EXIT
 
@@ -25,5 +25,5 @@ sed 's/material: "grass", cast_shadows: false/material: "grass", cast_shadows: t
 grep -q "cast_shadows: true" $S/pillars-ground.ron $S/field-ground.ron
 "$BIN" bench --scenes $S/pillars-ground.ron $S/field-ground.ron --presets $P --out "$OUT/ground"
 
-"$BIN" bench --scenes $S/pillars.ron --presets pcss-low,pcss-high,evsm-fp16,msm-fp16,msm-soft \
+"$BIN" bench --scenes $S/pillars.ron --presets pcss-low,pcss-high,evsm-fp16,msm-fp16,msm-fixed \
   --sun-diameters 0.25,0.5,1,2,3,5 --out "$OUT/sweep"
