@@ -25,7 +25,7 @@ struct HalfSpace {
 }
 
 /// Light-space bounds `(lo, hi)` (`rot · p`) of the part of the slice with corners `corners`
-/// (any frame, in [`FACES`]' order) inside the box `[box_min, box_max]` (same frame); None
+/// (any frame, in `FACES`' order) inside the box `[box_min, box_max]` (same frame); None
 /// when they do not meet. Exact for a convex slice: the points taken are the vertices of the
 /// intersection (corners of either inside the other, and edges of either through the other's
 /// faces), with a tolerance of a billionth of the larger solid's size.
