@@ -77,7 +77,16 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     let span = receiver_span(cascade);
     Some(CascadeMoments {
         technique,
-        c_positive: cascade_exponent(span, deepest, max_exponent),
+        c_positive: if s.moment_contact_hardening {
+            // NOTE: contact hardening filters the moments over wide penumbrae from coarse mip
+            // levels, where a near cascade's weak warp left half floats unable to tell the
+            // occluders from the receiver (61-85 % of the field's near umbra lit under a 3°
+            // sun): every cascade warps at least as hard as the 16-bit format allows.
+            let floor = MomentPrecision::Fp16.exponent().min(max_exponent);
+            cascade_exponent(span, deepest, max_exponent).max(floor)
+        } else {
+            cascade_exponent(span, deepest, max_exponent)
+        },
         // NOTE: the negative warp's moments stay within ±1 at any exponent, so every cascade
         // takes the format's: scaled down like the positive one, near cascades' negative warp
         // was almost linear and let a receiver that casts nothing light the rim of umbrae.
