@@ -76,6 +76,7 @@ fn frame_input() -> CascadeInput {
         fit: CascadeFit::Tight,
         angular_diameter: 0.0093,
         blend_width: 0.1,
+        seen: None,
     }
 }
 

@@ -8,6 +8,7 @@ use clap::Args;
 
 use penumbra::export::{OutputKind, prepare_output};
 
+use super::cli_values::Fit;
 use super::{side, sun_degrees};
 
 /// Options of `penumbra bench`.
@@ -49,6 +50,9 @@ pub struct BenchArgs {
     /// Override every scene's hardware slope bias, for tuning.
     #[arg(long)]
     slope_bias: Option<f32>,
+    /// Override how every scene's cascades are fitted: tight, stable or depth-bounds.
+    #[arg(long, value_enum)]
+    fit: Option<Fit>,
     /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
     #[arg(long, value_parser = sun_degrees, conflicts_with = "sun_diameters")]
     sun_diameter: Option<f32>,
@@ -121,6 +125,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         normal_offset: args.normal_offset,
         slope_bias: args.slope_bias,
         sun_diameter: args.sun_diameter,
+        fit: args.fit.map(Into::into),
     };
     if !args.sun_diameters.is_empty() {
         for name in ["sweep.md", "sweep.png"] {

@@ -7,11 +7,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod bench_command;
+mod cli_values;
 mod render_json;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use bench_command::{BenchArgs, bench};
+use cli_values::{Fit, Mode, Precision, Prepass, Quality};
 
 use penumbra::app::{PreparedScene, RenderError, RenderRequest, SpawnError, render_scene_with};
 use penumbra::diagnostic::{ErrorStyle, render_error};
@@ -38,37 +40,6 @@ struct Cli {
 enum ErrorFormat {
     Rich,
     Short,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum Mode {
-    Pcf,
-    Pcss,
-    Vsm,
-    Evsm,
-    Evsm4,
-    Msm,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum Precision {
-    Auto,
-    Fp16,
-    Fp32,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum Quality {
-    Low,
-    Medium,
-    High,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Prepass {
-    Auto,
-    On,
-    Off,
 }
 
 /// Options of `penumbra render`.
@@ -104,6 +75,10 @@ struct RenderArgs {
     /// The sun's angular diameter in degrees, 0-30 (default: the scene's).
     #[arg(long, value_parser = sun_degrees)]
     sun_diameter: Option<f32>,
+    /// How the sun's cascades are fitted (default: the scene's): tight, stable, or
+    /// depth-bounds (to the depths the camera saw, a frame or two late).
+    #[arg(long, value_enum)]
+    fit: Option<Fit>,
     /// Tint pixels by the cascade they sample.
     #[arg(long)]
     debug_cascades: bool,
@@ -204,6 +179,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         moment_precision,
         moment_contact_hardening,
         sun_diameter,
+        fit,
         debug_cascades,
         asset_root,
         max_instances,
@@ -259,6 +235,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         }
         if let Some(on) = moment_contact_hardening {
             s.moment_contact_hardening = on;
+        }
+        if let Some(fit) = fit {
+            s.fit = fit.into();
         }
         if debug_cascades {
             s.debug_view = ShadowDebugView::Cascades;

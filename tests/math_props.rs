@@ -142,6 +142,7 @@ fn input() -> BoxedStrategy<CascadeInput> {
                     fit,
                     angular_diameter: ad,
                     blend_width: 0.1,
+                    seen: None,
                 }
             },
         )
@@ -215,6 +216,7 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
                 fit,
                 angular_diameter: ad,
                 blend_width: 0.1,
+                seen: None,
             },
         )
         .boxed()

@@ -50,8 +50,12 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         r.graph_order(),
         ["shadow", "depth prepass", "visibility resolve", "forward"]
     );
-    // No light filters moments: the moments nodes write nothing and are culled.
-    assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments"]);
+    // No light filters moments and no sun fits to the depths seen: the moments nodes and the
+    // depth-bounds reduction are culled.
+    assert_eq!(
+        r.graph_culled(),
+        ["shadow moments", "shadow cascade moments", "depth bounds"]
+    );
     // Three frames of one size: the camera depth was created once and reused.
     // The camera depth and normals (for the compute resolve), each created once (MSAA is off
     // by default: no multisampled colour).
@@ -75,7 +79,8 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
             "shadow",
             "shadow moments",
             "shadow cascade moments",
-            "visibility resolve"
+            "visibility resolve",
+            "depth bounds"
         ]
     );
     // Nothing new: the pooled depth and normals serve this frame too.
@@ -172,7 +177,10 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
         r.graph_order(),
         ["shadow", "depth prepass", "visibility resolve", "forward", "paint"]
     );
-    assert_eq!(r.graph_culled(), ["shadow moments", "shadow cascade moments", "unread"]);
+    assert_eq!(
+        r.graph_culled(),
+        ["shadow moments", "shadow cascade moments", "depth bounds", "unread"]
+    );
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
     // The culled node's transient was never allocated: only the camera depth and normals were.
@@ -244,7 +252,8 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
             "shadow moments",
             "shadow cascade moments",
             "depth prepass",
-            "visibility resolve"
+            "visibility resolve",
+            "depth bounds"
         ]
     );
     let mut large = app();

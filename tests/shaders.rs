@@ -81,6 +81,18 @@ fn the_shadow_clear_shader_validates() {
 }
 
 #[test]
+fn the_depth_bounds_shader_validates_single_sample_and_multisampled() {
+    let mut library = ShaderLibrary::new().unwrap();
+    for multisampled in [false, true] {
+        let module = library
+            .depth_bounds(multisampled)
+            .unwrap_or_else(|e| panic!("multisampled {multisampled}: {e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["main"]);
+    }
+}
+
+#[test]
 fn the_moments_shader_validates_for_spot_and_point_lights_in_both_formats() {
     let mut library = ShaderLibrary::new().unwrap();
     for point in [false, true] {

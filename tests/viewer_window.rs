@@ -102,6 +102,16 @@ fn main() {
     });
     println!("viewer: {summary:?}");
     assert!(summary.ticks >= EXERCISE_TICKS, "{summary:?}");
+    // The broken shader's compose error, naming its file, is still shown on the last tick.
+    let name = shader.display().to_string();
+    assert!(
+        summary
+            .errors
+            .iter()
+            .any(|e| e.contains(&name) && e.contains("failed to compose")),
+        "the shader error was not reported: {:?}",
+        summary.errors
+    );
     // Minimised ticks and the lost surface are skipped, every other tick draws.
     assert!(summary.frames >= summary.ticks - 6, "{summary:?}");
     assert!(

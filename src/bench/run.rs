@@ -19,6 +19,7 @@ use crate::render::frame::FrameInputs;
 use crate::render::timer::median;
 use crate::render::{FrameReport, GpuError, Msaa, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, SceneError};
+use crate::settings::CascadeFit;
 
 /// Anything that stops a benchmark.
 #[derive(Debug, Error)]
@@ -104,6 +105,7 @@ fn time_scene(
             // NOTE: the benchmark waits for each frame's timings so that every timed frame
             // counts (a game's frame loop does not wait).
             let timings = renderer.wait_for_timings();
+            session.take_seen_depths(&mut renderer);
             if frame >= config.warmup_frames {
                 let stats = session.stats();
                 cpu.push((stats.cascades_cpu + stats.culling_cpu).as_secs_f64() * 1e3);
@@ -149,6 +151,8 @@ pub struct SettingsOverrides {
     pub slope_bias: Option<f32>,
     /// The scene sun's angular diameter, degrees (for sweeps of penumbra width).
     pub sun_diameter: Option<f32>,
+    /// How every scene's cascades are fitted.
+    pub fit: Option<CascadeFit>,
 }
 
 impl SettingsOverrides {
@@ -161,6 +165,9 @@ impl SettingsOverrides {
         }
         if let (Some(v), Some(sun)) = (self.sun_diameter, desc.sun.as_mut()) {
             sun.angular_diameter = v;
+        }
+        if let Some(fit) = self.fit {
+            desc.shadows.fit = fit;
         }
     }
 

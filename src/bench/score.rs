@@ -22,10 +22,15 @@ use crate::render::probe::ProbeGpu;
 use crate::render::target::AnalysisImage;
 use crate::scene::SceneDesc;
 
-/// Renders one analysis frame of the session with the given renderer.
+/// Renders one analysis frame of the session with the given renderer: a frame, whose seen
+/// depths the session then takes, and the frame scored (so a depth-bounds fit is scored
+/// fitted to its own view, as a still camera's frames are).
 fn analysis_frame(session: &mut SceneSession, renderer: &mut Renderer) -> AnalysisImage {
-    session.update();
-    renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+    for _ in 0..2 {
+        session.update();
+        renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+        session.take_seen_depths(renderer);
+    }
     renderer.read_analysis().unwrap_or_default()
 }
 
@@ -81,6 +86,7 @@ fn path_values(
             session.move_camera(offset, yaw);
             session.update();
             renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+            session.take_seen_depths(renderer);
             renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), probes)
         })
         .collect();

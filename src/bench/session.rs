@@ -18,6 +18,8 @@ use crate::ecs::shadow_views::ShadowLightBudget;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::reference::{AlphaMask, Caster, ReferenceScene, SunDisc};
+use crate::render::plugin::publish_seen_depths;
+use crate::render::renderer::Renderer;
 use crate::scene::SceneDesc;
 use crate::settings::ShadowSettings;
 
@@ -148,6 +150,13 @@ impl SceneSession {
     /// Runs the shadow systems for one frame.
     pub fn update(&mut self) {
         self.app.update();
+    }
+
+    /// Waits for the depths `renderer`'s frames saw and hands them to the shadow systems, so
+    /// the next frame's depth-bounds fit follows the last frame rendered.
+    pub fn take_seen_depths(&mut self, renderer: &mut Renderer) {
+        renderer.wait_for_seen_depths();
+        publish_seen_depths(self.app.world_mut(), renderer);
     }
 
     /// This frame's statistics.

@@ -25,7 +25,7 @@ use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
 use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget, ShadowView, ShadowViewKind};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::ecs::view::ActiveView;
+use crate::ecs::view::{ActiveView, SeenByCamera};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
@@ -184,6 +184,7 @@ pub fn update_frame_lights(
     spots: Query<(Entity, &SpotLight, &GlobalTransform, Option<&ShadowSettings>)>,
     points: Query<(Entity, &PointLight, &GlobalTransform, Option<&ShadowSettings>)>,
     view: Res<ActiveView>,
+    seen: Res<SeenByCamera>,
     origin: Res<RenderOrigin>,
     budget: Res<ShadowLightBudget>,
     instances: Res<RenderInstances>,
@@ -331,6 +332,7 @@ pub fn update_frame_lights(
                     fit: sun.settings.fit,
                     angular_diameter: sun.light.angular_diameter,
                     blend_width: sun.settings.blend_width,
+                    seen: seen.relative_to(origin.0),
                 });
             }
             continue;

@@ -37,4 +37,4 @@ pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use shadow_views::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};
 pub use stats::{ShadowDiagnostics, ShadowStats};
-pub use view::ActiveView;
+pub use view::{ActiveView, SeenByCamera};

@@ -19,7 +19,7 @@ use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
-use crate::ecs::view::{ActiveView, update_active_view};
+use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
 
 /// The stages of the shadow systems, run in this order in `PostUpdate`, after
 /// [`TransformSystems::Propagate`] (so every system reads this frame's `GlobalTransform`).
@@ -54,6 +54,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<CasterChanges>()
             .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()
+            .init_resource::<SeenByCamera>()
             .init_resource::<FrameLights>()
             .init_resource::<ShadowViews>()
             .init_resource::<ViewDrawGroups>()

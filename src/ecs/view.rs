@@ -12,6 +12,7 @@ use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::world_pose;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::math::frustum::CameraView;
+use crate::math::seen_depths::SeenDepths;
 
 /// The camera of this frame; its position is relative to the [`RenderOrigin`]. The lights
 /// are in [`FrameLights`](crate::ecs::frame_lights::FrameLights).
@@ -19,6 +20,31 @@ use crate::math::frustum::CameraView;
 pub struct ActiveView {
     /// The first entity with [`Camera3d`] and a valid [`GlobalTransform`], if any.
     pub camera: Option<(CameraView, Camera3d)>,
+}
+
+/// What the camera saw in an earlier frame, for suns that fit their cascades with
+/// [`CascadeFit::DepthBounds`](crate::settings::CascadeFit): written by the
+/// [`RenderPlugin`](crate::render::RenderPlugin) when a depth reduction comes back from the
+/// GPU (or by an application that measures it itself), read when the cascades are computed.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct SeenByCamera {
+    /// The depths seen, if any came back.
+    pub depths: Option<SeenDepths>,
+    /// The render origin the depths' world boxes are relative to.
+    pub origin: Vec3,
+}
+
+impl SeenByCamera {
+    /// The depths seen, with their world boxes made relative to the render origin `origin`.
+    pub fn relative_to(&self, origin: Vec3) -> Option<SeenDepths> {
+        self.depths.map(|d| {
+            if origin == self.origin {
+                d
+            } else {
+                d.shifted(origin - self.origin)
+            }
+        })
+    }
 }
 
 /// Builds the camera's view description from its world pose and the viewport's aspect, in

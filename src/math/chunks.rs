@@ -293,6 +293,7 @@ mod tests {
             fit: CascadeFit::Tight,
             angular_diameter: 0.01,
             blend_width: 0.0,
+            seen: None,
         });
         let mut exact = vec![0u8; centers.len()];
         let mut chunked = vec![0u8; centers.len()];

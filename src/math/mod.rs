@@ -25,6 +25,7 @@ pub mod point;
 pub mod poisson;
 pub mod projection;
 pub mod receivers;
+pub mod seen_depths;
 pub mod snapping;
 pub mod splits;
 pub mod spot;

@@ -8,6 +8,7 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
+use crate::render::depth_bounds::wants_depth_bounds;
 use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
@@ -50,6 +51,9 @@ pub struct ForwardPass {
     handles: Option<FrameResources>,
     /// The multisampled colour this frame draws into (resolved into the target), with MSAA.
     multisampled_color: Option<TextureId>,
+    /// Whether a later pass (the depth-bounds reduction) reads the depth this pass creates,
+    /// which is then stored instead of discarded.
+    keep_depth: bool,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -136,6 +140,7 @@ impl ForwardPass {
             clear_color,
             handles: None,
             multisampled_color: None,
+            keep_depth: false,
         }
     }
 
@@ -192,7 +197,8 @@ impl RenderNode for ForwardPass {
     /// Reads both shadow storages; writes the colour (and analysis) targets; reads the camera
     /// depth an earlier node (the prepass) wrote, or creates and writes it. With MSAA it also
     /// creates the multisampled colour it resolves into the target.
-    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        self.keep_depth = wants_depth_bounds(inputs);
         pass.read(frame.cascade_maps);
         pass.read(frame.spot_maps);
         pass.read(frame.point_maps);
@@ -345,7 +351,11 @@ impl RenderNode for ForwardPass {
                 } else {
                     wgpu::Operations {
                         load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Discard,
+                        store: if self.keep_depth {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
                     }
                 }),
                 stencil_ops: None,

@@ -2,16 +2,19 @@
 //! node sees while recording ([`FrameContext`]).
 
 use bevy_ecs::world::World;
+use glam::Vec3;
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::components::AmbientLight;
 use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::origin::RenderOrigin;
 use crate::ecs::shadow_views::ShadowViews;
 use crate::ecs::view::ActiveView;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
+use crate::render::depth_bounds::SeenReadback;
 use crate::render::fragment_count::FragmentCounter;
 use crate::render::layouts::Layouts;
 use crate::render::options::RenderOptions;
@@ -55,6 +58,8 @@ pub struct FrameContext<'a> {
     pub counters: &'a mut RenderCounters,
     /// The last pipeline build that failed (the previous pipeline was kept).
     pub pipeline_error: &'a mut Option<String>,
+    /// The depth-bounds reduction's readback ring.
+    pub seen: &'a mut SeenReadback,
 }
 
 /// The ECS data one frame is rendered from.
@@ -81,6 +86,8 @@ pub struct FrameInputs<'a> {
     pub frame_index: u32,
     /// Render-wide switches (the world's [`RenderOptions`], or the defaults).
     pub options: RenderOptions,
+    /// The render origin every GPU position is relative to ([`RenderOrigin`]).
+    pub origin: Vec3,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -98,6 +105,7 @@ impl<'a> FrameInputs<'a> {
             ambient: world.resource::<AmbientLight>(),
             frame_index,
             options: world.get_resource::<RenderOptions>().copied().unwrap_or_default(),
+            origin: world.get_resource::<RenderOrigin>().map_or(Vec3::ZERO, |o| o.0),
         }
     }
 }

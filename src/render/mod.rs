@@ -3,6 +3,7 @@
 
 pub mod context;
 pub mod counters;
+pub mod depth_bounds;
 pub mod draw;
 pub mod forward_pass;
 pub mod fragment_count;

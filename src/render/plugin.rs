@@ -8,6 +8,7 @@ use bevy_ecs::world::World;
 
 use crate::ecs::components::ViewportSize;
 use crate::ecs::receiver_culling::ShadowCulling;
+use crate::ecs::view::SeenByCamera;
 use crate::render::frame::FrameInputs;
 use crate::render::options::RenderOptions;
 use crate::render::renderer::Renderer;
@@ -45,6 +46,22 @@ pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
             culling.single_pass = single_pass;
         }
         renderer.render(&FrameInputs::from_world(world, *frame_index));
+        publish_seen_depths(world, &renderer);
     });
     *frame_index = frame_index.wrapping_add(1);
+}
+
+/// Hands the latest depths the renderer saw to the ECS ([`SeenByCamera`]), for the next
+/// frame's depth-bounds cascade fit (unchanged while nothing new came back).
+pub fn publish_seen_depths(world: &mut World, renderer: &Renderer) {
+    let Some((depths, origin)) = renderer.seen_depths() else {
+        return;
+    };
+    let seen = SeenByCamera {
+        depths: Some(depths),
+        origin,
+    };
+    if world.get_resource::<SeenByCamera>() != Some(&seen) {
+        world.insert_resource(seen);
+    }
 }

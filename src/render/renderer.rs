@@ -2,11 +2,10 @@
 //! graph, and renders one frame from the ECS data.
 
 use bevy_ecs::resource::Resource;
-use image::RgbaImage;
 
-use crate::ecs::shadow_views::ShadowStorage;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
+use crate::render::depth_bounds::{DepthBoundsPass, SeenReadback};
 use crate::render::forward_pass::ForwardPass;
 use crate::render::fragment_count::FragmentCounter;
 use crate::render::frame::{FrameContext, FrameInputs};
@@ -16,7 +15,7 @@ use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::options::Msaa;
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
-use crate::render::probe::{ProbeGpu, ProbePass};
+use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
@@ -24,9 +23,9 @@ use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
-use crate::render::target::{AnalysisImage, DEPTH_FORMAT, HeadlessTarget, TargetViews};
+use crate::render::target::{DEPTH_FORMAT, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
-use crate::shader::{ForwardVariant, ShaderError, ShaderLibrary};
+use crate::shader::{ShaderError, ShaderLibrary};
 
 /// A headless renderer; insert it as a resource next to [`RenderPlugin`](crate::render::RenderPlugin).
 #[derive(Resource)]
@@ -49,6 +48,8 @@ pub struct Renderer {
     problems: UploadProblems,
     /// The MSAA request and colour format last warned about (a fallback is warned once).
     msaa_warned: Option<(Msaa, wgpu::TextureFormat)>,
+    /// The depth-bounds reduction's readback ring (the depths the camera saw).
+    seen: SeenReadback,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -106,6 +107,7 @@ impl Renderer {
         graph.add_node(Box::new(DepthPrepass::default()));
         graph.add_node(Box::new(VisibilityResolve::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
+        graph.add_node(Box::new(DepthBoundsPass::default()));
         let target = Some(HeadlessTarget::new(&gpu.device, width, height, false));
         let probes = ProbePass::new(&gpu.device);
         Self {
@@ -125,6 +127,7 @@ impl Renderer {
             pipeline_error: None,
             problems: UploadProblems::default(),
             msaa_warned: None,
+            seen: SeenReadback::default(),
             last_report: FrameReport::default(),
         }
     }
@@ -349,6 +352,7 @@ impl Renderer {
             shadow_cleared_texels: 0,
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
+            seen: &mut self.seen,
         };
         if input.view.camera.is_some() && drawable {
             self.graph.execute(&mut ctx, &mut encoder);
@@ -367,6 +371,7 @@ impl Renderer {
         self.gpu.queue.submit([encoder.finish()]);
         self.timer.submitted();
         self.timer.poll(&self.gpu.device);
+        self.seen.after_submit(&self.gpu.device, false);
         self.frames += 1;
         let latest = self.timer.latest();
         let report = &mut self.last_report;
@@ -451,46 +456,15 @@ impl Renderer {
         };
         graph.build(&self.gpu.device, &mut frame, input)
     }
-
-    /// Evaluates the focus light's shadow (see [`set_focus_light`](Self::set_focus_light)) at
-    /// fixed world points with the filters and views of the last rendered frame (render a
-    /// frame first). Values are what a material at that point would multiply into that
-    /// light's term.
-    pub fn evaluate_probes(&mut self, input: &FrameInputs<'_>, probes: &[ProbeGpu]) -> Vec<f32> {
-        let variant = ForwardVariant::for_lights(input.lights, false);
-        let groups = [&self.scene.view_group, &self.shadows.group];
-        self.probes
-            .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, groups, probes)
-    }
-
-    /// Reads the last frame's analysis targets back (None without analysis targets).
-    pub fn read_analysis(&self) -> Option<AnalysisImage> {
-        self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
-    }
-
-    /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
-    /// `side`² reverse-Z depths, row by row (None past the last layer or before any shadow map
-    /// of that storage exists). It waits for the GPU; for tests and debugging.
-    pub fn read_shadow_map(&self, storage: ShadowStorage, layer: u32) -> Option<Vec<f32>> {
-        let storage = self.shadows.array(storage);
-        if storage.placeholder {
-            return None;
-        }
-        storage.read_layer(&self.gpu.device, &self.gpu.queue, layer)
-    }
-
-    /// Reads the last rendered image back.
-    pub fn read_image(&self) -> RgbaImage {
-        match &self.target {
-            Some(target) => target.read(&self.gpu.device, &self.gpu.queue),
-            None => RgbaImage::new(1, 1),
-        }
-    }
 }
+
+#[path = "renderer_readback.rs"]
+mod readback;
 
 /// The most passes a frame of `input` can time: one per shadow view, one per VSM light's
 /// moments and per cascade's moments, the prepass, the resolve and the lighting pass.
 fn timed_passes(input: &FrameInputs<'_>) -> usize {
     let cascades: usize = input.lights.suns.iter().map(|s| s.cascades.count).sum();
-    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + cascades + 3
+    // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
+    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + cascades + 4
 }

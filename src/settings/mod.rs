@@ -139,6 +139,14 @@ pub enum CascadeFit {
     /// A sphere around the camera position that reaches the slice's farthest corner: a few
     /// texels are wasted behind the camera, but turning in place never changes the cascades.
     Stable,
+    /// Sample-distribution (SDSM) fit: the splits divide the view depths the camera's pixels
+    /// covered logarithmically (`split_lambda` is not used), and each box is the Tight fit of its slice cut to the world box those pixels
+    /// spanned at its depths. The renderer reduces each frame's depth buffer on the GPU and a
+    /// later frame fits to it (every bound grown by a guard band of
+    /// [`SEEN_GUARD`](crate::math::seen_depths::SEEN_GUARD)); until a reduction has come back
+    /// (the first frames, or without a renderer) it fits as Tight. Shadows still fade at
+    /// `max_distance`.
+    DepthBounds,
 }
 
 /// A debug visualisation drawn instead of normal shading.

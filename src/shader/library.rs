@@ -112,6 +112,10 @@ const PREPASS: ModuleSource = ModuleSource {
     file: "prepass.wgsl",
     source: include_str!("../../shaders/prepass.wgsl"),
 };
+const DEPTH_BOUNDS: ModuleSource = ModuleSource {
+    file: "depth_bounds.wgsl",
+    source: include_str!("../../shaders/depth_bounds.wgsl"),
+};
 const SHADOW_CLEAR: ModuleSource = ModuleSource {
     file: "shadow_clear.wgsl",
     source: include_str!("../../shaders/shadow_clear.wgsl"),
@@ -267,6 +271,19 @@ impl ShaderLibrary {
     /// The partial shadow-layer clear (`vs_main`, no fragment stage).
     pub fn shadow_clear(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(SHADOW_CLEAR.file, SHADOW_CLEAR.source, HashMap::new())
+    }
+
+    /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a
+    /// single-sample or (`multisampled`) a multisampled camera depth.
+    pub fn depth_bounds(&mut self, multisampled: bool) -> Result<naga::Module, ShaderError> {
+        let mut defs = HashMap::new();
+        if multisampled {
+            defs.insert(
+                "MULTISAMPLED".to_string(),
+                naga_oil::compose::ShaderDefValue::Bool(true),
+            );
+        }
+        self.compose(DEPTH_BOUNDS.file, DEPTH_BOUNDS.source, defs)
     }
 
     /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or

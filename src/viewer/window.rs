@@ -21,6 +21,7 @@ use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::stats::ShadowStats;
 use crate::export::{OutputKind, prepare_output};
 use crate::render::frame::FrameInputs;
+use crate::render::plugin::publish_seen_depths;
 use crate::render::target::TargetViews;
 use crate::render::{GpuContext, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, load_settings};
@@ -375,6 +376,7 @@ impl Viewer {
                 egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
             },
         );
+        publish_seen_depths(self.app.world_mut(), &state.renderer);
         self.inspector
             .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
         // NOTE: warnings are already logged by the renderer; errors stay on screen.

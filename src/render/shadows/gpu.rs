@@ -176,12 +176,7 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
                 s.moment_min_variance,
                 s.moment_bleed_reduction,
             ),
-            shadow_params: Vec4::new(
-                s.normal_offset,
-                set.splits[set.count.max(1)],
-                s.blend_width,
-                s.distance_fade_width,
-            ),
+            shadow_params: Vec4::new(s.normal_offset, set.end, s.blend_width, s.distance_fade_width),
             shadow_filter: filter,
             flags,
             pcf_radius: s.pcf_radius,

@@ -23,6 +23,7 @@ pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
         .show_ui(ui, |ui| {
             ui.selectable_value(&mut s.fit, CascadeFit::Tight, "Tight");
             ui.selectable_value(&mut s.fit, CascadeFit::Stable, "Stable");
+            ui.selectable_value(&mut s.fit, CascadeFit::DepthBounds, "Depth bounds");
         });
     ui.add(Slider::new(&mut s.split_lambda, 0.0..=1.0).text("split λ"));
     ui.add(

@@ -1,0 +1,64 @@
+//! What a [`Renderer`] reads back from the GPU: the last frame's image, analysis targets and
+//! shadow maps, shadow probes, and the depths its camera saw.
+
+use glam::Vec3;
+use image::RgbaImage;
+
+use crate::ecs::shadow_views::ShadowStorage;
+use crate::math::seen_depths::SeenDepths;
+use crate::render::frame::FrameInputs;
+use crate::render::probe::ProbeGpu;
+use crate::render::renderer::Renderer;
+use crate::render::target::AnalysisImage;
+use crate::shader::ForwardVariant;
+
+impl Renderer {
+    /// The latest depths the camera saw that have come back from the GPU (frames that fit
+    /// cascades with [`CascadeFit::DepthBounds`](crate::settings::CascadeFit) reduce them),
+    /// with the render origin their world boxes are relative to.
+    pub fn seen_depths(&self) -> Option<(SeenDepths, Vec3)> {
+        self.seen.latest()
+    }
+
+    /// Waits until every depth reduction submitted so far has come back (for headless runs
+    /// that want the next frame fitted to the last one); then [`seen_depths`](Self::seen_depths).
+    pub fn wait_for_seen_depths(&mut self) -> Option<(SeenDepths, Vec3)> {
+        self.seen.after_submit(&self.gpu.device, true);
+        self.seen.latest()
+    }
+
+    /// Evaluates the focus light's shadow (see [`set_focus_light`](Self::set_focus_light)) at
+    /// fixed world points with the filters and views of the last rendered frame (render a
+    /// frame first). Values are what a material at that point would multiply into that
+    /// light's term.
+    pub fn evaluate_probes(&mut self, input: &FrameInputs<'_>, probes: &[ProbeGpu]) -> Vec<f32> {
+        let variant = ForwardVariant::for_lights(input.lights, false);
+        let groups = [&self.scene.view_group, &self.shadows.group];
+        self.probes
+            .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, groups, probes)
+    }
+
+    /// Reads the last frame's analysis targets back (None without analysis targets).
+    pub fn read_analysis(&self) -> Option<AnalysisImage> {
+        self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
+    }
+
+    /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
+    /// `side`² reverse-Z depths, row by row (None past the last layer or before any shadow map
+    /// of that storage exists). It waits for the GPU; for tests and debugging.
+    pub fn read_shadow_map(&self, storage: ShadowStorage, layer: u32) -> Option<Vec<f32>> {
+        let storage = self.shadows.array(storage);
+        if storage.placeholder {
+            return None;
+        }
+        storage.read_layer(&self.gpu.device, &self.gpu.queue, layer)
+    }
+
+    /// Reads the last rendered image back.
+    pub fn read_image(&self) -> RgbaImage {
+        match &self.target {
+            Some(target) => target.read(&self.gpu.device, &self.gpu.queue),
+            None => RgbaImage::new(1, 1),
+        }
+    }
+}
