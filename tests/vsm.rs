@@ -1,7 +1,8 @@
 //! Variance shadow maps of spot and point lights on a real wgpu device (lavapipe in CI): a
 //! spot light's VSM shadow lands where rays say, and light bleeding — the classic VSM artefact
 //! where a receiver under two stacked occluders is lit through the filtered mix of both — is
-//! there without light-bleed reduction and gone with it.
+//! there without light-bleed reduction and gone with it; a spot or point light asked for a
+//! sun's moment technique shadows as with VSM.
 
 mod common;
 
@@ -103,4 +104,30 @@ fn a_spot_vsm_shadow_lands_where_a_ray_to_the_light_is_blocked() {
     );
     let mean = error / judged as f64;
     assert!(mean <= 0.01, "mean error {mean:.4} against the rays");
+}
+
+#[test]
+fn evsm_and_msm_asked_of_spot_and_point_lights_shadow_as_vsm() {
+    // Across the stacked plates' shadow and the lit ground past them.
+    let probes: Vec<(Vec3, Vec3)> = (0..=160)
+        .map(|k| (Vec3::new(-6.0 + 0.1 * k as f32, 0.0, 0.1), Vec3::Y))
+        .collect();
+    for light in [
+        "Spot(position: (0, 6, 0), direction: (0, -1, 0), outer_angle: 70, intensity: 40, range: 20,",
+        "Point(position: (0, 6, 0), intensity: 40, range: 20,",
+    ] {
+        let values = |mode: &str| {
+            let desc = scene_with(&stacked(), &format!("{light} shadows: (mode: {mode}, resolution: 512))"));
+            evaluate(&desc, &probes)
+        };
+        let vsm = values("Vsm");
+        let (dark, lit) = (
+            vsm.iter().filter(|v| **v < 0.1).count(),
+            vsm.iter().filter(|v| **v > 0.9).count(),
+        );
+        assert!(dark >= 20 && lit >= 20, "{light}: {dark} dark and {lit} lit probes judged");
+        for mode in ["Evsm", "Evsm4", "Msm"] {
+            assert_eq!(values(mode), vsm, "{light} with {mode}");
+        }
+    }
 }

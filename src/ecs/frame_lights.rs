@@ -210,10 +210,12 @@ pub fn update_frame_lights(
             continue;
         };
         let light = sanitize_sun(entity, light, diagnostics);
-        let settings = sanitized_settings(settings, diagnostics);
+        let mut settings = sanitized_settings(settings, diagnostics);
         if light.shadows_enabled {
             warn_mode(diagnostics, "directional light", entity, &settings, true);
         }
+        // NOTE: every pass reads the technique the light is filtered with, not the one asked.
+        settings.mode = settings.mode.effective(true);
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
                 id: lights.suns.len(),
@@ -250,6 +252,9 @@ pub fn update_frame_lights(
         let resolution = settings.map_or(budget.spot_resolution, |s| s.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
         warn_mode(diagnostics, "spot light", entity, &settings, false);
+        // NOTE: EVSM or MSM asked for a spot light is VSM for every pass (its moments are
+        // baked only for VSM): read as asked, they were never baked and the light was dark.
+        settings.mode = settings.mode.effective(false);
         settings.resolution = resolution.max(1);
         lights.spots.push(SpotLightView {
             entity,
@@ -279,6 +284,7 @@ pub fn update_frame_lights(
         let resolution = settings.map_or(budget.point_resolution, |s| s.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
         warn_mode(diagnostics, "point light", entity, &settings, false);
+        settings.mode = settings.mode.effective(false);
         settings.resolution = resolution.max(1);
         lights.points.push(PointLightView {
             entity,
