@@ -295,10 +295,8 @@ fn with_msaa_resolved_shadows_differ_from_the_lighting_pass_filters_only_on_edge
             "{scene}: {edges} edge pixels; resolved and filtered colours differ on {on_edges} of them and on {inside} others"
         );
         assert!(edges > 100, "{scene}: only {edges} edge pixels");
-        assert!(
-            inside * 200 <= off.len(),
-            "{scene}: {inside} pixels away from edges differ"
-        );
+        // NOTE: lavapipe measured 2, 6 and 1 such pixels (of 14 400): three times the most.
+        assert!(inside <= 18, "{scene}: {inside} pixels away from edges differ");
     }
 }
 

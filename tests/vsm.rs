@@ -117,7 +117,10 @@ fn evsm_and_msm_asked_of_spot_and_point_lights_shadow_as_vsm() {
         "Point(position: (0, 6, 0), intensity: 40, range: 20,",
     ] {
         let values = |mode: &str| {
-            let desc = scene_with(&stacked(), &format!("{light} shadows: (mode: {mode}, resolution: 512))"));
+            let desc = scene_with(
+                &stacked(),
+                &format!("{light} shadows: (mode: {mode}, resolution: 512))"),
+            );
             evaluate(&desc, &probes)
         };
         let vsm = values("Vsm");
@@ -125,7 +128,10 @@ fn evsm_and_msm_asked_of_spot_and_point_lights_shadow_as_vsm() {
             vsm.iter().filter(|v| **v < 0.1).count(),
             vsm.iter().filter(|v| **v > 0.9).count(),
         );
-        assert!(dark >= 20 && lit >= 20, "{light}: {dark} dark and {lit} lit probes judged");
+        assert!(
+            dark >= 20 && lit >= 20,
+            "{light}: {dark} dark and {lit} lit probes judged"
+        );
         for mode in ["Evsm", "Evsm4", "Msm"] {
             assert_eq!(values(mode), vsm, "{light} with {mode}");
         }
