@@ -76,6 +76,25 @@ fn image_sizes_are_checked_when_the_command_line_is_parsed() {
 }
 
 #[test]
+fn an_unknown_cascade_fit_names_the_fits_there_are() {
+    for command in ["render", "bench"] {
+        let mut args = vec![command];
+        if command == "render" {
+            args.push("assets/scenes/default.ron");
+        }
+        args.extend(["--fit", "loose"]);
+        let out = penumbra(&args);
+        assert_eq!(out.status.code(), Some(2), "{command}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains("invalid value 'loose' for '--fit <FIT>'")
+                && err.contains("[possible values: tight, stable, depth-bounds]"),
+            "{command}: {err}"
+        );
+    }
+}
+
+#[test]
 fn bad_output_paths_fail_before_rendering_and_leave_nothing() {
     let dir = scratch("paths");
     let jpg = dir.join("out.jpg");

@@ -12,6 +12,7 @@
 //! Shadow factors are in `[0, 1]`: 1 is fully lit, 0 fully shadowed.
 
 mod axis;
+pub mod edges;
 mod font;
 pub mod gallery;
 pub mod metrics;

@@ -242,6 +242,7 @@ fn table_row(out: &mut String, name: &str, values: &[f64; 10], extra: &[String],
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::analysis::edges::EdgeSplit;
     use crate::analysis::metrics::ErrorMetrics;
     use crate::analysis::shimmer::Shimmer;
 
@@ -276,6 +277,7 @@ pub(crate) mod tests {
                 mean_spread: 0.0456,
                 ..Shimmer::default()
             },
+            edges: EdgeSplit::default(),
         }
     }
 

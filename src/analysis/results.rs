@@ -5,6 +5,7 @@
 
 use serde::Serialize;
 
+use crate::analysis::edges::EdgeSplit;
 use crate::analysis::metrics::ErrorMetrics;
 use crate::analysis::pareto::pareto_front;
 use crate::analysis::shimmer::Shimmer;
@@ -98,6 +99,9 @@ pub struct SceneResult {
     pub shimmer_translation: Shimmer,
     /// Temporal stability while the camera rotates.
     pub shimmer_rotation: Shimmer,
+    /// The acne and leak rates split by their distance to a shadow edge of the reference:
+    /// a shadow a texel off, or a surface shadowing itself.
+    pub edges: EdgeSplit,
 }
 
 /// One shadow technique preset's results on every scene.

@@ -227,6 +227,7 @@ pub fn run_bench_collecting(
                 per_cascade: score.per_cascade,
                 shimmer_translation: score.shimmer_translation,
                 shimmer_rotation: score.shimmer_rotation,
+                edges: score.edges,
             });
         }
         scene_notes.extend(scene_light_notes(&short(path), &scores));

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::analysis::edges::{EdgeSplit, edge_split};
 use crate::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics, per_cascade};
 use crate::analysis::results::ScoredLight;
 use crate::analysis::shimmer::{Shimmer, shimmer};
@@ -105,6 +106,8 @@ pub(crate) struct PresetScore {
     pub shimmer_translation: Shimmer,
     /// Stability under in-place turns.
     pub shimmer_rotation: Shimmer,
+    /// Acne and leaks split by their distance to a shadow edge.
+    pub edges: EdgeSplit,
 }
 
 /// Errors and stability of every preset on one scene.
@@ -214,6 +217,7 @@ pub(crate) fn score_scene(
             per_cascade,
             shimmer_translation: shimmer(&moved),
             shimmer_rotation: shimmer(&turned),
+            edges: edge_split(&technique, &reference_values, &points.pixels, (w, h), &thresholds),
         });
         progress.inc(1);
         overall.advance(1);
