@@ -6,7 +6,6 @@
 //! stalls on the GPU. It runs only while a shadowed sun fits its cascades with
 //! [`CascadeFit::DepthBounds`]; otherwise it declares nothing and is culled.
 
-use std::borrow::Cow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -15,7 +14,7 @@ use glam::Vec3;
 use crate::math::seen_depths::{SEEN_WORDS, SeenDepths, initial_words};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
-use crate::render::layouts::{Layouts, entry};
+use crate::render::layouts::{Layouts, camera_texture_entry, entry, main_compute_pipeline};
 use crate::settings::CascadeFit;
 use crate::shader::ShaderLibrary;
 
@@ -174,14 +173,7 @@ fn create_layout(device: &wgpu::Device, multisampled: bool) -> wgpu::BindGroupLa
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(DEPTH_BOUNDS_NAME),
         entries: &[
-            entry(
-                0,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled,
-                },
-            ),
+            camera_texture_entry(0, wgpu::TextureSampleType::Depth, multisampled),
             entry(
                 1,
                 wgpu::BindingType::Buffer {
@@ -204,23 +196,7 @@ fn create_pipeline(
     let module = library
         .depth_bounds(multisampled)
         .expect("the shipped depth-bounds shader composes (checked by tests)");
-    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(DEPTH_BOUNDS_NAME),
-        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(DEPTH_BOUNDS_NAME),
-        bind_group_layouts: &[Some(&layouts.view), Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(DEPTH_BOUNDS_NAME),
-        layout: Some(&pipeline_layout),
-        module: &shader,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    })
+    main_compute_pipeline(device, DEPTH_BOUNDS_NAME, module, &[Some(&layouts.view), Some(layout)])
 }
 
 /// Whether a shadowed sun of the frame fits its cascades to the depths seen.

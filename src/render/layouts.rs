@@ -3,6 +3,7 @@
 //! group 1 the instances and the draw's index list, group 2 the material, group 3 the shadow
 //! group (lights, shadow views, shadow storage, samplers, Poisson taps).
 
+use std::borrow::Cow;
 use std::num::NonZeroU64;
 
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
@@ -214,4 +215,49 @@ impl Layouts {
             material_sampler,
         }
     }
+}
+
+/// A compute pipeline running `main` of the composed `module`, with the bind groups `groups`
+/// (`None` for a group number the shader leaves unused).
+pub fn main_compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: naga::Module,
+    groups: &[Option<&wgpu::BindGroupLayout>],
+) -> wgpu::ComputePipeline {
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: groups,
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        module: &shader,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// A compute pass's 2D texture binding of the camera's depth (`Depth`) or normals (`Uint`),
+/// single-sample or multisampled.
+pub fn camera_texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+    multisampled: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled,
+        },
+    )
 }

@@ -2,7 +2,6 @@
 //! that calls the same `shadow_visibility` as every material. Used to measure temporal
 //! stability: the same points are evaluated while the camera moves.
 
-use std::borrow::Cow;
 use std::collections::HashMap;
 use std::num::NonZeroU64;
 
@@ -11,7 +10,7 @@ use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use crate::render::context::GpuContext;
-use crate::render::layouts::Layouts;
+use crate::render::layouts::{Layouts, main_compute_pipeline};
 use crate::render::readback::read_buffer;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -90,23 +89,12 @@ impl ProbePass {
             let module = library
                 .probe(key)
                 .expect("the shipped probe shader composes (checked by tests)");
-            let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("probe"),
-                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
-            });
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("probe"),
-                bind_group_layouts: &[Some(&layouts.view), Some(probe_layout), None, Some(&layouts.shadows)],
-                immediate_size: 0,
-            });
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("probe"),
-                layout: Some(&layout),
-                module: &shader,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            main_compute_pipeline(
+                device,
+                "probe",
+                module,
+                &[Some(&layouts.view), Some(probe_layout), None, Some(&layouts.shadows)],
+            )
         });
         let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("probes"),

@@ -7,12 +7,11 @@
 //! reads the multisampled depth and normals at each pixel's sample 0
 //! (`texture_depth_multisampled_2d`), with a layout and pipelines of their own.
 
-use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
-use crate::render::layouts::{Layouts, entry};
+use crate::render::layouts::{Layouts, camera_texture_entry, entry, main_compute_pipeline};
 use crate::render::shadows::visibility::VISIBILITY_FORMAT;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -43,22 +42,8 @@ fn create_layout(device: &wgpu::Device, multisampled: bool) -> wgpu::BindGroupLa
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(RESOLVE_NAME),
         entries: &[
-            entry(
-                0,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled,
-                },
-            ),
-            entry(
-                1,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled,
-                },
-            ),
+            camera_texture_entry(0, wgpu::TextureSampleType::Depth, multisampled),
+            camera_texture_entry(1, wgpu::TextureSampleType::Uint, multisampled),
             entry(
                 2,
                 wgpu::BindingType::StorageTexture {
@@ -81,23 +66,12 @@ fn create_pipeline(
     let module = library
         .resolve_multisampled(variant, samples)
         .expect("the shipped resolve shader composes (checked by tests)");
-    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(RESOLVE_NAME),
-        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(RESOLVE_NAME),
-        bind_group_layouts: &[Some(&layouts.view), Some(layout), None, Some(&layouts.shadows)],
-        immediate_size: 0,
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(RESOLVE_NAME),
-        layout: Some(&pipeline_layout),
-        module: &shader,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    })
+    main_compute_pipeline(
+        device,
+        RESOLVE_NAME,
+        module,
+        &[Some(&layouts.view), Some(layout), None, Some(&layouts.shadows)],
+    )
 }
 
 impl RenderNode for VisibilityResolve {
