@@ -7,6 +7,7 @@
 use std::path::Path;
 
 use glam::Vec3;
+use penumbra::analysis::edges::{EdgeSplit, edge_split};
 use penumbra::analysis::metrics::{ErrorMetrics, Thresholds, error_metrics};
 use penumbra::bench::run::{Points, evaluated_points};
 use penumbra::bench::session::SceneSession;
@@ -74,6 +75,8 @@ pub struct FilterScore {
     pub ground: ErrorMetrics,
     /// Judged pixels on the casters.
     pub casters: ErrorMetrics,
+    /// Acne and leaks by their distance to a shadow edge, as the bench reports them.
+    pub edges: EdgeSplit,
 }
 
 /// A case rendered with both filters and scored.
@@ -197,6 +200,8 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
                 &thresholds,
             );
         }
+        let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
+        let size = (analysis.width, analysis.height);
         let surface = &surface;
         let on = |s: Surface| move |i: usize| surface[i] == s;
         *score = (
@@ -205,6 +210,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
                 all: error_metrics(&technique, &reference, |_| true, &thresholds),
                 ground: error_metrics(&technique, &reference, on(Surface::Ground), &thresholds),
                 casters: error_metrics(&technique, &reference, on(Surface::Caster), &thresholds),
+                edges: edge_split(&technique, &reference, &judged, size, &thresholds),
             },
         );
     }
@@ -227,7 +233,8 @@ impl Judged {
         for (mode, s) in &self.filters {
             eprintln!(
                 "{} [{mode:?}]: {} drawn, {} evaluated, {} judged; acne ground {:.5} of {}, casters {:.5} of {}; \
-                 leaks {:.5} of {} umbra; MAE {:.4}",
+                 leaks {:.5} of {} umbra; MAE {:.4}, penumbra MAE {:.4} over {}, p95 {:.4}; \
+                 acne near edges {:.5}, away {:.5}; leaks near edges {:.5}, away {:.5}",
                 self.name,
                 self.drawn,
                 self.evaluated,
@@ -238,7 +245,14 @@ impl Judged {
                 s.casters.lit_pixels,
                 s.all.leak_rate,
                 s.all.shadowed_pixels,
-                s.all.mae
+                s.all.mae,
+                s.all.penumbra_mae,
+                s.all.penumbra_pixels,
+                s.all.p95,
+                s.edges.acne_near_edges,
+                s.edges.acne_away_from_edges,
+                s.edges.leak_near_edges,
+                s.edges.leak_away_from_edges
             );
         }
     }
