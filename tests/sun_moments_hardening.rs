@@ -11,15 +11,26 @@ use common::suns::{
 };
 use glam::Vec3;
 
-/// The largest leak and acne rates at the feet, with and without a casting ground, per
-/// technique: three times what lavapipe measured (0.0166 and 0.0019 for each, either way).
-const FEET_LIMITS: [(&str, f64, f64); 6] = [
-    ("evsm-fp16", 0.05, 0.006),
-    ("evsm-fp32", 0.05, 0.006),
-    ("evsm4", 0.05, 0.006),
-    ("msm-unorm16", 0.05, 0.006),
-    ("msm-half", 0.05, 0.006),
-    ("msm-fp32", 0.05, 0.006),
+/// The largest leak and acne rates at the feet over a ground that casts, per technique:
+/// three times what lavapipe measured (0.0155 and 0.0020 for each).
+const FEET_LIMITS_GROUND: [(&str, f64, f64); 6] = [
+    ("evsm-fp16", 0.046, 0.006),
+    ("evsm-fp32", 0.046, 0.006),
+    ("evsm4", 0.046, 0.006),
+    ("msm-unorm16", 0.046, 0.006),
+    ("msm-half", 0.046, 0.006),
+    ("msm-fp32", 0.046, 0.006),
+];
+
+/// The same over a ground that casts nothing: three times what lavapipe measured (leak
+/// 0.0018 for EVSM, 0.0015 for MSM; acne 0.0011 for each).
+const FEET_LIMITS_BARE: [(&str, f64, f64); 6] = [
+    ("evsm-fp16", 0.0054, 0.0033),
+    ("evsm-fp32", 0.0054, 0.0033),
+    ("evsm4", 0.0054, 0.0033),
+    ("msm-unorm16", 0.0045, 0.0033),
+    ("msm-half", 0.0045, 0.0033),
+    ("msm-fp32", 0.0045, 0.0033),
 ];
 
 /// Judges every technique at the feet of [`STANDING`] under a 0.5° sun, with the ground in
@@ -67,12 +78,12 @@ fn judge_feet(boxes: &[Aabb], limits: [(&str, f64, f64); 6]) {
 fn casters_standing_on_a_ground_that_casts_shadow_their_feet() {
     let mut boxes = STANDING.to_vec();
     boxes.push(GROUND);
-    judge_feet(&boxes, FEET_LIMITS);
+    judge_feet(&boxes, FEET_LIMITS_GROUND);
 }
 
 #[test]
 fn casters_standing_on_a_ground_that_casts_nothing_shadow_their_feet() {
-    judge_feet(&STANDING, FEET_LIMITS);
+    judge_feet(&STANDING, FEET_LIMITS_BARE);
 }
 
 #[test]
