@@ -50,6 +50,10 @@ pub struct BenchArgs {
     /// Override every scene's hardware slope bias, for tuning.
     #[arg(long)]
     slope_bias: Option<f32>,
+    /// Override every scene's shadow-map resolution (texels per side, 256-4096), for
+    /// attributing error to resolution.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
+    resolution: Option<u32>,
     /// Override how every scene's cascades are fitted: tight, stable or depth-bounds.
     #[arg(long, value_enum)]
     fit: Option<Fit>,
@@ -126,6 +130,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         slope_bias: args.slope_bias,
         sun_diameter: args.sun_diameter,
         fit: args.fit.map(Into::into),
+        resolution: args.resolution,
     };
     if !args.sun_diameters.is_empty() {
         for name in ["sweep.md", "sweep.png"] {

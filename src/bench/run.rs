@@ -153,6 +153,8 @@ pub struct SettingsOverrides {
     pub sun_diameter: Option<f32>,
     /// How every scene's cascades are fitted.
     pub fit: Option<CascadeFit>,
+    /// Every scene's shadow-map resolution (texels per side).
+    pub resolution: Option<u32>,
 }
 
 impl SettingsOverrides {
@@ -168,6 +170,9 @@ impl SettingsOverrides {
         }
         if let Some(fit) = self.fit {
             desc.shadows.fit = fit;
+        }
+        if let Some(resolution) = self.resolution {
+            desc.shadows.resolution = resolution;
         }
     }
 
