@@ -15,6 +15,7 @@ use crate::math::seen_depths::{SEEN_WORDS, SeenDepths, initial_words};
 use crate::render::frame::{FrameContext, FrameInputs};
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::layouts::{Layouts, camera_texture_entry, entry, main_compute_pipeline};
+use crate::render::readback::poll_device;
 use crate::settings::CascadeFit;
 use crate::shader::ShaderLibrary;
 
@@ -48,7 +49,11 @@ enum Slot {
 
 /// The reduction's buffers and the latest depths that came back.
 pub struct SeenReadback {
+    /// The words the reduction accumulates into, reset from `init` each frame.
     reduce: Option<wgpu::Buffer>,
+    /// The words it starts from, and the band limits they were written for (uploaded only
+    /// when the camera's near or far plane changes).
+    init: Option<(wgpu::Buffer, (f32, f32))>,
     buffers: Vec<wgpu::Buffer>,
     slots: [Slot; SLOTS],
     serial: u64,
@@ -59,6 +64,7 @@ impl Default for SeenReadback {
     fn default() -> Self {
         Self {
             reduce: None,
+            init: None,
             buffers: Vec::new(),
             slots: std::array::from_fn(|_| Slot::Free),
             serial: 0,
@@ -91,13 +97,8 @@ impl SeenReadback {
         if !self.slots.iter().any(|s| matches!(s, Slot::Mapping { .. })) {
             return;
         }
-        let poll = if wait {
-            wgpu::PollType::wait_indefinitely()
-        } else {
-            wgpu::PollType::Poll
-        };
         // NOTE: a failed poll leaves the slots mapping; they are looked at again next frame.
-        let _ = device.poll(poll);
+        poll_device(device, wait);
         for (slot, buffer) in self.slots.iter_mut().zip(&self.buffers) {
             let Slot::Mapping { serial, origin, state } = slot else {
                 continue;
@@ -105,14 +106,15 @@ impl SeenReadback {
             match state.load(Ordering::Acquire) {
                 MAP_PENDING => continue,
                 MAP_DONE => {
-                    let words: Option<Vec<u32>> = buffer.slice(..BYTES).get_mapped_range().ok().map(|data| {
-                        data.chunks_exact(4)
-                            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                            .collect()
+                    let mut words = [0u32; SEEN_WORDS];
+                    let read = buffer.slice(..BYTES).get_mapped_range().ok().map(|data| {
+                        for (w, b) in words.iter_mut().zip(data.chunks_exact(4)) {
+                            *w = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                        }
                     });
                     buffer.unmap();
                     let newer = self.latest.is_none_or(|(s, _, _)| s < *serial);
-                    if newer && let Some(words) = words {
+                    if newer && read.is_some() {
                         // NOTE: a frame that covered no pixel leaves no depths.
                         self.latest = SeenDepths::from_words(&words).map(|seen| (*serial, seen, *origin));
                     }
@@ -123,9 +125,42 @@ impl SeenReadback {
         }
     }
 
+    /// Records the reset of the reduction's words (`reduce`) to their start for bands between
+    /// `planes`, uploading the start only when the planes changed.
+    fn reset(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        encoder: &mut wgpu::CommandEncoder,
+        planes: (f32, f32),
+    ) {
+        let buffer = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(DEPTH_BOUNDS_NAME),
+                size: BYTES,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        if self.init.as_ref().is_none_or(|(_, written)| *written != planes) {
+            let init = match self.init.take() {
+                Some((init, _)) => init,
+                None => buffer(wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST),
+            };
+            let words = initial_words(planes.0, planes.1);
+            queue.write_buffer(&init, 0, bytemuck::cast_slice(&words));
+            self.init = Some((init, planes));
+        }
+        let reduce = self.reduce.get_or_insert_with(|| {
+            buffer(wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST)
+        });
+        if let Some((init, _)) = &self.init {
+            encoder.copy_buffer_to_buffer(init, 0, reduce, 0, BYTES);
+        }
+    }
+
     /// Takes a free slot for this frame's copy (None when every slot is still in flight:
     /// this frame's depths are skipped).
-    fn take_slot(&mut self, device: &wgpu::Device, origin: Vec3) -> Option<(usize, u64)> {
+    fn take_slot(&mut self, device: &wgpu::Device, origin: Vec3) -> Option<usize> {
         if self.buffers.is_empty() {
             self.buffers = (0..SLOTS)
                 .map(|_| {
@@ -144,7 +179,7 @@ impl SeenReadback {
             serial: self.serial,
             origin,
         };
-        Some((index, self.serial))
+        Some(index)
     }
 }
 
@@ -242,25 +277,18 @@ impl RenderNode for DepthBoundsPass {
             return;
         }
         let device = &ctx.gpu.device;
-        let Some((slot, _)) = ctx.seen.take_slot(device, handles.origin) else {
+        let Some(slot) = ctx.seen.take_slot(device, handles.origin) else {
             return;
         };
         let multisampled = handles.samples > 1;
         let layout = self.layouts[multisampled as usize].get_or_insert_with(|| create_layout(device, multisampled));
         let pipeline = self.pipelines[multisampled as usize]
             .get_or_insert_with(|| create_pipeline(device, ctx.layouts, ctx.library, layout, multisampled));
-        let reduce = ctx.seen.reduce.get_or_insert_with(|| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(DEPTH_BOUNDS_NAME),
-                size: BYTES,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        });
-        let words = initial_words(near, far);
-        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-        // NOTE: written at the submission's start, before this frame's commands run.
-        ctx.gpu.queue.write_buffer(reduce, 0, &bytes);
+        ctx.seen.reset((device, &ctx.gpu.queue), encoder, (near, far));
+        let seen = &*ctx.seen;
+        let Some(reduce) = &seen.reduce else {
+            return;
+        };
         // NOTE: the depth is a transient of this frame, so the group is made per frame.
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(DEPTH_BOUNDS_NAME),
@@ -287,6 +315,6 @@ impl RenderNode for DepthBoundsPass {
             pass.set_bind_group(1, &group, &[]);
             pass.dispatch_workgroups(width.div_ceil(16), height.div_ceil(16), 1);
         }
-        encoder.copy_buffer_to_buffer(reduce, 0, &ctx.seen.buffers[slot], 0, BYTES);
+        encoder.copy_buffer_to_buffer(reduce, 0, &seen.buffers[slot], 0, BYTES);
     }
 }

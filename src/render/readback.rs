@@ -48,3 +48,14 @@ pub fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer, size: u64) -> O
     buffer.unmap();
     bytes
 }
+
+/// Polls `device` once without blocking, or with `wait` until every submission has finished.
+/// A failed poll is ignored: what it would have finished is looked at on the next one.
+pub fn poll_device(device: &wgpu::Device, wait: bool) {
+    let poll = if wait {
+        wgpu::PollType::wait_indefinitely()
+    } else {
+        wgpu::PollType::Poll
+    };
+    let _ = device.poll(poll);
+}

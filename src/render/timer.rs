@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use crate::render::readback::QueryReadback;
+use crate::render::readback::{QueryReadback, poll_device};
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// Slots in the ring: a frame's timings arrive within this many frames.
@@ -248,13 +248,8 @@ impl GpuTimer {
         if !self.slots.iter().any(|s| s.in_flight) {
             return;
         }
-        let poll = if wait {
-            wgpu::PollType::wait_indefinitely()
-        } else {
-            wgpu::PollType::Poll
-        };
         // NOTE: a failed poll leaves the slots in flight; they are looked at again next time.
-        let _ = device.poll(poll);
+        poll_device(device, wait);
         // NOTE: oldest arrived slot first, found again each time (three slots; no list).
         while let Some(i) = (0..self.slots.len())
             .filter(|&i| self.slots[i].in_flight && self.slots[i].state.load(Ordering::Acquire) >= MAPPED)
