@@ -37,13 +37,7 @@ pub struct SeenByCamera {
 impl SeenByCamera {
     /// The depths seen, with their world boxes made relative to the render origin `origin`.
     pub fn relative_to(&self, origin: Vec3) -> Option<SeenDepths> {
-        self.depths.map(|d| {
-            if origin == self.origin {
-                d
-            } else {
-                d.shifted(origin - self.origin)
-            }
-        })
+        self.depths.map(|d| d.shifted(origin - self.origin))
     }
 }
 

@@ -172,7 +172,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
     // even. With the scene's λ the field's first cascade grew from 10 to 17 m and its
     // penumbra error rose; logarithmic, it fell (tight 0.211, λ 0.226, log 0.194, PCF).
     let splits = seen
-        .and_then(|seen| seen_splits(seen, (plain[0], plain[count]), count, 1.0, tan_half))
+        .and_then(|seen| seen_splits(seen, (plain[0], plain[count]), count, tan_half))
         .unwrap_or(plain);
 
     let light_rotation = light_rotation(input.light_direction);
@@ -227,15 +227,14 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
     }
 }
 
-/// Splits (PSSM with `lambda`) over the view depths `seen` covered (guarded, within
-/// `(near, end)`), the first
+/// Logarithmic splits over the view depths `seen` covered (guarded, within `(near, end)`),
+/// the first
 /// moved back to `near` so nothing nearer goes unshadowed; None where that range is empty
 /// (everything seen lies past `end`).
 fn seen_splits(
     seen: &SeenDepths,
     (near, end): (f32, f32),
     count: usize,
-    lambda: f32,
     tan_half: f64,
 ) -> Option<[f32; MAX_CASCADES + 1]> {
     let (lo, hi) = seen.guarded_range();
@@ -244,7 +243,7 @@ fn seen_splits(
     if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
         return None;
     }
-    let mut splits = wide_view_splits(lo, hi, count, lambda, tan_half);
+    let mut splits = wide_view_splits(lo, hi, count, 1.0, tan_half);
     splits[0] = near;
     Some(splits)
 }
@@ -253,7 +252,7 @@ fn seen_splits(
 /// cut to `receivers` where both are usable and meet; the usable one otherwise.
 fn seen_receivers(seen: &SeenDepths, receivers: &Aabb, near: f32, far: f32) -> Aabb {
     let (lo, hi) = seen.guarded_range();
-    let seen = seen.bounds_between(near.max(lo), far.min(hi).max(near.max(lo)));
+    let seen = seen.bounds_between(near.max(lo), far.min(hi));
     if seen.is_empty() {
         return *receivers;
     }

@@ -16,8 +16,9 @@ pub const DEPTH_BANDS: usize = 32;
 /// and six per band (min x, y, z, max x, y, z).
 pub const SEEN_WORDS: usize = 4 + 6 * DEPTH_BANDS;
 
-/// Share of the seen depth range and of a seen box's extent added on each side before a
-/// frame fits to them: the camera moves between the frame that saw and the frame that fits.
+/// Share of the nearest and farthest depths seen, and of a seen box's extent (or its far
+/// depth), added on each side before a frame fits to them: the camera moves between the
+/// frame that saw and the frame that fits.
 pub const SEEN_GUARD: f32 = 0.1;
 
 /// The view depths and world boxes one frame's covered pixels spanned.
