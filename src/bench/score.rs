@@ -23,14 +23,17 @@ use crate::render::probe::ProbeGpu;
 use crate::render::target::AnalysisImage;
 use crate::scene::SceneDesc;
 
-/// Renders one analysis frame of the session with the given renderer: a frame, whose seen
-/// depths the session then takes, and the frame scored (so a depth-bounds fit is scored
-/// fitted to its own view, as a still camera's frames are).
+/// Renders one analysis frame of the session with the given renderer. When the frame brought
+/// new seen depths (a depth-bounds fit), it is rendered again fitted to them, so the fit is
+/// scored on its own view, as a still camera's frames are.
 fn analysis_frame(session: &mut SceneSession, renderer: &mut Renderer) -> AnalysisImage {
-    for _ in 0..2 {
+    let render = |session: &mut SceneSession, renderer: &mut Renderer| {
         session.update();
         renderer.render(&FrameInputs::from_world(session.app.world(), 0));
-        session.take_seen_depths(renderer);
+        session.take_seen_depths(renderer)
+    };
+    if render(session, renderer) {
+        render(session, renderer);
     }
     renderer.read_analysis().unwrap_or_default()
 }

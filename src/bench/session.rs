@@ -153,10 +153,11 @@ impl SceneSession {
     }
 
     /// Waits for the depths `renderer`'s frames saw and hands them to the shadow systems, so
-    /// the next frame's depth-bounds fit follows the last frame rendered.
-    pub fn take_seen_depths(&mut self, renderer: &mut Renderer) {
+    /// the next frame's depth-bounds fit follows the last frame rendered; returns whether
+    /// they changed.
+    pub fn take_seen_depths(&mut self, renderer: &mut Renderer) -> bool {
         renderer.wait_for_seen_depths();
-        publish_seen_depths(self.app.world_mut(), renderer);
+        publish_seen_depths(self.app.world_mut(), renderer)
     }
 
     /// This frame's statistics.

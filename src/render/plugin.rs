@@ -52,16 +52,19 @@ pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
 }
 
 /// Hands the latest depths the renderer saw to the ECS ([`SeenByCamera`]), for the next
-/// frame's depth-bounds cascade fit (unchanged while nothing new came back).
-pub fn publish_seen_depths(world: &mut World, renderer: &Renderer) {
+/// frame's depth-bounds cascade fit (unchanged while nothing new came back); returns whether
+/// they changed.
+pub fn publish_seen_depths(world: &mut World, renderer: &Renderer) -> bool {
     let Some((depths, origin)) = renderer.seen_depths() else {
-        return;
+        return false;
     };
     let seen = SeenByCamera {
         depths: Some(depths),
         origin,
     };
-    if world.get_resource::<SeenByCamera>() != Some(&seen) {
+    let changed = world.get_resource::<SeenByCamera>() != Some(&seen);
+    if changed {
         world.insert_resource(seen);
     }
+    changed
 }
