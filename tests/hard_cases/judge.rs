@@ -182,25 +182,24 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
     };
     let thresholds = Thresholds::default();
     let mut scores = [(ShadowMode::Pcf, FilterScore::default()); 2];
+    // The analysis pixels of the judged points.
+    let judged_pixels: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
     for ((mode, analysis), score) in frames.iter().zip(&mut scores) {
         let technique: Vec<f32> = kept.iter().map(|&k| analysis.shadow[pixels[k]]).collect();
         if let Some(dir) = std::env::var_os("PENUMBRA_DUMP") {
             let tag = format!("{name}_{mode:?}").replace(|c: char| !c.is_ascii_alphanumeric(), "_");
-            let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
-            dump(Path::new(&dir), &tag, analysis, &judged, &technique, &reference);
+            dump(Path::new(&dir), &tag, analysis, &judged_pixels, &technique, &reference);
         }
         if std::env::var_os("PENUMBRA_PIXELS").is_some() {
-            let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
             list_failures(
                 &format!("{name} [{mode:?}]"),
                 analysis,
-                &judged,
+                &judged_pixels,
                 &technique,
                 &reference,
                 &thresholds,
             );
         }
-        let judged: Vec<usize> = kept.iter().map(|&k| pixels[k]).collect();
         let size = (analysis.width, analysis.height);
         let surface = &surface;
         let on = |s: Surface| move |i: usize| surface[i] == s;
@@ -210,7 +209,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
                 all: error_metrics(&technique, &reference, |_| true, &thresholds),
                 ground: error_metrics(&technique, &reference, on(Surface::Ground), &thresholds),
                 casters: error_metrics(&technique, &reference, on(Surface::Caster), &thresholds),
-                edges: edge_split(&technique, &reference, &judged, size, &thresholds),
+                edges: edge_split(&technique, &reference, &judged_pixels, size, &thresholds),
             },
         );
     }
