@@ -1,12 +1,13 @@
-// Variance shadow maps: turns one light's depth layers into the moments `(z, z²)` of its
-// normalised distance (`resolve`), then pre-filters them with a separable Gaussian
+// Variance shadow maps: turns one light's depth layers into the covered moments
+// `(o·z, o·z², o)` of its normalised distance `z` (`resolve`; `o` is 1 where a caster was
+// drawn, 0 in an empty texel, so filtering keeps the occupied share), then pre-filters them with a separable Gaussian
 // (`blur`, once along each axis: from the moments into a one-light scratch, and back). Spot lights store the distance along the light's axis over
 // its range; point lights the distance from the light over its range, so the six faces of a
 // cube agree along their shared edges, and their blur samples the cube along the face's axes:
 // a tap past a face edge reads the neighbouring face (no seam).
 //
 // Shader defs: MOMENTS_POINT (the source is a cube array: faces in layer order +X, −X, +Y,
-// −Y, +Z, −Z), MOMENTS_FP32 (the moments are `rg32float`, else `rgba16float`).
+// −Y, +Z, −Z), MOMENTS_FP32 (the moments are `rgba32float`, else `rgba16float`).
 
 struct MomentsJob {
     // First layer of the light in the source (depth, moments or scratch) and in the
@@ -28,7 +29,7 @@ struct MomentsJob {
 
 @group(0) @binding(0) var depth_layers: texture_depth_2d_array;
 #ifdef MOMENTS_FP32
-@group(0) @binding(1) var moments_out: texture_storage_2d_array<rg32float, write>;
+@group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba32float, write>;
 #else
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba16float, write>;
 #endif
@@ -60,8 +61,8 @@ fn texel_st(texel: vec2<u32>) -> vec2<f32> {
     return (vec2<f32>(texel) + 0.5) / f32(job.side) * 2.0 - 1.0;
 }
 
-fn store(texel: vec2<u32>, layer: u32, moments: vec2<f32>) {
-    textureStore(moments_out, texel, layer, vec4<f32>(moments, 0.0, 1.0));
+fn store(texel: vec2<u32>, layer: u32, moments: vec3<f32>) {
+    textureStore(moments_out, texel, layer, vec4<f32>(moments, 1.0));
 }
 
 // Depth to moments: one invocation per texel of the light's layers (z: layer of the light).
@@ -84,7 +85,9 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = near / (range - near);
     let z = a * range / (depth + a) / range;
 #endif
-    store(id.xy, job.dst_layer + id.z, vec2<f32>(z, z * z));
+    // NOTE: reverse-Z clears to 0, the far plane: a texel no caster reached.
+    let o = select(0.0, 1.0, depth > 0.0);
+    store(id.xy, job.dst_layer + id.z, o * vec3<f32>(z, z * z, 1.0));
 }
 
 // Gaussian weight of a tap `k` texels away for a radius of `radius` texels (sigma = radius / 2).
@@ -102,7 +105,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = i32(job.radius);
     let radius = f32(job.radius);
     let texel = 2.0 / f32(job.side);
-    var sum = vec2<f32>(0.0);
+    var sum = vec3<f32>(0.0);
     var weights = 0.0;
 #ifdef MOMENTS_POINT
     let face = id.z;
@@ -114,7 +117,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
     let step = face_direction(face, st + step_st) - centre;
     for (var k = -r; k <= r; k++) {
         let w = gaussian(f32(k), radius);
-        sum += w * textureSampleLevel(moments_in, moments_sampler, centre + step * f32(k), cube, 0.0).xy;
+        sum += w * textureSampleLevel(moments_in, moments_sampler, centre + step * f32(k), cube, 0.0).xyz;
         weights += w;
     }
 #else
@@ -123,7 +126,7 @@ fn blur(@builtin(global_invocation_id) id: vec3<u32>) {
     let step = select(vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), job.axis == 1u) / f32(job.side);
     for (var k = -r; k <= r; k++) {
         let w = gaussian(f32(k), radius);
-        sum += w * textureSampleLevel(moments_in, moments_sampler, uv + step * f32(k), layer, 0.0).xy;
+        sum += w * textureSampleLevel(moments_in, moments_sampler, uv + step * f32(k), layer, 0.0).xyz;
         weights += w;
     }
 #endif

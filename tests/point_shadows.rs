@@ -103,7 +103,7 @@ fn a_point_shadow_lands_where_a_ray_to_the_light_is_blocked_on_every_face() {
 
 #[test]
 fn a_point_vsm_shadow_lands_where_a_ray_to_the_light_is_blocked_with_and_without_blur() {
-    for format in [wgpu::TextureFormat::Rg32Float, wgpu::TextureFormat::Rgba16Float] {
+    for format in [wgpu::TextureFormat::Rgba32Float, wgpu::TextureFormat::Rgba16Float] {
         for blur in [0, 3] {
             assert_rays_on_every_face(
                 &format!(
@@ -134,6 +134,18 @@ fn edge_width(values: &[f32], step: f32) -> f32 {
 
 #[test]
 fn a_point_pcss_penumbra_widens_with_the_gap_to_the_caster() {
+    assert_penumbra_widens("mode: Pcss, pcss_quality: High");
+}
+
+#[test]
+fn a_point_vsm_penumbra_widens_with_the_gap_to_the_caster() {
+    // VSM's contact hardening (on by default) sizes the penumbra from the light's radius.
+    assert_penumbra_widens("mode: Vsm");
+}
+
+/// Walks the ground out of the shadows of two boxes under a point light filtered with
+/// `filter` and checks each penumbra's width against the perspective estimate.
+fn assert_penumbra_widens(filter: &str) {
     // A light 6 m up with a 0.15 m radius over two boxes: one 0.1 m above the ground, one
     // 2.5 m. Their outer shadow edges on the ground are at x = −3.06 and x = 6.0.
     let boxes = [
@@ -142,8 +154,10 @@ fn a_point_pcss_penumbra_widens_with_the_gap_to_the_caster() {
     ];
     let desc = scene_with(
         &boxes,
-        "Point(position: (0, 6, 0), intensity: 40, range: 20, radius: 0.15,
-            shadows: (mode: Pcss, pcss_quality: High, temporal_rotation: false, resolution: 2048))",
+        &format!(
+            "Point(position: (0, 6, 0), intensity: 40, range: 20, radius: 0.15,
+            shadows: ({filter}, temporal_rotation: false, resolution: 2048))"
+        ),
     );
     let step = 0.01;
     let walk = |from: f32, to: f32| -> Vec<(Vec3, Vec3)> {
@@ -161,10 +175,13 @@ fn a_point_pcss_penumbra_widens_with_the_gap_to_the_caster() {
     // The perspective estimate (d_receiver − d_blocker) · 2r / d_blocker: 0.07 m and 0.42 m.
     assert!(
         far > 3.0 * near,
-        "penumbra {far} m behind the high box, {near} m behind the low one"
+        "{filter}: penumbra {far} m behind the high box, {near} m behind the low one"
     );
-    assert!((0.25..=0.65).contains(&far), "penumbra {far} m, the estimate is 0.42 m");
-    assert!(near <= 0.15, "penumbra {near} m, the estimate is 0.07 m");
+    assert!(
+        (0.25..=0.65).contains(&far),
+        "{filter}: penumbra {far} m, the estimate is 0.42 m"
+    );
+    assert!(near <= 0.15, "{filter}: penumbra {near} m, the estimate is 0.07 m");
 }
 
 #[test]

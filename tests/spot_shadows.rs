@@ -189,24 +189,36 @@ fn edge_width(values: &[f32], step: f32) -> f32 {
 
 #[test]
 fn a_spot_pcss_penumbra_widens_with_the_gap_to_the_caster() {
+    assert_penumbra_widens("mode: Pcss, pcss_quality: High");
+}
+
+#[test]
+fn a_spot_vsm_penumbra_widens_with_the_gap_to_the_caster() {
+    // VSM's contact hardening (on by default) sizes the penumbra from the light's radius.
+    assert_penumbra_widens("mode: Vsm");
+}
+
+/// Walks the ground out of the shadows of two boxes under a spot light filtered with `filter`
+/// and checks each penumbra's width against the perspective estimate.
+fn assert_penumbra_widens(filter: &str) {
     // A light 6 m up with a 0.15 m radius over two boxes: one 0.1 m above the ground, one
     // 2.5 m. Their outer shadow edges on the ground are at x = −3.06 and x = 6.0.
-    let desc = scene(
+    let desc = scene(&format!(
         r#"Scene(
         camera: (position: (0, 10, 12), target: (1, 0, 0), fov: 60, near: 0.1, far: 100),
         lights: [
             Spot(position: (0, 6, 0), direction: (0, -1, 0), intensity: 40, range: 20,
                 inner_angle: 50, outer_angle: 60, radius: 0.15,
-                shadows: (mode: Pcss, pcss_quality: High, temporal_rotation: false, resolution: 2048)),
+                shadows: ({filter}, temporal_rotation: false, resolution: 2048)),
         ],
-        materials: { "m": (base_color: (0.7, 0.7, 0.7, 1)) },
+        materials: {{ "m": (base_color: (0.7, 0.7, 0.7, 1)) }},
         objects: [
             (shape: Plane(size: (40, 40)), material: "m", cast_shadows: false),
             (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (-2, 0.6, 0)),
             (shape: Cuboid(size: (1, 1, 1)), material: "m", translation: (2, 3.0, 0)),
         ],
-    )"#,
-    );
+    )"#
+    ));
     let (w, h) = (64, 48);
     let mut session = SceneSession::new(&desc, w, h).unwrap_or_else(|e| panic!("{e}"));
     let mut renderer = Renderer::headless_with_analysis(w, h).unwrap_or_else(|e| panic!("{e}"));
@@ -233,10 +245,13 @@ fn a_spot_pcss_penumbra_widens_with_the_gap_to_the_caster() {
     // The perspective estimate (d_receiver − d_blocker) · 2r / d_blocker: 0.07 m and 0.42 m.
     assert!(
         far > 3.0 * near,
-        "penumbra {far} m behind the high box, {near} m behind the low one"
+        "{filter}: penumbra {far} m behind the high box, {near} m behind the low one"
     );
-    assert!((0.25..=0.65).contains(&far), "penumbra {far} m, the estimate is 0.42 m");
-    assert!(near <= 0.15, "penumbra {near} m, the estimate is 0.07 m");
+    assert!(
+        (0.25..=0.65).contains(&far),
+        "{filter}: penumbra {far} m, the estimate is 0.42 m"
+    );
+    assert!(near <= 0.15, "{filter}: penumbra {near} m, the estimate is 0.07 m");
 }
 
 #[test]

@@ -2,7 +2,7 @@
 // point and spot lights; EVSM for the sun): Chebyshev's upper bound on the lit fraction from
 // the first two moments of the occluders' depth, a variance floor, and light-bleed reduction.
 // Depth here grows away from the light (linear distance over range, or a warped depth).
-// `src/math/moments.rs` mirrors these functions on the CPU.
+// `src/math/moments.rs` and `src/math/evsm.rs` mirror these functions on the CPU.
 #define_import_path penumbra::shadows::moments
 
 // Chebyshev's one-sided bound on the fraction of the filter footprint farther from the light
@@ -75,5 +75,18 @@ fn evsm2_covered_visibility(moments: vec4<f32>, depth: f32, c: f32, min_variance
         return 1.0;
     }
     let lit = evsm2_visibility(moments.xy / coverage, depth, c, min_variance, bleed);
+    return 1.0 - coverage + coverage * lit;
+}
+
+// VSM (spot and point lights) from filtered covered moments (o·z, o·z², o; o as above): the
+// empty share is lit, the occupied share gets Chebyshev's bound of the occupied texels' own
+// moments. Without coverage an empty texel stands for the farthest distance, and a footprint
+// reaching past a caster's edge over a receiver that casts nothing reads as lit.
+fn vsm_covered_visibility(moments: vec3<f32>, depth: f32, min_variance: f32, bleed: f32) -> f32 {
+    let coverage = saturate(moments.z);
+    if coverage < MIN_COVERAGE {
+        return 1.0;
+    }
+    let lit = moments_visibility(moments.xy / coverage, depth, min_variance, bleed);
     return 1.0 - coverage + coverage * lit;
 }

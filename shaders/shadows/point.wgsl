@@ -10,8 +10,9 @@
 // kernel), or the receiver's own distance when the light's receiver-plane flag is off. PCSS
 // searches blockers over the region through which the light's disc is seen and filters with
 // `w_penumbra = (d_receiver − d_blocker) · w_light / d_blocker` in metres at the receiver.
-// VSM reads the moments of the distance from the light, pre-filtered across face edges, in
-// one bilinear fetch. The entry point is `point_visibility`.
+// VSM reads the moments of the distance from the light, pre-filtered across face edges: one
+// bilinear fetch, or with contact hardening (the default) moments averaged over the penumbra
+// PCSS's blocker search gives. The entry point is `point_visibility`.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path; without it a PCSS light is
 // filtered with PCF.
@@ -24,9 +25,10 @@
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
     normal_offset_metres, poisson_rotation, sixteen_tap,
 }
-#import penumbra::shadows::moments::moments_visibility
+#import penumbra::shadows::moments::vsm_covered_visibility
 #import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_RECEIVER_PLANE,
+    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_MOMENT_HARDENING,
+    SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // A receiver seen from a point light.
@@ -132,11 +134,19 @@ fn point_pcf(s: PointSample, radius: f32, rotation: mat2x2<f32>) -> f32 {
     return sum / 16.0;
 }
 
-#ifdef SHADOW_FILTER_PCSS
-// Point-light PCSS: a blocker search over the region through which the light's disc is seen
-// (at most MAX_PENUMBRA_TEXELS texels), the mean blocker distance along each tap's ray, and a
-// filter as wide as half the penumbra that blocker throws at the receiver.
-fn point_pcss(light: Light, s: PointSample, rotation: mat2x2<f32>) -> f32 {
+// What a point light's blocker search settled: `settled` is 1 (no blocker), 0 (every tap
+// blocked, with the light's early-out) or -1 (a penumbra to filter: `radius` in metres at
+// the receiver, `count` blocking texels).
+struct PointSearch {
+    settled: f32,
+    radius: f32,
+    count: f32,
+}
+
+// Point-light blocker search (PCSS's first step): the region through which the light's disc
+// is seen (at most MAX_PENUMBRA_TEXELS texels), the mean blocker distance along each tap's
+// ray, and half the penumbra that blocker throws at the receiver, at least one filter step.
+fn point_search(light: Light, s: PointSample, rotation: mat2x2<f32>) -> PointSearch {
     let light_size = 2.0 * light.size;
     let max_radius = MAX_PENUMBRA_TEXELS * s.texel_metres;
     // NOTE: a blocker at distance b hides the disc over `light_size · (d − b) / b` metres at
@@ -161,24 +171,55 @@ fn point_pcss(light: Light, s: PointSample, rotation: mat2x2<f32>) -> f32 {
         sum += dot(axis * stretch, is_blocker);
         count += dot(is_blocker, vec4<f32>(1.0));
     }
-    if count == 0.0 {
-        return 1.0;
-    }
+    var out = PointSearch(-1.0, 0.0, count);
     let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && count >= total_taps {
-        return 0.0;
+    if count == 0.0 {
+        out.settled = 1.0;
+    } else if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && count >= total_taps {
+        out.settled = 0.0;
     }
-    let blocker = sum / count;
+    let blocker = sum / max(count, 1.0);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
-    let radius = clamp(0.5 * penumbra, s.filter_step, max_radius);
+    out.radius = clamp(0.5 * penumbra, s.filter_step, max_radius);
+    return out;
+}
+
+#ifdef SHADOW_FILTER_PCSS
+// Point-light PCSS: the blocker search, then comparison taps over the penumbra it gives,
+// faded towards lit where the search found few blockers.
+fn point_pcss(light: Light, s: PointSample, rotation: mat2x2<f32>) -> f32 {
+    let search = point_search(light, s, rotation);
+    if search.settled >= 0.0 {
+        return search.settled;
+    }
     var lit = 0.0;
     for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
-        lit += point_tap(s, rotation * filter_tap(i) * radius);
+        lit += point_tap(s, rotation * filter_tap(i) * search.radius);
     }
     lit /= f32(#{PCSS_FILTER_SAMPLES});
-    return mix(1.0, lit, smoothstep(0.0, 4.0, count));
+    return mix(1.0, lit, smoothstep(0.0, 4.0, search.count));
 }
 #endif
+
+// VSM with contact hardening, sized by the emitter as PCSS is: the blocker search gives the
+// penumbra's radius, and the moments (pre-blurred by `vsm_blur`) are averaged over 16 rotated
+// Poisson fetches of that radius before Chebyshev's bound. A penumbra under a texel (a
+// caster's foot) compares the depth itself.
+fn point_vsm_hardened(light: Light, s: PointSample, rotation: mat2x2<f32>) -> f32 {
+    let search = point_search(light, s, rotation);
+    if search.settled >= 0.0 {
+        return search.settled;
+    }
+    if search.radius < s.texel_metres {
+        return point_tap(s, vec2<f32>(0.0));
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < 16u; i++) {
+        let d = tap_direction(s, rotation * sixteen_tap(i) * search.radius);
+        sum += textureSampleLevel(point_moments, moments_sampler, d, s.cube, 0.0).xyz;
+    }
+    return vsm_covered_visibility(sum / 16.0, s.distance / s.range, light.cone.z, light.cone.w);
+}
 
 // The fraction of a point light visible from `surface` (1 lit, 0 shadowed); 1 past the
 // light's range or for a point light without a shadow.
@@ -190,12 +231,15 @@ fn point_visibility(light: Light, surface: Surface) -> f32 {
     if major_axis(s.to_receiver) >= s.range {
         return 1.0;
     }
-    if light.shadow_filter == SHADOW_FILTER_VSM {
-        // Moments of the distance from the light over the range, pre-filtered across faces.
-        let moments = textureSampleLevel(point_moments, moments_sampler, s.to_receiver, s.cube, 0.0).xy;
-        return moments_visibility(moments, s.distance / s.range, light.cone.z, light.cone.w);
-    }
     let rotation = poisson_rotation(surface.frag_coord, light.flags);
+    if light.shadow_filter == SHADOW_FILTER_VSM {
+        if (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u && light.size > 0.0 {
+            return point_vsm_hardened(light, s, rotation);
+        }
+        // Moments of the distance from the light over the range, pre-filtered across faces.
+        let moments = textureSampleLevel(point_moments, moments_sampler, s.to_receiver, s.cube, 0.0).xyz;
+        return vsm_covered_visibility(moments, s.distance / s.range, light.cone.z, light.cone.w);
+    }
 #ifdef SHADOW_FILTER_PCSS
     if light.shadow_filter == SHADOW_FILTER_PCSS && light.size > 0.0 {
         return point_pcss(light, s, rotation);

@@ -4,7 +4,9 @@
 // (planes stay planes under a projective map, so it is exact), PCF is a rotated Poisson disc,
 // PCSS uses the perspective penumbra of the blog seed,
 // `w_penumbra = (d_receiver − d_blocker) · w_light / d_blocker`, in world units at the
-// receiver, and VSM is one bilinear fetch of the pre-filtered moments and Chebyshev's bound.
+// receiver, and VSM is Chebyshev's bound on the pre-filtered moments: one bilinear fetch, or
+// with contact hardening (the default) PCSS's blocker search and moments averaged over the
+// penumbra it gives.
 // The entry point is `spot_visibility`.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path; without it a PCSS light is
@@ -14,13 +16,13 @@
 #import penumbra::shadows::bindings::{moments_sampler, shadow_views, spot_maps, spot_moments}
 #import penumbra::shadows::common::{
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
-    poisson_rotation,
+    poisson_rotation, sixteen_tap,
 }
-#import penumbra::shadows::filters::{MapSample, find_blockers, pcf_poisson, pcss_filter}
-#import penumbra::shadows::moments::moments_visibility
+#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_poisson, pcss_filter}
+#import penumbra::shadows::moments::vsm_covered_visibility
 #import penumbra::shadows::types::{
     Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
-    SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // A receiver projected into a spot light's view.
@@ -107,11 +109,20 @@ fn project_to_spot(light: Light, view: ShadowView, world_pos: vec3<f32>, normal:
     return out;
 }
 
-#ifdef SHADOW_FILTER_PCSS
-// Perspective PCSS: search the region of the map through which the light's disc is seen from
-// the receiver (at most MAX_PENUMBRA_TEXELS), turn the mean blocker depth into a distance,
-// and filter with the penumbra that blocker throws at the receiver.
-fn spot_pcss(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32>) -> f32 {
+// What a spot light's blocker search settled: `settled` is 1 (no blocker), 0 (every tap
+// blocked, with the light's early-out) or -1 (a penumbra to filter: `radius` in layer UV,
+// `count` blocking texels).
+struct SpotSearch {
+    settled: f32,
+    radius: f32,
+    count: f32,
+}
+
+// Perspective blocker search (PCSS's first step): search the region of the map through which
+// the light's disc is seen from the receiver (at most MAX_PENUMBRA_TEXELS), turn the mean
+// blocker depth into a distance and give half the penumbra that blocker throws at the
+// receiver, in layer UV, at least one filter step.
+fn spot_search(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32>) -> SpotSearch {
     let p = s.map;
     let near = view.params.y;
     let far = view.params.z;
@@ -123,19 +134,49 @@ fn spot_pcss(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32
     let search = 0.5 * light_size * (s.distance - near) / s.distance / spot_view_width(view, near);
     let search_radius = clamp(search * view.rect.z, min_radius, max_radius);
     let blockers = find_blockers(spot_maps, p, search_radius, vec2<f32>(1.0), rotation);
-    if blockers.count == 0.0 {
-        return 1.0;
-    }
+    var out = SpotSearch(-1.0, 0.0, blockers.count);
     let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
-        return 0.0;
+    if blockers.count == 0.0 {
+        out.settled = 1.0;
+    } else if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
+        out.settled = 0.0;
     }
     let blocker = spot_linear_distance(blockers.depth, near, far);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
-    let radius = clamp(0.5 * penumbra / spot_view_width(view, s.distance) * view.rect.z, min_radius, max_radius);
-    return pcss_filter(spot_maps, p, radius, vec2<f32>(1.0), rotation, blockers.count);
+    out.radius = clamp(0.5 * penumbra / spot_view_width(view, s.distance) * view.rect.z, min_radius, max_radius);
+    return out;
+}
+
+#ifdef SHADOW_FILTER_PCSS
+// Perspective PCSS: the blocker search, then comparison taps over the penumbra it gives.
+fn spot_pcss(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32>) -> f32 {
+    let search = spot_search(light, view, s, rotation);
+    if search.settled >= 0.0 {
+        return search.settled;
+    }
+    return pcss_filter(spot_maps, s.map, search.radius, vec2<f32>(1.0), rotation, search.count);
 }
 #endif
+
+// VSM with contact hardening, sized by the emitter as PCSS is: the blocker search gives the
+// penumbra's radius, and the moments (pre-blurred by `vsm_blur`) are averaged over 16 rotated
+// Poisson fetches of that radius before Chebyshev's bound. A penumbra under a texel (a
+// caster's foot) compares the depth itself: no moment filter resolves a gap that small.
+fn spot_vsm_hardened(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32>) -> f32 {
+    let search = spot_search(light, view, s, rotation);
+    if search.settled >= 0.0 {
+        return search.settled;
+    }
+    if search.radius < s.map.texel {
+        return compare_tap(spot_maps, s.map, vec2<f32>(0.0));
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < 16u; i++) {
+        let uv = s.map.uv + rotation * sixteen_tap(i) * search.radius;
+        sum += textureSampleLevel(spot_moments, moments_sampler, uv, s.map.layer, 0.0).xyz;
+    }
+    return vsm_covered_visibility(sum / 16.0, s.offset_distance / view.params.z, light.cone.z, light.cone.w);
+}
 
 // The fraction of a spot light visible from `surface` (1 lit, 0 shadowed); 1 outside the
 // light's view or for a spot light without a shadow.
@@ -148,12 +189,15 @@ fn spot_visibility(light: Light, surface: Surface) -> f32 {
     if !s.in_front || any(s.view_uv < vec2<f32>(0.0)) || any(s.view_uv > vec2<f32>(1.0)) || s.map.depth > 1.0 {
         return 1.0;
     }
-    if light.shadow_filter == SHADOW_FILTER_VSM {
-        // Moments of the distance along the axis over the range, pre-filtered.
-        let moments = textureSampleLevel(spot_moments, moments_sampler, s.map.uv, s.map.layer, 0.0).xy;
-        return moments_visibility(moments, s.offset_distance / view.params.z, light.cone.z, light.cone.w);
-    }
     let rotation = poisson_rotation(surface.frag_coord, light.flags);
+    if light.shadow_filter == SHADOW_FILTER_VSM {
+        if (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u && light.size > 0.0 {
+            return spot_vsm_hardened(light, view, s, rotation);
+        }
+        // Moments of the distance along the axis over the range, pre-filtered.
+        let moments = textureSampleLevel(spot_moments, moments_sampler, s.map.uv, s.map.layer, 0.0).xyz;
+        return vsm_covered_visibility(moments, s.offset_distance / view.params.z, light.cone.z, light.cone.w);
+    }
 #ifdef SHADOW_FILTER_PCSS
     if light.shadow_filter == SHADOW_FILTER_PCSS && light.size > 0.0 {
         return spot_pcss(light, view, s, rotation);

@@ -38,9 +38,10 @@ fn moments(s: &mut ShadowSettings, mode: ShadowMode, precision: MomentFormat) {
 }
 
 /// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, receiver-plane bias and
-/// cascade blending switched off on the mid presets, VSM without and with pre-blur, and the
-/// suns' EVSM2 (16 and 32 bits), EVSM4 and MSM (16 and 32 bits) with contact hardening (the
-/// default), and EVSM2 and MSM with a fixed blur instead.
+/// cascade blending switched off on the mid presets, VSM with contact hardening (the default)
+/// without and with pre-blur and VSM with a fixed blur, the suns' EVSM2 (16 and 32 bits),
+/// EVSM4 and MSM (16 and 32 bits) with contact hardening, and EVSM2 and MSM with a fixed blur
+/// instead.
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -122,13 +123,21 @@ pub fn presets() -> Vec<Preset> {
         },
         Preset {
             name: "vsm",
-            description: "VSM, bilinear moments only (spot and point lights)",
+            description: "VSM with contact hardening, no pre-blur (spot and point lights)",
             apply: |s| vsm(s, 0),
         },
         Preset {
             name: "vsm-blur4",
-            description: "VSM with a 4-texel Gaussian pre-blur (spot and point lights)",
+            description: "VSM with contact hardening over a 4-texel Gaussian pre-blur (spot and point lights)",
             apply: |s| vsm(s, 4),
+        },
+        Preset {
+            name: "vsm-fixed",
+            description: "VSM, a fixed 2-texel pre-blur and one fetch (no contact hardening; spot and point lights)",
+            apply: |s| {
+                vsm(s, 2);
+                s.moment_contact_hardening = false;
+            },
         },
         Preset {
             name: "evsm-fp16",

@@ -2,7 +2,9 @@
 //! bound on the lit fraction from the first two moments of the occluders' depth, the variance
 //! floor, and light-bleed reduction. Depth grows away from the light.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
+
+use crate::math::evsm::MIN_COVERAGE;
 
 /// The first two moments `(E[z], E[z²])` of `depths` with weights `weights` (normalised here):
 /// what a filtered moment map holds over a footprint.
@@ -40,6 +42,28 @@ pub fn reduce_light_bleeding(p_max: f32, amount: f32) -> f32 {
 /// The visibility of a receiver at `depth` from filtered moments.
 pub fn moments_visibility(moments: Vec2, depth: f32, min_variance: f32, bleed: f32) -> f32 {
     reduce_light_bleeding(chebyshev_upper_bound(moments, depth, min_variance), bleed)
+}
+
+/// What one texel of a spot or point light's moments holds: `(o·z, o·z², o)` for the
+/// normalised distance `z`, with `o` 1 where a caster was drawn and 0 in an empty texel. The
+/// three filter linearly, so a filtered footprint keeps its occupied share.
+pub fn covered_moments(depth: f32, occupied: bool) -> Vec3 {
+    let o = if occupied { 1.0 } else { 0.0 };
+    Vec3::new(o * depth, o * depth * depth, o)
+}
+
+/// VSM from filtered covered moments ([`covered_moments`]): the footprint's empty share is
+/// lit, its occupied share gets Chebyshev's bound of the occupied texels' own moments (with
+/// light-bleed reduction). Without coverage an empty texel stands for the farthest distance,
+/// and a footprint reaching past a caster's edge over a receiver that casts nothing reads as
+/// lit long before the caster's share falls to half.
+pub fn vsm_covered_visibility(moments: Vec3, depth: f32, min_variance: f32, bleed: f32) -> f32 {
+    let coverage = moments.z.clamp(0.0, 1.0);
+    if coverage < MIN_COVERAGE {
+        return 1.0;
+    }
+    let occupied = Vec2::new(moments.x, moments.y) / coverage;
+    1.0 - coverage + coverage * moments_visibility(occupied, depth, min_variance, bleed)
 }
 
 #[cfg(test)]
@@ -93,5 +117,26 @@ mod tests {
         let p = chebyshev_upper_bound(flat, 0.5 + 1e-4, FLOOR);
         assert!(p.is_finite() && p > 0.0 && p < 1.0, "{p}");
         assert_eq!(moments_of(&[0.5], &[0.0]), Vec2::ZERO);
+    }
+
+    #[test]
+    fn covered_moments_light_the_empty_share_of_a_footprint() {
+        // Half a footprint over a caster 0.1 nearer the light, half empty (a receiver that
+        // casts nothing): the receiver is half lit.
+        let footprint = (covered_moments(0.3, true) + covered_moments(0.0, false)) * 0.5;
+        let lit = vsm_covered_visibility(footprint, 0.4, FLOOR, 0.0);
+        assert!((lit - 0.5).abs() < 1e-3, "half-covered footprint gives {lit}, not 0.5");
+        // The same footprint without coverage (the empty texel as the farthest distance, 1)
+        // is lit: its mean lies behind the receiver.
+        let uncovered = moments_of(&[0.3, 1.0], &[1.0, 1.0]);
+        assert_eq!(moments_visibility(uncovered, 0.4, FLOOR, 0.0), 1.0);
+        // Fully covered it matches plain VSM; an empty footprint is lit.
+        let full = covered_moments(0.3, true);
+        let plain = moments_visibility(moments_of(&[0.3], &[1.0]), 0.4, FLOOR, 0.2);
+        assert_eq!(vsm_covered_visibility(full, 0.4, FLOOR, 0.2), plain);
+        assert_eq!(
+            vsm_covered_visibility(covered_moments(0.0, false), 0.4, FLOOR, 0.2),
+            1.0
+        );
     }
 }

@@ -80,9 +80,10 @@ pub struct GpuContext {
     /// Most views one multiview pass may render (0: no `MULTIVIEW`, cascades are drawn one
     /// pass each).
     pub multiview_views: u32,
-    /// Format of variance shadow maps' moments: `Rg32Float` where 32-bit floats can be
-    /// filtered (`FLOAT32_FILTERABLE`), else `Rgba16Float`, whose 11-bit mantissa makes the
-    /// variance `E[z²] − E[z]²` coarse (raise `vsm_min_variance` there).
+    /// Format of variance shadow maps' covered moments `(o·z, o·z², o)`: `Rgba32Float`
+    /// where 32-bit floats can be filtered (`FLOAT32_FILTERABLE`), else `Rgba16Float`, whose
+    /// 11-bit mantissa makes the variance `E[z²] − E[z]²` coarse (raise `vsm_min_variance`
+    /// there).
     pub moments_format: wgpu::TextureFormat,
     /// 16-bit unorm textures can be sampled and written (`TEXTURE_FORMAT_16BIT_NORM`): 16-bit
     /// MSM moments are stored in `Rgba16Unorm`, whose uniform steps the optimised
@@ -170,7 +171,7 @@ impl GpuContext {
             multiview_views,
             unorm16_moments: required_features.contains(wgpu::Features::TEXTURE_FORMAT_16BIT_NORM),
             moments_format: if required_features.contains(wgpu::Features::FLOAT32_FILTERABLE) {
-                wgpu::TextureFormat::Rg32Float
+                wgpu::TextureFormat::Rgba32Float
             } else {
                 wgpu::TextureFormat::Rgba16Float
             },
@@ -181,7 +182,7 @@ impl GpuContext {
     /// True where the device filters 32-bit float textures (`FLOAT32_FILTERABLE`), which
     /// 32-bit moments need.
     pub fn filters_fp32(&self) -> bool {
-        self.moments_format == wgpu::TextureFormat::Rg32Float
+        self.moments_format == wgpu::TextureFormat::Rgba32Float
     }
 
     /// The moment formats the device can store and filter.

@@ -32,9 +32,11 @@ pub enum ShadowMode {
     Pcf,
     /// Percentage-closer soft shadows: blocker search, penumbra estimate, variable PCF.
     Pcss,
-    /// Variance shadow map (spot and point lights): the first two moments of the depth are
-    /// pre-filtered once per redrawn map (`vsm_blur`), and a pixel's shadow is one filtered
-    /// fetch and Chebyshev's bound, whatever the penumbra width. A sun asked for it uses
+    /// Variance shadow map (spot and point lights): the first two moments of the distance and
+    /// their coverage are pre-filtered once per redrawn map (`vsm_blur`); with
+    /// `moment_contact_hardening` (the default) PCSS's blocker search gives each pixel's
+    /// penumbra from the light's `radius` and the moments are averaged over it (16 fetches),
+    /// else a pixel's shadow is one filtered fetch. Chebyshev's bound then gives the shadow. A sun asked for it uses
     /// [`Evsm`](Self::Evsm), its moment technique.
     Vsm,
     /// Exponentially warped variance shadow map, two moments (EVSM2; suns): each redrawn
@@ -235,12 +237,13 @@ pub struct ShadowSettings {
     pub moment_blur: f32,
     /// EVSM, MSM: light-bleed reduction, 0–0.95 (as `vsm_bleed_reduction`).
     pub moment_bleed_reduction: f32,
-    /// EVSM, MSM: contact hardening (on by default). PCSS's blocker search over the cascade's
-    /// depth gives each pixel's penumbra from the sun's angular diameter, and the moments
-    /// (unblurred, with a mip chain) are filtered over it in four fetches; a pixel whose
-    /// penumbra is under a texel (a caster's foot) compares the depth itself. Soft shadows
-    /// that follow the sun's size and harden where casters touch, at a cost that does not
-    /// grow with the penumbra. Off: every pixel filters `moment_blur`.
+    /// EVSM, MSM, VSM: contact hardening (on by default). PCSS's blocker search over the
+    /// depth map gives each pixel's penumbra from the light's size (a sun's angular diameter,
+    /// a spot or point light's radius); a sun's moments (unblurred, with a mip chain) are
+    /// filtered over it in four fetches, a spot or point light's (pre-blurred by `vsm_blur`)
+    /// averaged over 16; a pixel whose penumbra is under a texel (a caster's foot) compares
+    /// the depth itself. Soft shadows that follow the light's size and harden where casters
+    /// touch. Off: every pixel filters `moment_blur` (suns) or `vsm_blur` (spot, point).
     pub moment_contact_hardening: bool,
     /// EVSM: smallest variance of the occluders' depth, square metres, 0–0.01 (scaled by the
     /// warp's slope; the receiver plane's slope across a texel adds to it when

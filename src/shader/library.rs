@@ -287,7 +287,7 @@ impl ShaderLibrary {
     }
 
     /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or
-    /// spot lights' layers, writing `rg32float` (`fp32`) or `rgba16float` moments.
+    /// spot lights' layers, writing `rgba32float` (`fp32`) or `rgba16float` covered moments.
     pub fn shadow_moments(&mut self, point: bool, fp32: bool) -> Result<naga::Module, ShaderError> {
         let mut defs = HashMap::new();
         for (name, on) in [("MOMENTS_POINT", point), ("MOMENTS_FP32", fp32)] {

@@ -138,7 +138,7 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
         blur_layout(wgpu::TextureViewDimension::D2Array),
         blur_layout(wgpu::TextureViewDimension::CubeArray),
     ];
-    let fp32 = format == wgpu::TextureFormat::Rg32Float;
+    let fp32 = format == wgpu::TextureFormat::Rgba32Float;
     // One module per storage (spot layers, point cubes) holds both entry points.
     let [spot, point] = [false, true].map(|point| {
         let module = library

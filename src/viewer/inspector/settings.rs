@@ -104,6 +104,7 @@ pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, sun: bool) {
             ui.checkbox(&mut s.temporal_rotation, "temporal rotation");
         }
         ShadowMode::Vsm => {
+            ui.checkbox(&mut s.moment_contact_hardening, "contact hardening");
             ui.add(Slider::new(&mut s.vsm_blur, 0..=MAX_VSM_BLUR).text("VSM blur (texels)"));
             ui.add(Slider::new(&mut s.vsm_bleed_reduction, 0.0..=0.95).text("light-bleed reduction"));
             ui.add(
