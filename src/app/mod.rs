@@ -57,7 +57,7 @@ pub fn headless_app(renderer: Renderer) -> App {
     app
 }
 
-/// Overrides applied on top of a scene's own shadow settings.
+/// Overrides applied on top of a scene's shadow settings and each light's own.
 pub type SettingsOverride<'a> = &'a dyn Fn(&mut ShadowSettings);
 
 /// The result of rendering a scene headless.
@@ -126,7 +126,7 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     let (width, height, frames) = (request.width, request.height, request.frames);
     let mut desc = desc.clone();
     if let Some(tweak) = request.tweak {
-        tweak(&mut desc.shadows);
+        desc.settings_mut().for_each(tweak);
     }
     let renderer = if request.analysis {
         Renderer::headless_with_analysis(width, height)?

@@ -19,7 +19,7 @@ use crate::render::frame::FrameInputs;
 use crate::render::timer::median;
 use crate::render::{FrameReport, GpuError, Msaa, RenderOptions, Renderer};
 use crate::scene::{SceneDesc, SceneError};
-use crate::settings::CascadeFit;
+use crate::settings::{CascadeFit, ShadowSettings};
 
 /// Anything that stops a benchmark.
 #[derive(Debug, Error)]
@@ -158,21 +158,26 @@ pub struct SettingsOverrides {
 }
 
 impl SettingsOverrides {
+    /// Forces the overrides on the scene's settings and on every light's own settings.
     fn apply(&self, desc: &mut SceneDesc) {
-        if let Some(v) = self.normal_offset {
-            desc.shadows.normal_offset = v;
-        }
-        if let Some(v) = self.slope_bias {
-            desc.shadows.slope_bias = v;
-        }
         if let (Some(v), Some(sun)) = (self.sun_diameter, desc.sun.as_mut()) {
             sun.angular_diameter = v;
         }
+        desc.settings_mut().for_each(|s| self.apply_to(s));
+    }
+
+    fn apply_to(&self, s: &mut ShadowSettings) {
+        if let Some(v) = self.normal_offset {
+            s.normal_offset = v;
+        }
+        if let Some(v) = self.slope_bias {
+            s.slope_bias = v;
+        }
         if let Some(fit) = self.fit {
-            desc.shadows.fit = fit;
+            s.fit = fit;
         }
         if let Some(resolution) = self.resolution {
-            desc.shadows.resolution = resolution;
+            s.resolution = resolution;
         }
     }
 

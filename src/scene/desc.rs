@@ -313,6 +313,17 @@ pub struct Jitter {
 }
 
 impl SceneDesc {
+    /// Every shadow settings the scene holds: its `shadows`, then each light's own (for
+    /// changing them all at once, as the command line's overrides do).
+    pub fn settings_mut(&mut self) -> impl Iterator<Item = &mut ShadowSettings> {
+        let own = self.lights.iter_mut().filter_map(|light| match light {
+            LightDesc::Directional { shadows, .. }
+            | LightDesc::Spot { shadows, .. }
+            | LightDesc::Point { shadows, .. } => shadows.as_mut(),
+        });
+        std::iter::once(&mut self.shadows).chain(own)
+    }
+
     /// Where the scene's files are read from, and the read limits: the
     /// [`asset_root`](SceneLimits::asset_root) of its [`limits`](Self::limits), or the default
     /// root for [`base_dir`](Self::base_dir).
@@ -434,4 +445,31 @@ fn materials_in_file_order<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Materi
     }
 
     d.deserialize_map(InOrder)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::SceneDesc;
+    use crate::settings::ShadowMode;
+
+    #[test]
+    fn settings_mut_reaches_the_scene_settings_and_every_lights_own() {
+        let mut desc = SceneDesc::from_str(
+            r#"Scene(
+                camera: (position: (0, 5, 5), target: (0, 0, 0), fov: 60, near: 0.1, far: 100),
+                lights: [
+                    Spot(position: (0, 5, 0), direction: (0, -1, 0), shadows: (mode: Pcss)),
+                    Point(position: (2, 3, 0), shadows: (resolution: 256)),
+                    Point(position: (-2, 3, 0)),
+                ],
+            )"#,
+            "test.ron",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        desc.settings_mut().for_each(|s| s.mode = ShadowMode::Vsm);
+        let modes: Vec<ShadowMode> = desc.settings_mut().map(|s| s.mode).collect();
+        // The scene's settings and the two lights that have their own; the third light
+        // takes the scene's.
+        assert_eq!(modes, [ShadowMode::Vsm; 3]);
+    }
 }
