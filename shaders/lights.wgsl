@@ -45,7 +45,7 @@ fn light_count() -> u32 {
 
 // Light `i` (0 <= i < light_count()).
 fn get_light(i: u32) -> Light {
-    return lights.items[i];
+    return lights[i];
 }
 
 // A point being shaded: world position, unit normal facing the viewer, positive view depth,

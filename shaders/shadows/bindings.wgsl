@@ -1,11 +1,13 @@
-// The shadow bind group (group 3): the frame's lights and shadow views as uniform arrays,
+// The shadow bind group (group 3): the frame's lights (a storage array) and shadow views (a
+// uniform array),
 // one depth array per kind of shadow storage (a cube array for point lights), the samplers
 // and the Poisson taps. A material does not name these; it calls `penumbra::lights`.
 #define_import_path penumbra::shadows::bindings
 
-#import penumbra::shadows::types::{LightList, PoissonTaps, ShadowViewList}
+#import penumbra::shadows::types::{Light, PoissonTaps, ShadowViewList}
 
-@group(3) @binding(0) var<uniform> lights: LightList;
+// The frame's lights (`frame.light_count` of them; the buffer grows with the scene).
+@group(3) @binding(0) var<storage, read> lights: array<Light>;
 @group(3) @binding(1) var<uniform> shadow_views: ShadowViewList;
 // Every cascade of every shadowed sun, one layer each.
 @group(3) @binding(2) var cascade_maps: texture_depth_2d_array;

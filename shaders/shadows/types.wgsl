@@ -17,11 +17,10 @@ const SHADOW_FILTER_EVSM2: u32 = 3u;
 const SHADOW_FILTER_EVSM4: u32 = 4u;
 const SHADOW_FILTER_MSM: u32 = 5u;
 
-// Capacity of the light and shadow-view lists (uniform arrays: the constant cache makes the
-// per-pixel reads cheap). The renderer reports an error for anything past them.
-const MAX_LIGHTS: u32 = 256u;
 // `Light::resolve_layer` of a light without a resolved visibility layer.
 const RESOLVE_NONE: u32 = 0xffffffffu;
+// Capacity of the shadow-view list (a uniform array: the constant cache makes the per-pixel
+// reads cheap). The renderer reports an error for views past it.
 const MAX_SHADOW_VIEWS: u32 = 256u;
 
 // Flag bits of `Light::flags`.
@@ -102,11 +101,6 @@ struct PoissonTaps {
     filter_sixteen: array<vec4<f32>, 8>,
     filter_twenty_five: array<vec4<f32>, 13>,
     filter_forty_nine: array<vec4<f32>, 25>,
-}
-
-// The light list: `frame.light_count` entries are used.
-struct LightList {
-    items: array<Light, MAX_LIGHTS>,
 }
 
 // The shadow-view list.

@@ -203,10 +203,13 @@ pub fn update_frame_lights(
     let diagnostics = &mut *diagnostics;
     for (entity, light, transform, settings) in &suns {
         let Some(direction) = world_forward(transform) else {
-            diagnostics.warn(format!(
-                "directional light {entity} has a non-finite or degenerate transform {:?}; it is ignored",
-                transform.affine()
-            ));
+            diagnostics.warn_about(
+                &entity.to_string(),
+                format!(
+                    "directional light {entity} has a non-finite or degenerate transform {:?}; it is ignored",
+                    transform.affine()
+                ),
+            );
             continue;
         };
         let light = sanitize_sun(entity, light, diagnostics);
@@ -233,9 +236,10 @@ pub fn update_frame_lights(
     }
     for (entity, light, transform, settings) in &spots {
         let Some((rotation, position)) = world_pose(transform) else {
-            diagnostics.warn(format!(
-                "spot light {entity} has a non-finite or degenerate transform; it is ignored"
-            ));
+            diagnostics.warn_about(
+                &entity.to_string(),
+                format!("spot light {entity} has a non-finite or degenerate transform; it is ignored"),
+            );
             continue;
         };
         let light = sanitize_spot(entity, light, diagnostics);
@@ -267,9 +271,10 @@ pub fn update_frame_lights(
     }
     for (entity, light, transform, settings) in &points {
         let Some((_, position)) = world_pose(transform) else {
-            diagnostics.warn(format!(
-                "point light {entity} has a non-finite or degenerate transform; it is ignored"
-            ));
+            diagnostics.warn_about(
+                &entity.to_string(),
+                format!("point light {entity} has a non-finite or degenerate transform; it is ignored"),
+            );
             continue;
         };
         let light = sanitize_point(entity, light, diagnostics);
@@ -348,20 +353,26 @@ pub fn update_frame_lights(
             point.settings.resolution = point_side;
             point.shadow = point_view(point.position, POINT_NEAR, point.light.range, point_side);
             if point.shadow.is_none() {
-                diagnostics.warn(format!(
-                    "point light {} has range {}: no shadow view can be made",
-                    point.entity, point.light.range
-                ));
+                diagnostics.warn_about(
+                    &point.entity.to_string(),
+                    format!(
+                        "point light {} has range {}: no shadow view can be made",
+                        point.entity, point.light.range
+                    ),
+                );
             }
             continue;
         }
         let spot = &mut lights.spots[id - lights.suns.len()];
         spot.shadow = spot_view(&spot.shadow_input());
         if spot.shadow.is_none() {
-            diagnostics.warn(format!(
-                "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
-                spot.entity, spot.light.range, spot.light.outer_angle
-            ));
+            diagnostics.warn_about(
+                &spot.entity.to_string(),
+                format!(
+                    "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
+                    spot.entity, spot.light.range, spot.light.outer_angle
+                ),
+            );
         }
     }
     stats.cascades_cpu = start.elapsed();
@@ -387,9 +398,12 @@ fn report_over_budget(
             LightKind::Directional => "it comes later in the scene",
             _ => "it is smaller on screen",
         };
-        diagnostics.warn(format!(
-            "{what} light {entity} gets no shadow: only {} shadowed {what} lights fit the budget, and {order}",
-            budget.lights.of(kind)
-        ));
+        diagnostics.warn_about(
+            &entity.to_string(),
+            format!(
+                "{what} light {entity} gets no shadow: only {} shadowed {what} lights fit the budget, and {order}",
+                budget.lights.of(kind)
+            ),
+        );
     }
 }

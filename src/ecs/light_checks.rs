@@ -35,10 +35,13 @@ pub fn warn_mode(
     let effective = settings.mode.effective(sun);
     if effective != settings.mode {
         let kinds = if sun { "spot and point lights" } else { "suns" };
-        diagnostics.warn(format!(
-            "{what} {entity} asks for {:?}, which only {kinds} have; it is filtered with {effective:?}",
-            settings.mode
-        ));
+        diagnostics.warn_about(
+            &entity.to_string(),
+            format!(
+                "{what} {entity} asks for {:?}, which only {kinds} have; it is filtered with {effective:?}",
+                settings.mode
+            ),
+        );
     }
 }
 
@@ -55,9 +58,10 @@ fn checked(
     if ok {
         return value;
     }
-    diagnostics.warn(format!(
-        "{what} light {entity} has {field} {value}, out of range; using {fallback}"
-    ));
+    diagnostics.warn_about(
+        &entity.to_string(),
+        format!("{what} light {entity} has {field} {value}, out of range; using {fallback}"),
+    );
     fallback
 }
 
@@ -72,9 +76,10 @@ fn check_color(
     let color = if color.is_finite() && color.min_element() >= 0.0 {
         color
     } else {
-        diagnostics.warn(format!(
-            "{what} light {entity} has colour {color}, out of range; using white"
-        ));
+        diagnostics.warn_about(
+            &entity.to_string(),
+            format!("{what} light {entity} has colour {color}, out of range; using white"),
+        );
         glam::Vec3::ONE
     };
     let ok = intensity.is_finite() && intensity >= 0.0;

@@ -18,7 +18,7 @@ use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
-use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
 
 /// The stages of the shadow systems, run in this order in `PostUpdate`, after
@@ -88,6 +88,7 @@ impl Plugin for ShadowPlugin {
             .add_systems(
                 PostUpdate,
                 (cull_view, update_shadow_views).chain().in_set(ShadowSystems::Cull),
-            );
+            )
+            .add_systems(PostUpdate, log_diagnostics.after(ShadowSystems::Cull));
     }
 }

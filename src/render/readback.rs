@@ -29,8 +29,19 @@ impl QueryReadback {
     /// Records the resolve of the first `count` queries of `set` and their copy to
     /// [`readback`](Self::readback).
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, set: &wgpu::QuerySet, count: u32) {
-        encoder.resolve_query_set(set, 0..count, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, u64::from(count) * 8);
+        self.resolve(encoder, set, count, 0);
+        self.copy(encoder, u64::from(count) * 8);
+    }
+
+    /// Records the resolve of the first `count` queries of `set` to byte `offset` of the
+    /// resolve buffer (a multiple of `wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT`).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, set: &wgpu::QuerySet, count: u32, offset: u64) {
+        encoder.resolve_query_set(set, 0..count, &self.resolve, offset);
+    }
+
+    /// Records the copy of the resolve buffer's first `bytes` to [`readback`](Self::readback).
+    pub fn copy(&self, encoder: &mut wgpu::CommandEncoder, bytes: u64) {
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, bytes);
     }
 }
 

@@ -41,9 +41,12 @@ pub struct FrameTimings {
     pub passes: Vec<PassTiming>,
 }
 
-/// One frame's queries and buffers.
+/// Timed passes per query set: wgpu's most queries in one set, two per pass.
+const SET_PASSES: u32 = wgpu::QUERY_SET_MAX_QUERIES / 2;
+
+/// One frame's queries (as many sets as its passes need) and buffers.
 struct Slot {
-    query_set: wgpu::QuerySet,
+    query_sets: Vec<wgpu::QuerySet>,
     buffers: QueryReadback,
     capacity: u32,
     /// Pass names of the frame in flight (the first `used`), keeping their allocations.
@@ -56,12 +59,17 @@ struct Slot {
 
 impl Slot {
     fn new(device: &wgpu::Device, passes: u32) -> Self {
+        let query_sets = (0..passes.div_ceil(SET_PASSES))
+            .map(|k| {
+                device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("pass timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: (passes - k * SET_PASSES).min(SET_PASSES) * 2,
+                })
+            })
+            .collect();
         Self {
-            query_set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: passes * 2,
-            }),
+            query_sets,
             buffers: QueryReadback::new(device, "pass timestamps", passes * 2),
             capacity: passes,
             names: Vec::new(),
@@ -188,7 +196,7 @@ impl GpuTimer {
         slot.names[slot.used].clear();
         slot.names[slot.used].push_str(name);
         slot.used += 1;
-        Some((&slot.query_set, index))
+        Some((&slot.query_sets[(index / SET_PASSES) as usize], index % SET_PASSES))
     }
 
     /// Timestamp writes for a render pass named `name`, or `None` when this frame is not
@@ -217,9 +225,16 @@ impl GpuTimer {
         let Some(slot) = self.current.map(|i| &self.slots[i]) else {
             return;
         };
-        if slot.used > 0 {
-            let count = slot.used as u32 * 2;
-            slot.buffers.record(encoder, &slot.query_set, count);
+        let used = slot.used as u32;
+        for (k, set) in (0..).zip(&slot.query_sets) {
+            let passes = used.saturating_sub(k * SET_PASSES).min(SET_PASSES);
+            if passes > 0 {
+                slot.buffers
+                    .resolve(encoder, set, passes * 2, u64::from(k * SET_PASSES) * 16);
+            }
+        }
+        if used > 0 {
+            slot.buffers.copy(encoder, u64::from(used) * 16);
         }
     }
 

@@ -12,8 +12,6 @@ use crate::render::shadows::sun_moments::{
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 
-/// Capacity of the light list the materials read (WGSL `MAX_LIGHTS`).
-pub const MAX_LIGHTS: usize = 256;
 /// Capacity of the shadow-view list (WGSL `MAX_SHADOW_VIEWS`).
 pub const MAX_SHADOW_VIEWS: usize = 256;
 
@@ -320,7 +318,6 @@ mod tests {
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
             ("SHADOW_FLAG_MOMENT_HARDENING", SHADOW_FLAG_MOMENT_HARDENING),
-            ("MAX_LIGHTS", MAX_LIGHTS as u32),
             ("MAX_SHADOW_VIEWS", MAX_SHADOW_VIEWS as u32),
         ] {
             assert!(

@@ -1,10 +1,10 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
 //! lights, point-light cubes), VSM moments for spot and point lights and EVSM/MSM moments
-//! for the suns' cascades, the frame's lights and shadow views packed into uniform arrays
-//! (read through the constant cache, which made the forward pass faster than storage buffers
-//! on the H200; see docs/benchmarks.md), the casters' per-view matrices, and the shadow bind
-//! group (group 3) every material samples through `penumbra::lights`. [`ShadowResources::prepare`] uploads one frame; the depth pass
-//! ([`depth_pass`]) renders every view.
+//! for the suns' cascades, the frame's lights (a storage buffer that grows with the scene)
+//! and shadow views (a uniform array), the casters' per-view matrices, and the shadow bind
+//! group (group 3) every material samples through `penumbra::lights`.
+//! [`ShadowResources::prepare`] uploads one frame; the depth pass ([`depth_pass`]) renders
+//! every view.
 
 pub mod cascade_moments_pass;
 pub mod casters;
@@ -30,8 +30,8 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
-    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers,
-    pack_lights, pack_view,
+    CasterViewGpu, LightGpu, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers, pack_lights,
+    pack_view,
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
@@ -54,7 +54,7 @@ pub struct ShadowResources {
     /// EVSM or MSM moments of the suns' cascades (a stand-in while no sun filters moments),
     /// in [`cascade_moment_format`].
     pub cascade_moments: MomentArray,
-    lights: wgpu::Buffer,
+    lights: GrowBuffer,
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
     poisson_taps: wgpu::Buffer,
@@ -228,7 +228,7 @@ impl ShadowResources {
                 mapped_at_creation: false,
             })
         };
-        let lights = list("lights", MAX_LIGHTS * size_of::<LightGpu>());
+        let lights = GrowBuffer::new(device, "lights", 16 * size_of::<LightGpu>() as u64);
         let views = list("shadow views", MAX_SHADOW_VIEWS * size_of::<ShadowViewGpu>());
         let caster_views = GrowBuffer::with_usage(
             device,
@@ -251,7 +251,7 @@ impl ShadowResources {
         let group = shadow_group(
             device,
             layouts,
-            [&lights, &views, &poisson_taps],
+            [&lights.buffer, &views, &poisson_taps],
             [&cascades, &spots, &points],
             [&spot_moments, &point_moments, &cascade_moments],
             &no_visibility,
@@ -326,8 +326,8 @@ impl ShadowResources {
     /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
     /// the lights, views and caster matrices, and rebuilds the bind groups whose resources
     /// were replaced; returns true when the shadow group was rebuilt. Data too large for the
-    /// device is refused before any upload. Lights past [`MAX_LIGHTS`] and views past
-    /// [`MAX_SHADOW_VIEWS`] are left out with an error in `problems`. With `resolve` (the
+    /// device is refused before any upload; the light list grows with the frame's lights.
+    /// Views past [`MAX_SHADOW_VIEWS`] are left out with a warning in `problems`. With `resolve` (the
     /// target's size), every shadowed light gets a layer of the resolved visibility.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
@@ -397,26 +397,22 @@ impl ShadowResources {
         // NOTE: a single-pass binding starting at the last view still lies inside the buffer.
         let padded = self.caster_data.len() + SINGLE_PASS_VIEWS - 1;
         self.caster_data.resize(padded, CasterViewGpu::new(glam::Mat4::ZERO, 0));
-        for (what, len, max) in [
-            ("lights", self.light_data.len(), MAX_LIGHTS),
-            ("shadow views", self.view_data.len(), MAX_SHADOW_VIEWS),
-        ] {
-            if len > max {
-                problems.errors.push(format!(
-                    "{len} {what} this frame, but the list materials read holds {max}: those past the {max}th are not drawn (lower ShadowLightBudget or remove lights)"
-                ));
-            }
+        let views_wanted = self.view_data.len();
+        if views_wanted > MAX_SHADOW_VIEWS {
+            problems.warnings.push(format!(
+                "{views_wanted} shadow views this frame, but the list materials read holds {MAX_SHADOW_VIEWS}: the lights of the views past it are drawn with fewer cascades or faces, or unshadowed (lower ShadowLightBudget: fewer shadowed lights or cascades)"
+            ));
         }
-        self.light_data.truncate(MAX_LIGHTS);
         self.view_data.truncate(MAX_SHADOW_VIEWS);
         let layers = assign_resolve_layers(&mut self.light_data, resolve.is_some());
         let [lights_sent, views_sent, casters_sent] = &mut self.uploaded;
-        write_if_changed(
-            &gpu.queue,
-            &self.lights,
-            lights_sent,
-            bytemuck::cast_slice(&self.light_data),
-        );
+        let light_bytes: &[u8] = bytemuck::cast_slice(&self.light_data);
+        // NOTE: the grow buffer only grows for more data, which differs from what was sent.
+        if lights_sent.as_slice() != light_bytes {
+            rebuild |= self.lights.write(gpu, light_bytes)?;
+            lights_sent.clear();
+            lights_sent.extend_from_slice(light_bytes);
+        }
         write_if_changed(
             &gpu.queue,
             &self.views,
@@ -432,7 +428,7 @@ impl ShadowResources {
             casters_sent.clear();
             casters_sent.extend_from_slice(casters);
         }
-        let buffers = [&self.lights, &self.views, &self.poisson_taps];
+        let buffers = [&self.lights.buffer, &self.views, &self.poisson_taps];
         if rebuild {
             let maps = [&self.cascades, &self.spots, &self.points];
             let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
