@@ -20,7 +20,7 @@
 #define_import_path penumbra::lights
 
 #import penumbra::frame::frame
-#import penumbra::shadows::bindings::{lights, resolved_visibility}
+#import penumbra::shadows::bindings::{lights, more_lights, resolved_visibility}
 #import penumbra::shadows::cascades::directional_visibility
 #ifdef SHADOW_POINT
 #import penumbra::shadows::point::point_visibility
@@ -28,7 +28,7 @@
 #ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_visibility
 #endif
-#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE}
+#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE}
 
 // Light arriving at a surface point from one light.
 struct Incidence {
@@ -43,9 +43,13 @@ fn light_count() -> u32 {
     return frame.light_count;
 }
 
-// Light `i` (0 <= i < light_count()).
+// Light `i` (0 <= i < light_count()): from the uniform list, or past its MAX_LIGHTS from the
+// storage one.
 fn get_light(i: u32) -> Light {
-    return lights[i];
+    if i < MAX_LIGHTS {
+        return lights.items[i];
+    }
+    return more_lights[i - MAX_LIGHTS];
 }
 
 // A point being shaded: world position, unit normal facing the viewer, positive view depth,

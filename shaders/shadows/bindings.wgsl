@@ -1,13 +1,14 @@
-// The shadow bind group (group 3): the frame's lights (a storage array) and shadow views (a
-// uniform array),
-// one depth array per kind of shadow storage (a cube array for point lights), the samplers
+// The shadow bind group (group 3): the frame's lights (the first MAX_LIGHTS in a uniform
+// array, the rest in a storage array) and shadow views (a uniform array), one depth array
+// per kind of shadow storage (a cube array for point lights), the samplers
 // and the Poisson taps. A material does not name these; it calls `penumbra::lights`.
 #define_import_path penumbra::shadows::bindings
 
-#import penumbra::shadows::types::{Light, PoissonTaps, ShadowViewList}
+#import penumbra::shadows::types::{Light, LightList, PoissonTaps, ShadowViewList}
 
-// The frame's lights (`frame.light_count` of them; the buffer grows with the scene).
-@group(3) @binding(0) var<storage, read> lights: array<Light>;
+// The frame's first MAX_LIGHTS lights (read through the constant cache: faster per pixel
+// than a storage buffer on the GPUs measured).
+@group(3) @binding(0) var<uniform> lights: LightList;
 @group(3) @binding(1) var<uniform> shadow_views: ShadowViewList;
 // Every cascade of every shadowed sun, one layer each.
 @group(3) @binding(2) var cascade_maps: texture_depth_2d_array;
@@ -34,3 +35,6 @@
 // sun filters moments): (w, w²) for EVSM2, (w+, w+², w−, w−²) for EVSM4, the quantised
 // power moments for MSM.
 @group(3) @binding(12) var cascade_moments: texture_2d_array<f32>;
+// The lights past the first MAX_LIGHTS (`frame.light_count` in all; the buffer grows with the
+// scene).
+@group(3) @binding(13) var<storage, read> more_lights: array<Light>;

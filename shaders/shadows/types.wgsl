@@ -19,6 +19,8 @@ const SHADOW_FILTER_MSM: u32 = 5u;
 
 // `Light::resolve_layer` of a light without a resolved visibility layer.
 const RESOLVE_NONE: u32 = 0xffffffffu;
+// Lights in the uniform list (`bindings::lights`); the rest are in `bindings::more_lights`.
+const MAX_LIGHTS: u32 = 256u;
 // Capacity of the shadow-view list (a uniform array: the constant cache makes the per-pixel
 // reads cheap). The renderer reports an error for views past it.
 const MAX_SHADOW_VIEWS: u32 = 256u;
@@ -101,6 +103,11 @@ struct PoissonTaps {
     filter_sixteen: array<vec4<f32>, 8>,
     filter_twenty_five: array<vec4<f32>, 13>,
     filter_forty_nine: array<vec4<f32>, 25>,
+}
+
+// The first MAX_LIGHTS lights of the frame.
+struct LightList {
+    items: array<Light, MAX_LIGHTS>,
 }
 
 // The shadow-view list.

@@ -7,7 +7,9 @@ use std::borrow::Cow;
 use std::num::NonZeroU64;
 
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
-use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu};
+use crate::render::shadows::gpu::{
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu,
+};
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
@@ -93,7 +95,7 @@ impl Layouts {
         let shadows = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadows"),
             entries: &[
-                entry(0, fc, storage::<LightGpu>()),
+                entry(0, fc, uniform_array::<LightGpu>(MAX_LIGHTS)),
                 entry(1, fc, uniform_array::<ShadowViewGpu>(MAX_SHADOW_VIEWS)),
                 entry(2, fc, depth_array),
                 entry(3, fc, depth_array),
@@ -126,6 +128,7 @@ impl Layouts {
                 entry(10, fc, moments(wgpu::TextureViewDimension::CubeArray)),
                 entry(11, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
                 entry(12, fc, moments(wgpu::TextureViewDimension::D2Array)),
+                entry(13, fc, storage::<LightGpu>()),
             ],
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

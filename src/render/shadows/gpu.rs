@@ -12,6 +12,9 @@ use crate::render::shadows::sun_moments::{
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 
+/// Lights in the uniform light list (WGSL `MAX_LIGHTS`); the rest go to a storage buffer that
+/// grows with the scene.
+pub const MAX_LIGHTS: usize = 256;
 /// Capacity of the shadow-view list (WGSL `MAX_SHADOW_VIEWS`).
 pub const MAX_SHADOW_VIEWS: usize = 256;
 
@@ -318,6 +321,7 @@ mod tests {
             ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
             ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
             ("SHADOW_FLAG_MOMENT_HARDENING", SHADOW_FLAG_MOMENT_HARDENING),
+            ("MAX_LIGHTS", MAX_LIGHTS as u32),
             ("MAX_SHADOW_VIEWS", MAX_SHADOW_VIEWS as u32),
         ] {
             assert!(

@@ -1,7 +1,8 @@
 //! Shadow resources on the GPU: one depth array per kind of shadow storage (cascades, spot
 //! lights, point-light cubes), VSM moments for spot and point lights and EVSM/MSM moments
-//! for the suns' cascades, the frame's lights (a storage buffer that grows with the scene)
-//! and shadow views (a uniform array), the casters' per-view matrices, and the shadow bind
+//! for the suns' cascades, the frame's lights (the first 256 in a uniform array, read through
+//! the constant cache, which is faster per pixel than a storage buffer on the H200; the rest
+//! in a storage buffer that grows with the scene) and shadow views (a uniform array), the casters' per-view matrices, and the shadow bind
 //! group (group 3) every material samples through `penumbra::lights`.
 //! [`ShadowResources::prepare`] uploads one frame; the depth pass ([`depth_pass`]) renders
 //! every view.
@@ -30,8 +31,8 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
-    CasterViewGpu, LightGpu, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers, pack_lights,
-    pack_view,
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers,
+    pack_lights, pack_view,
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
@@ -54,7 +55,8 @@ pub struct ShadowResources {
     /// EVSM or MSM moments of the suns' cascades (a stand-in while no sun filters moments),
     /// in [`cascade_moment_format`].
     pub cascade_moments: MomentArray,
-    lights: GrowBuffer,
+    lights: wgpu::Buffer,
+    more_lights: GrowBuffer,
     views: wgpu::Buffer,
     caster_views: GrowBuffer,
     poisson_taps: wgpu::Buffer,
@@ -127,12 +129,12 @@ fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u
 fn shadow_group(
     device: &wgpu::Device,
     layouts: &Layouts,
-    buffers: [&wgpu::Buffer; 3],
+    buffers: [&wgpu::Buffer; 4],
     maps: [&DepthArray; 3],
     moments: [&MomentArray; 3],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
-    let [lights, views, taps] = buffers;
+    let [lights, more_lights, views, taps] = buffers;
     let [cascades, spots, points] = maps;
     let [spot_moments, point_moments, cascade_moments] = moments;
     device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -191,6 +193,10 @@ fn shadow_group(
                 binding: 12,
                 resource: wgpu::BindingResource::TextureView(&cascade_moments.moments.sampled),
             },
+            wgpu::BindGroupEntry {
+                binding: 13,
+                resource: more_lights.as_entire_binding(),
+            },
         ],
     })
 }
@@ -228,7 +234,8 @@ impl ShadowResources {
                 mapped_at_creation: false,
             })
         };
-        let lights = GrowBuffer::new(device, "lights", 16 * size_of::<LightGpu>() as u64);
+        let lights = list("lights", MAX_LIGHTS * size_of::<LightGpu>());
+        let more_lights = GrowBuffer::new(device, "more lights", size_of::<LightGpu>() as u64);
         let views = list("shadow views", MAX_SHADOW_VIEWS * size_of::<ShadowViewGpu>());
         let caster_views = GrowBuffer::with_usage(
             device,
@@ -251,7 +258,7 @@ impl ShadowResources {
         let group = shadow_group(
             device,
             layouts,
-            [&lights.buffer, &views, &poisson_taps],
+            [&lights, &more_lights.buffer, &views, &poisson_taps],
             [&cascades, &spots, &points],
             [&spot_moments, &point_moments, &cascade_moments],
             &no_visibility,
@@ -267,6 +274,7 @@ impl ShadowResources {
             point_moments,
             cascade_moments,
             lights,
+            more_lights,
             views,
             caster_views,
             poisson_taps,
@@ -326,7 +334,8 @@ impl ShadowResources {
     /// Sizes the storages for this frame's views (counting new maps in `counters`), uploads
     /// the lights, views and caster matrices, and rebuilds the bind groups whose resources
     /// were replaced; returns true when the shadow group was rebuilt. Data too large for the
-    /// device is refused before any upload; the light list grows with the frame's lights.
+    /// device is refused before any upload; the lights past [`MAX_LIGHTS`] go to a storage
+    /// buffer that grows with them.
     /// Views past [`MAX_SHADOW_VIEWS`] are left out with a warning in `problems`. With `resolve` (the
     /// target's size), every shadowed light gets a layer of the resolved visibility.
     #[allow(clippy::too_many_arguments)]
@@ -409,7 +418,9 @@ impl ShadowResources {
         let light_bytes: &[u8] = bytemuck::cast_slice(&self.light_data);
         // NOTE: the grow buffer only grows for more data, which differs from what was sent.
         if lights_sent.as_slice() != light_bytes {
-            rebuild |= self.lights.write(gpu, light_bytes)?;
+            let (first, more) = self.light_data.split_at(self.light_data.len().min(MAX_LIGHTS));
+            gpu.queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(first));
+            rebuild |= self.more_lights.write(gpu, bytemuck::cast_slice(more))?;
             lights_sent.clear();
             lights_sent.extend_from_slice(light_bytes);
         }
@@ -428,7 +439,7 @@ impl ShadowResources {
             casters_sent.clear();
             casters_sent.extend_from_slice(casters);
         }
-        let buffers = [&self.lights.buffer, &self.views, &self.poisson_taps];
+        let buffers = [&self.lights, &self.more_lights.buffer, &self.views, &self.poisson_taps];
         if rebuild {
             let maps = [&self.cascades, &self.spots, &self.points];
             let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
