@@ -11,9 +11,10 @@
 // surface resolves what the lighting pass would filter. A lighting-pass fragment on an edge
 // pixel whose sample 0 saw another surface reads that surface's shadow.
 #import penumbra::frame::frame
-#import penumbra::lights::{filtered_visibility, get_light, light_count, light_incidence, make_surface}
+#import penumbra::lights::{filtered_visibility, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::{packed_transmits, unpack_normal}
-#import penumbra::shadows::types::RESOLVE_NONE
+#import penumbra::shadows::bindings::{lights, more_lights}
+#import penumbra::shadows::types::{Light, Surface, MAX_LIGHTS, RESOLVE_NONE}
 
 #ifdef MULTISAMPLED
 @group(1) @binding(0) var camera_depth: texture_depth_multisampled_2d;
@@ -35,6 +36,25 @@ fn world_at(pixel: vec2<f32>, depth: f32, size: vec2<u32>) -> vec3<f32> {
     let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
     let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
     return h.xyz / h.w;
+}
+
+// Writes `light`'s filtered shadow at `surface` into its layer of the resolved visibility at
+// `pixel` (1 where the pixel holds no shadow receiver); nothing for a light that is not
+// resolved.
+fn resolve_light(light: Light, surface: Surface, receiver: bool, transmits: bool, pixel: vec2<i32>) {
+    if light.resolve_layer == RESOLVE_NONE {
+        return;
+    }
+    var shadow = 1.0;
+    if receiver {
+        let to_light = light_incidence(light, surface.position).to_light;
+        if dot(surface.normal, to_light) > 0.0 {
+            shadow = filtered_visibility(light, surface);
+        } else if transmits {
+            shadow = filtered_visibility(light, make_surface(surface.position, -surface.normal, surface.view_depth, surface.frag_coord));
+        }
+    }
+    textureStore(visibility, pixel, i32(light.resolve_layer), vec4<f32>(shadow, 0.0, 0.0, 0.0));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -68,20 +88,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     let view_depth = -(frame.view_from_world * vec4<f32>(world, 1.0)).z;
     let surface = make_surface(world, normal, view_depth, frag_coord);
-    for (var i = 0u; i < light_count(); i++) {
-        let light = get_light(i);
-        if light.resolve_layer == RESOLVE_NONE {
-            continue;
-        }
-        var shadow = 1.0;
-        if covered && normal_flag.w > 0.5 {
-            let to_light = light_incidence(light, world).to_light;
-            if dot(normal, to_light) > 0.0 {
-                shadow = filtered_visibility(light, surface);
-            } else if transmits {
-                shadow = filtered_visibility(light, make_surface(world, -normal, view_depth, frag_coord));
-            }
-        }
-        textureStore(visibility, pixel, i32(light.resolve_layer), vec4<f32>(shadow, 0.0, 0.0, 0.0));
+    // NOTE: two loops, as in the lighting pass: the uniform list's lights are read as used.
+    let receiver = covered && normal_flag.w > 0.5;
+    let count = light_count();
+    for (var i = 0u; i < min(count, MAX_LIGHTS); i++) {
+        resolve_light(lights.items[i], surface, receiver, transmits, pixel);
+    }
+    for (var i = MAX_LIGHTS; i < count; i++) {
+        resolve_light(more_lights[i - MAX_LIGHTS], surface, receiver, transmits, pixel);
     }
 }
