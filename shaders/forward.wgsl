@@ -10,7 +10,10 @@
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
-#import penumbra::shadows::bindings::{lights, more_lights}
+#import penumbra::shadows::bindings::lights
+#ifdef MANY_LIGHTS
+#import penumbra::shadows::bindings::more_lights
+#endif
 #import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
 #ifdef SHADOW_POINT
@@ -117,17 +120,17 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     let through_share = 0.0;
 #endif
 
-    // NOTE: two loops, so the first MAX_LIGHTS lights are read from the uniform list as they
-    // are used (a light picked from either list by a branch is copied whole first: 4 % slower
-    // on the H200) and the rest from the storage list.
+    // The uniform list's lights, then (in the MANY_LIGHTS variants) the storage list's.
     var shading = Shading(vec3<f32>(0.0), vec4<f32>(1.0, -1.0, 0.0, 0.0));
     let count = light_count();
     for (var i = 0u; i < min(count, MAX_LIGHTS); i++) {
         shade_light(lights.items[i], i, surface, receives, through_share, &shading);
     }
+#ifdef MANY_LIGHTS
     for (var i = MAX_LIGHTS; i < count; i++) {
         shade_light(more_lights[i - MAX_LIGHTS], i, surface, receives, through_share, &shading);
     }
+#endif
     let direct = shading.direct;
 #ifdef ANALYSIS_OUTPUTS
     let focus = shading.focus;

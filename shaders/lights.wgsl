@@ -20,7 +20,10 @@
 #define_import_path penumbra::lights
 
 #import penumbra::frame::frame
-#import penumbra::shadows::bindings::{lights, more_lights, resolved_visibility}
+#import penumbra::shadows::bindings::{lights, resolved_visibility}
+#ifdef MANY_LIGHTS
+#import penumbra::shadows::bindings::more_lights
+#endif
 #import penumbra::shadows::cascades::directional_visibility
 #ifdef SHADOW_POINT
 #import penumbra::shadows::point::point_visibility
@@ -44,12 +47,14 @@ fn light_count() -> u32 {
 }
 
 // Light `i` (0 <= i < light_count()): from the uniform list, or past its MAX_LIGHTS from the
-// storage one.
+// storage one (in the MANY_LIGHTS variants, which the frames with more lights use).
 fn get_light(i: u32) -> Light {
-    if i < MAX_LIGHTS {
-        return lights.items[i];
+#ifdef MANY_LIGHTS
+    if i >= MAX_LIGHTS {
+        return more_lights[i - MAX_LIGHTS];
     }
-    return more_lights[i - MAX_LIGHTS];
+#endif
+    return lights.items[min(i, MAX_LIGHTS - 1u)];
 }
 
 // A point being shaded: world position, unit normal facing the viewer, positive view depth,

@@ -13,7 +13,10 @@
 #import penumbra::frame::frame
 #import penumbra::lights::{filtered_visibility, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::{packed_transmits, unpack_normal}
-#import penumbra::shadows::bindings::{lights, more_lights}
+#import penumbra::shadows::bindings::lights
+#ifdef MANY_LIGHTS
+#import penumbra::shadows::bindings::more_lights
+#endif
 #import penumbra::shadows::types::{Light, Surface, MAX_LIGHTS, RESOLVE_NONE}
 
 #ifdef MULTISAMPLED
@@ -88,13 +91,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     let view_depth = -(frame.view_from_world * vec4<f32>(world, 1.0)).z;
     let surface = make_surface(world, normal, view_depth, frag_coord);
-    // NOTE: two loops, as in the lighting pass: the uniform list's lights are read as used.
+    // The uniform list's lights, then (in the MANY_LIGHTS variants) the storage list's.
     let receiver = covered && normal_flag.w > 0.5;
     let count = light_count();
     for (var i = 0u; i < min(count, MAX_LIGHTS); i++) {
         resolve_light(lights.items[i], surface, receiver, transmits, pixel);
     }
+#ifdef MANY_LIGHTS
     for (var i = MAX_LIGHTS; i < count; i++) {
         resolve_light(more_lights[i - MAX_LIGHTS], surface, receiver, transmits, pixel);
     }
+#endif
 }

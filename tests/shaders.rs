@@ -8,8 +8,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        768,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, transmission and analysis outputs, and opaque, alpha-masked or alpha-to-coverage"
+        1536,
+        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, transmission, analysis outputs and the lights past the uniform list, and opaque, alpha-masked or alpha-to-coverage"
     );
     let mut covered = 0;
     for variant in variants {
@@ -18,6 +18,12 @@ fn every_forward_variant_validates() {
             .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(entry_points, ["vs_main", "fs_main"], "{}", variant.label());
+        // The storage list of the lights past the uniform one is bound only where asked for.
+        let more_lights = module
+            .global_variables
+            .iter()
+            .any(|(_, g)| g.binding.as_ref().is_some_and(|b| (b.group, b.binding) == (3, 13)));
+        assert_eq!(more_lights, variant.many_lights, "{}", variant.label());
         // The alpha-to-coverage variants never discard; the alpha-tested ones do.
         let discards = has_kill(&module.entry_points[1].function);
         assert_eq!(
@@ -28,7 +34,7 @@ fn every_forward_variant_validates() {
         );
         covered += variant.alpha_to_coverage as u32;
     }
-    assert_eq!(covered, 256);
+    assert_eq!(covered, 512);
     // The transmission code is compiled in only when asked for.
     let base = ForwardVariant::all()[0];
     assert!(!base.transmission);

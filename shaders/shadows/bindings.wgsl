@@ -35,6 +35,8 @@
 // sun filters moments): (w, w²) for EVSM2, (w+, w+², w−, w−²) for EVSM4, the quantised
 // power moments for MSM.
 @group(3) @binding(12) var cascade_moments: texture_2d_array<f32>;
+#ifdef MANY_LIGHTS
 // The lights past the first MAX_LIGHTS (`frame.light_count` in all; the buffer grows with the
-// scene).
+// scene). Declared only in the variants of frames with more lights than that.
 @group(3) @binding(13) var<storage, read> more_lights: array<Light>;
+#endif
