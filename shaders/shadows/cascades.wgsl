@@ -14,12 +14,12 @@
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row,
     normal_offset_metres, poisson_rotation,
 }
-#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter}
+#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter, search_settled}
 #import penumbra::shadows::moments::{evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding}
 #import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
 #import penumbra::shadows::types::{
     Light, ShadowView, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
-    SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -147,9 +147,7 @@ fn cascade_search(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>)
     let blockers = find_blockers(cascade_maps, p, search_radius, out.aspect, out.rotation);
     out.count = blockers.count;
     out.radius = min(0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale, max_radius);
-    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    let early_out = (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u;
-    out.settled = select(select(-1.0, 0.0, early_out && blockers.count >= total_taps), 1.0, blockers.count == 0.0);
+    out.settled = search_settled(blockers.count, light.flags);
     return out;
 }
 

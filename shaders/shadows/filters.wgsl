@@ -8,6 +8,7 @@
 
 #import penumbra::shadows::bindings::{shadow_compare, shadow_point}
 #import penumbra::shadows::common::{RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap, sixteen_tap}
+#import penumbra::shadows::types::SHADOW_FLAG_BLOCKER_EARLY_OUT
 
 // A receiver projected into one shadow view, in the UV space of the view's layer.
 struct MapSample {
@@ -88,6 +89,15 @@ fn pcss_tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
 struct Blockers {
     depth: f32,
     count: f32,
+}
+
+// What a blocker search that found `count` blocking texels settles: 1 (no blocker: lit), 0
+// (every gathered texel blocks and the light's flags ask for the early-out: umbra) or -1 (a
+// penumbra to filter).
+fn search_settled(count: f32, flags: u32) -> f32 {
+    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
+    let early_out = (flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u;
+    return select(select(-1.0, 0.0, early_out && count >= total_taps), 1.0, count == 0.0);
 }
 
 // Gathers `PCSS_BLOCKER_SAMPLES` 2x2 footprints over a rotated Poisson disc of `radius`

@@ -25,9 +25,10 @@
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
     normal_offset_metres, poisson_rotation, sixteen_tap,
 }
+#import penumbra::shadows::filters::search_settled
 #import penumbra::shadows::moments::vsm_covered_visibility
 #import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT, SHADOW_FLAG_MOMENT_HARDENING,
+    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
     SHADOW_FLAG_RECEIVER_PLANE,
 }
 
@@ -171,13 +172,7 @@ fn point_search(light: Light, s: PointSample, rotation: mat2x2<f32>) -> PointSea
         sum += dot(axis * stretch, is_blocker);
         count += dot(is_blocker, vec4<f32>(1.0));
     }
-    var out = PointSearch(-1.0, 0.0, count);
-    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if count == 0.0 {
-        out.settled = 1.0;
-    } else if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && count >= total_taps {
-        out.settled = 0.0;
-    }
+    var out = PointSearch(search_settled(count, light.flags), 0.0, count);
     let blocker = sum / max(count, 1.0);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
     out.radius = clamp(0.5 * penumbra, s.filter_step, max_radius);

@@ -18,11 +18,13 @@
     MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
     poisson_rotation, sixteen_tap,
 }
-#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_poisson, pcss_filter}
+#import penumbra::shadows::filters::{
+    MapSample, compare_tap, find_blockers, pcf_poisson, pcss_filter, search_settled,
+}
 #import penumbra::shadows::moments::vsm_covered_visibility
 #import penumbra::shadows::types::{
-    Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
-    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
+    Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
+    SHADOW_FLAG_RECEIVER_PLANE,
 }
 
 // A receiver projected into a spot light's view.
@@ -134,13 +136,7 @@ fn spot_search(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f
     let search = 0.5 * light_size * (s.distance - near) / s.distance / spot_view_width(view, near);
     let search_radius = clamp(search * view.rect.z, min_radius, max_radius);
     let blockers = find_blockers(spot_maps, p, search_radius, vec2<f32>(1.0), rotation);
-    var out = SpotSearch(-1.0, 0.0, blockers.count);
-    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    if blockers.count == 0.0 {
-        out.settled = 1.0;
-    } else if (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u && blockers.count >= total_taps {
-        out.settled = 0.0;
-    }
+    var out = SpotSearch(search_settled(blockers.count, light.flags), 0.0, blockers.count);
     let blocker = spot_linear_distance(blockers.depth, near, far);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
     out.radius = clamp(0.5 * penumbra / spot_view_width(view, s.distance) * view.rect.z, min_radius, max_radius);
