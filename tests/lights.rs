@@ -122,6 +122,17 @@ fn bad_light_fields_are_located() {
             "expected an emitter radius ≥ 0 (metres) for `lights[1].radius`, found -1",
         ),
         ("cascade_count: 2", "cascade_count: 9", "expected "),
+        // Values that a 32-bit float cannot carry are named as such, with their size.
+        (
+            "outer_angle: 30",
+            "outer_angle: 1e-45",
+            "expected a half-angle in degrees greater than 0 and at most 89 for `lights[1].outer_angle`, found 1e-45, which is 0 in radians",
+        ),
+        (
+            "direction: (0, -1, 0)",
+            "direction: (0, -1e-30, 0)",
+            "expected a direction long enough to normalise (length at least 1e-22) for `lights[1].direction`, found (0, -1e-30, 0), length 1e-30",
+        ),
     ];
     for (good, bad, expected) in cases {
         let text = SCENE.replace(good, bad);

@@ -139,7 +139,7 @@ fn check_camera(c: &mut Checks, cam: &CameraDesc, at: &FieldPath) {
         c.add(at.field("target"), expected, target.shown());
     }
     if !is_direction(up) {
-        c.add(at.field("up"), "a finite, non-zero vector", up.shown());
+        add_direction(c, at.field("up"), "a finite, non-zero vector", up);
     } else if pos.is_finite() && target.is_finite() && apart {
         let forward = (target - pos).normalize();
         if forward.cross(up.normalize()).length() < 1e-4 {
@@ -167,7 +167,7 @@ fn check_camera(c: &mut Checks, cam: &CameraDesc, at: &FieldPath) {
 fn check_sun(c: &mut Checks, sun: &SunDesc, at: &FieldPath) {
     if !is_direction(sun.direction) {
         let expected = "a finite, non-zero direction (the way the light travels)";
-        c.add(at.field("direction"), expected, sun.direction.shown());
+        add_direction(c, at.field("direction"), expected, sun.direction);
     }
     if !is_colour(sun.color) {
         let expected = "linear RGB with finite components ≥ 0";
@@ -226,11 +226,16 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
                 c.add(at.field("shadows").field(p.field), p.expected, p.found);
             }
             if !is_direction(*direction) {
-                c.add(at.field("direction"), "a finite, non-zero direction", direction.shown());
+                add_direction(c, at.field("direction"), "a finite, non-zero direction", *direction);
             }
-            if !(*outer_angle > 0.0 && *outer_angle <= MAX_SPOT_OUTER) {
+            // NOTE: a positive angle too small for a 32-bit float in radians is 0 to the light.
+            if !(outer_angle.to_radians() > 0.0 && *outer_angle <= MAX_SPOT_OUTER) {
                 let expected = "a half-angle in degrees greater than 0 and at most 89";
-                c.add(at.field("outer_angle"), expected, outer_angle.shown());
+                let found = match *outer_angle > 0.0 && outer_angle.to_radians() == 0.0 {
+                    true => format!("{outer_angle:e}, which is 0 in radians"),
+                    false => outer_angle.shown(),
+                };
+                c.add(at.field("outer_angle"), expected, found);
             } else if !(*inner_angle >= 0.0 && inner_angle <= outer_angle) {
                 let expected = format!("a half-angle in degrees from 0 to `outer_angle` ({outer_angle})");
                 c.add(at.field("inner_angle"), expected, inner_angle.shown());
@@ -426,8 +431,26 @@ fn check_instance_budget(c: &mut Checks, scene: &SceneDesc) {
     }
 }
 
+/// Shortest vector a direction may be: about the shortest whose squared length a 32-bit float
+/// still holds, so that it normalises.
+const MIN_DIRECTION_LENGTH: f64 = 1e-22;
+
 fn is_direction(v: Vec3) -> bool {
-    v.is_finite() && v.length_squared() > 0.0 && v.length_squared().is_finite()
+    v.is_finite() && v.as_dvec3().length() >= MIN_DIRECTION_LENGTH && v.length_squared().is_finite()
+}
+
+/// Reports the direction `v` (not [`is_direction`]): as `expected` asks, or, for a finite one
+/// that is not zero, as too short to normalise, with its length.
+fn add_direction(c: &mut Checks, at: FieldPath, expected: &str, v: Vec3) {
+    if v.is_finite() && v != Vec3::ZERO && v.as_dvec3().length() < MIN_DIRECTION_LENGTH {
+        let expected = format!("a direction long enough to normalise (length at least {MIN_DIRECTION_LENGTH:e})");
+        let e = |x: f32| if x == 0.0 { "0".to_owned() } else { format!("{x:e}") };
+        let length = v.as_dvec3().length() as f32;
+        let found = format!("({}, {}, {}), length {length:e}", e(v.x), e(v.y), e(v.z));
+        c.add(at, &expected, found);
+        return;
+    }
+    c.add(at, expected, v.shown());
 }
 
 fn is_colour(v: Vec3) -> bool {
