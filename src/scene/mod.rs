@@ -23,6 +23,7 @@ mod report;
 mod settings_file;
 mod suggest;
 mod validate;
+mod values;
 
 pub use desc::{
     AlphaMode, CameraDesc, GridDesc, Jitter, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use glam::{UVec3, Vec2, Vec3, Vec4};
+use glam::{UVec3, Vec3};
 
 use crate::asset_io::AssetIo;
 use crate::scene::desc::{
@@ -13,6 +13,7 @@ use crate::scene::error::Problem;
 use crate::scene::limits::SceneLimits;
 use crate::scene::locate::{Node, Seg};
 use crate::scene::suggest::{Suggester, quoted};
+use crate::scene::values::{MIN_DIRECTION_LENGTH, Shown, is_colour, is_direction, is_rgba, is_size2, is_size3};
 use crate::settings::ShadowSettings;
 
 /// The widest spot-light cone accepted (half-angle, degrees): a perspective shadow view
@@ -431,14 +432,6 @@ fn check_instance_budget(c: &mut Checks, scene: &SceneDesc) {
     }
 }
 
-/// Shortest vector a direction may be: about the shortest whose squared length a 32-bit float
-/// still holds, so that it normalises.
-const MIN_DIRECTION_LENGTH: f64 = 1e-22;
-
-fn is_direction(v: Vec3) -> bool {
-    v.is_finite() && v.as_dvec3().length() >= MIN_DIRECTION_LENGTH && v.length_squared().is_finite()
-}
-
 /// Reports the direction `v` (not [`is_direction`]): as `expected` asks, or, for a finite one
 /// that is not zero, as too short to normalise, with its length.
 fn add_direction(c: &mut Checks, at: FieldPath, expected: &str, v: Vec3) {
@@ -451,55 +444,4 @@ fn add_direction(c: &mut Checks, at: FieldPath, expected: &str, v: Vec3) {
         return;
     }
     c.add(at, expected, v.shown());
-}
-
-fn is_colour(v: Vec3) -> bool {
-    v.is_finite() && v.min_element() >= 0.0
-}
-
-fn is_rgba(v: Vec4) -> bool {
-    v.is_finite() && v.min_element() >= 0.0 && v.w <= 1.0
-}
-
-fn is_size2(v: Vec2) -> bool {
-    v.is_finite() && v.min_element() > 0.0
-}
-
-fn is_size3(v: Vec3) -> bool {
-    v.is_finite() && v.min_element() > 0.0
-}
-
-/// A value as a scene file would write it: `0.5`, `(1, 0, 2)`.
-trait Shown {
-    fn shown(&self) -> String;
-}
-
-impl Shown for f32 {
-    fn shown(&self) -> String {
-        format!("{self}")
-    }
-}
-
-impl Shown for Vec2 {
-    fn shown(&self) -> String {
-        format!("({}, {})", self.x, self.y)
-    }
-}
-
-impl Shown for Vec3 {
-    fn shown(&self) -> String {
-        format!("({}, {}, {})", self.x, self.y, self.z)
-    }
-}
-
-impl Shown for Vec4 {
-    fn shown(&self) -> String {
-        format!("({}, {}, {}, {})", self.x, self.y, self.z, self.w)
-    }
-}
-
-impl Shown for UVec3 {
-    fn shown(&self) -> String {
-        format!("({}, {}, {})", self.x, self.y, self.z)
-    }
 }
