@@ -122,8 +122,10 @@ impl ShadowDiagnostics {
             if self.logged.len() >= MAX_LOGGED {
                 self.logged.clear();
             }
-            if self.logged.insert(message.clone()) {
+            // NOTE: checked first, so a message already logged costs no copy each frame.
+            if !self.logged.contains(message) {
                 warn!("{message}");
+                self.logged.insert(message.clone());
             }
         }
     }
