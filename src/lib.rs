@@ -54,4 +54,5 @@ pub mod render;
 pub mod scene;
 pub mod settings;
 pub mod shader;
+pub mod text;
 pub mod viewer;

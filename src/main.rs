@@ -7,17 +7,22 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod bench_command;
+mod check_command;
 mod cli_values;
 mod render_json;
 
+use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use bench_command::{BenchArgs, bench};
+use check_command::check;
 use cli_values::{Fit, Mode, Precision, Prepass, Quality};
 
-use penumbra::app::{PreparedScene, RenderError, RenderRequest, SpawnError, render_scene_with};
+use penumbra::app::{RenderError, RenderRequest, render_scene_with};
 use penumbra::diagnostic::{ErrorStyle, render_error};
+use penumbra::ecs::shadow_memory::{MIB, ShadowMemoryBudget};
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
+use penumbra::math::light_budget::LightKind;
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
@@ -121,6 +126,11 @@ struct RenderArgs {
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
     #[arg(long, default_value = "1")]
     msaa: Msaa,
+    /// Most MiB of shadow maps, their moments and blur scratch (default: 2048 on a discrete
+    /// GPU, 512 on software Vulkan, 1024 otherwise): the lights smallest on screen are
+    /// lowered to fit, with a warning; a light that cannot fit even at 256² is an error.
+    #[arg(long, value_parser = mebibytes())]
+    shadow_budget: Option<u64>,
     /// Print the summary (timings, counts, memory) as one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -150,6 +160,10 @@ enum Command {
         /// Most instances a scene may place (grid copies and glTF primitives counted).
         #[arg(long, default_value_t = DEFAULT_MAX_INSTANCES)]
         max_instances: u64,
+        /// Most MiB of shadow maps, their moments and blur scratch (default 2048, a discrete
+        /// GPU's; software Vulkan's is 512): lights smallest on screen are lowered to fit.
+        #[arg(long, value_parser = mebibytes())]
+        shadow_budget: Option<u64>,
     },
 }
 
@@ -157,6 +171,11 @@ enum Command {
 /// the adapter's own limit is checked when it is opened, before anything is rendered.
 fn side() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
+}
+
+/// A budget on the command line: whole MiB from 0 to 1,048,576 (1 TiB), returned in bytes.
+fn mebibytes() -> impl clap::builder::TypedValueParser<Value = u64> {
+    clap::value_parser!(u64).range(0..=1 << 20).map(|mib| mib * MIB)
 }
 
 /// A sun's angular diameter on the command line: degrees from 0 to 30, as in scene files.
@@ -191,6 +210,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         single_pass_cascades,
         count_fragments,
         msaa,
+        shadow_budget,
         json,
     } = args;
     prepare_output(&out, OutputKind::ColorImage)?;
@@ -260,6 +280,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             single_pass_cascades,
             msaa,
         },
+        shadow_budget,
         count_fragments,
     };
     let result = render_scene_with(&desc, &request)?;
@@ -293,11 +314,12 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     );
     // NOTE: the scene's `shadows` are the sun's; a scene without a sun (spot lights only)
     // says nothing about cascades.
+    let sun_side = result.memory.lights.iter().find(|l| l.kind == LightKind::Directional);
     let cascades = if desc.sun.is_some() {
         format!(
             ", sun {:?} with {}² texels per cascade",
             s.mode.effective(true),
-            s.resolution
+            sun_side.map_or(s.resolution, |l| l.granted)
         )
     } else {
         String::new()
@@ -307,6 +329,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         result.stats.casters_per_view.len(),
         result.report.shadow_memory as f64 / (1024.0 * 1024.0)
     );
+    for (i, line) in result.memory.lines().iter().enumerate() {
+        println!("{} {line}", if i == 0 { "memory    " } else { "          " });
+    }
     let casters: Vec<String> = result.stats.casters_per_view.iter().map(|c| c.to_string()).collect();
     let draws: Vec<String> = result.stats.draws_per_view.iter().map(|c| c.to_string()).collect();
     println!(
@@ -370,46 +395,6 @@ fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), penumbra::viewer::View
     Ok(())
 }
 
-/// A scene that loaded but could not be prepared, in `check`: the file, then the problem.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {source}", scene.display())]
-struct InScene {
-    scene: PathBuf,
-    source: SpawnError,
-}
-
-/// Loads each scene and everything it names (glTF models, textures) exactly as `render`
-/// would, without a GPU, and reports every problem in `style`.
-fn check(scenes: Vec<PathBuf>, limits: SceneLimits, style: ErrorStyle) -> Result<(), String> {
-    let mut failed = 0;
-    for path in &scenes {
-        let loaded = SceneDesc::load_with(path, &limits)
-            .map_err(Box::<dyn Error>::from)
-            .and_then(|desc| {
-                let scene = path.clone();
-                let prepared = PreparedScene::new(&desc).map_err(|source| InScene { scene, source })?;
-                Ok((desc, prepared))
-            });
-        match loaded {
-            Ok((desc, prepared)) => println!(
-                "{}: ok ({} instances, {} mesh entities)",
-                path.display(),
-                desc.instance_count(),
-                prepared.entity_count()
-            ),
-            Err(e) => {
-                eprintln!("{}", render_error(&*e, style));
-                failed += 1;
-            }
-        }
-    }
-    if failed > 0 {
-        Err(format!("{failed} of {} scene files have errors", scenes.len()))
-    } else {
-        Ok(())
-    }
-}
-
 /// Without `XDG_RUNTIME_DIR` there is no Wayland session, yet Mesa's implicit Vulkan layer
 /// `VK_LAYER_MESA_device_select` tries to connect to one while listing GPUs, and libwayland
 /// prints `error: XDG_RUNTIME_DIR is invalid or not set` twice. The layer only reorders GPUs
@@ -441,15 +426,16 @@ fn main() -> ExitCode {
             scenes,
             asset_root,
             max_instances,
-        } => check(
-            scenes,
-            SceneLimits {
+            shadow_budget,
+        } => {
+            let limits = SceneLimits {
                 asset_root,
                 max_instances,
-            },
-            style,
-        )
-        .map_err(Into::into),
+            };
+            let mut budget = ShadowMemoryBudget::default();
+            budget.bytes = shadow_budget.unwrap_or(budget.bytes);
+            check(scenes, limits, budget, style).map_err(Into::into)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -38,6 +38,13 @@ pub fn summary_json(
         "sun": settings.map(|s| json!({ "mode": s.mode.effective(true), "resolution": s.resolution })),
         "shadow_views": stats.casters_per_view.len(),
         "shadow_memory_bytes": report.shadow_memory,
+        "shadow_memory_plan": {
+            "budget_bytes": result.memory.budget,
+            "total_bytes": result.memory.total(),
+            "lights": result.memory.lights.iter().map(|l| json!({
+                "name": l.name, "asked": l.asked, "granted": l.granted, "views": l.views, "bytes": l.bytes,
+            })).collect::<Vec<_>>(),
+        },
         "casters_per_view": stats.casters_per_view,
         "draws_per_view": stats.draws_per_view,
         "draw_calls": report.draw_calls,

@@ -34,6 +34,7 @@ fn ink_hatching_follows_the_shadow() {
             tweak: Some(&tweak),
             analysis: true,
             options: Default::default(),
+            shadow_budget: None,
             count_fragments: false,
         },
     )

@@ -322,6 +322,7 @@ fn a_sample_count_the_adapter_lacks_falls_back_with_one_warning() {
             tweak: Some(&tweak),
             analysis: false,
             options: options(msaa),
+            shadow_budget: None,
             count_fragments: false,
         };
         render_scene_with(&desc, &request).expect(INSTALL)

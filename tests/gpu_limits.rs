@@ -121,6 +121,7 @@ fn a_scene_with_more_instances_than_a_binding_holds_is_refused_before_spawning()
         tweak: None,
         analysis: false,
         options: Default::default(),
+        shadow_budget: None,
         count_fragments: false,
     };
     let err = match render_scene_with(&desc, &request) {

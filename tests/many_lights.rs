@@ -56,6 +56,7 @@ fn three_thousand_lights_render_and_the_last_one_lights_the_image() {
             tweak: None,
             analysis: false,
             options: RenderOptions::default(),
+            shadow_budget: None,
             count_fragments: false,
         },
     )

@@ -215,6 +215,7 @@ fn default_scene_matches_its_reference_image() {
             msaa: Msaa::Off,
             ..RenderOptions::default()
         },
+        shadow_budget: None,
         count_fragments: false,
     };
     let frame = render_scene_with(&desc, &request).unwrap_or_else(|e| panic!("rendering failed: {e}"));

@@ -79,6 +79,7 @@ fn a_headless_render_reports_the_timings_of_each_of_its_frames() {
         tweak: None,
         analysis: false,
         options: Default::default(),
+        shadow_budget: None,
         count_fragments: false,
     };
     let result = render_scene_with(&default_scene(), &request).unwrap_or_else(|e| panic!("{e}"));

@@ -1,6 +1,7 @@
 //! The lights of a scene file as entities to spawn: the `sun` first (with the scene's
 //! `shadows`), then every entry of `lights` in file order.
 
+use bevy_ecs::name::Name;
 use bevy_ecs::world::World;
 use bevy_transform::components::Transform;
 use glam::Vec3;
@@ -38,9 +39,13 @@ fn directional(sun: &SunDesc, shadows_enabled: bool, settings: ShadowSettings) -
     LightPlan::Directional(light, aimed(Vec3::ZERO, sun.direction), settings)
 }
 
-/// Every light of `desc`, the sun first.
-pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
-    let sun = desc.sun.iter().map(|s| directional(s, true, desc.shadows));
+/// Every light of `desc`, the sun first, each with its name: `sun` for the scene's sun,
+/// `lights[i]` for the `i`th entry of `lights`.
+pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<(Name, LightPlan)> {
+    let sun = desc
+        .sun
+        .iter()
+        .map(|s| (Name::new("sun"), directional(s, true, desc.shadows)));
     let lights = desc.lights.iter().map(|l| match *l {
         LightDesc::Directional {
             direction,
@@ -100,24 +105,27 @@ pub(crate) fn light_plans(desc: &SceneDesc) -> Vec<LightPlan> {
             LightPlan::Point(light, Transform::from_translation(position), shadows)
         }
     });
-    sun.chain(lights).collect()
+    let named = lights
+        .enumerate()
+        .map(|(i, plan)| (Name::new(format!("lights[{i}]")), plan));
+    sun.chain(named).collect()
 }
 
-/// Spawns the planned lights, each marked [`SceneEntity`].
-pub(crate) fn spawn_lights(world: &mut World, plans: Vec<LightPlan>) {
-    for plan in plans {
+/// Spawns the planned lights, each marked [`SceneEntity`] and with its name.
+pub(crate) fn spawn_lights(world: &mut World, plans: Vec<(Name, LightPlan)>) {
+    for (name, plan) in plans {
         match plan {
             LightPlan::Directional(light, transform, settings) => {
-                world.spawn((light, transform, settings, SceneEntity));
+                world.spawn((light, transform, settings, SceneEntity, name));
             }
             LightPlan::Spot(light, transform, settings) => {
-                let mut entity = world.spawn((light, transform, SceneEntity));
+                let mut entity = world.spawn((light, transform, SceneEntity, name));
                 if let Some(settings) = settings {
                     entity.insert(settings);
                 }
             }
             LightPlan::Point(light, transform, settings) => {
-                let mut entity = world.spawn((light, transform, SceneEntity));
+                let mut entity = world.spawn((light, transform, SceneEntity, name));
                 if let Some(settings) = settings {
                     entity.insert(settings);
                 }

@@ -12,6 +12,7 @@ use thiserror::Error;
 
 use crate::ecs::components::ViewportSize;
 use crate::ecs::plugin::ShadowPlugin;
+use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::render::gpu_types::InstanceGpu;
 use crate::render::options::RenderOptions;
@@ -36,6 +37,10 @@ pub enum RenderError {
     /// The shadow image could not be written.
     #[error(transparent)]
     Export(#[from] crate::export::ExportError),
+    /// The shadow-memory budget cannot hold a light's shadows
+    /// ([`ShadowMemory::error`](crate::ecs::ShadowMemory::error)).
+    #[error("{0}")]
+    ShadowMemory(String),
     /// The PNG could not be written.
     #[error("cannot write `{path}`: {message}")]
     Write {
@@ -53,8 +58,25 @@ pub fn headless_app(renderer: Renderer) -> App {
     // NOTE: the first frame's cascades already need the target's aspect ratio.
     let (width, height) = renderer.size();
     app.insert_resource(ViewportSize { width, height });
+    app.insert_resource(renderer.gpu.shadow_memory_budget());
     app.insert_resource(renderer);
     app
+}
+
+/// The shadow memory of `prepared` in a `width`×`height` view under `budget`, as the shadow
+/// systems fit it in the first frame — without a GPU (what `penumbra check` reports).
+pub fn shadow_memory_of(
+    prepared: PreparedScene,
+    (width, height): (u32, u32),
+    budget: ShadowMemoryBudget,
+) -> ShadowMemory {
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    app.insert_resource(ViewportSize { width, height });
+    app.insert_resource(budget);
+    prepared.spawn(app.world_mut());
+    app.update();
+    app.world().resource::<ShadowMemory>().clone()
 }
 
 /// Overrides applied on top of a scene's shadow settings and each light's own.
@@ -78,6 +100,8 @@ pub struct HeadlessFrame {
     pub adapter: String,
     /// Mesh entities spawned.
     pub instances: usize,
+    /// The last frame's shadow memory, as fitted to the budget before allocating.
+    pub memory: ShadowMemory,
 }
 
 /// Renders `frames` frames of a scene on a new headless device and returns the last image.
@@ -97,6 +121,7 @@ pub fn render_scene(
             tweak,
             analysis: false,
             options: RenderOptions::default(),
+            shadow_budget: None,
             count_fragments: false,
         },
     )
@@ -116,6 +141,9 @@ pub struct RenderRequest<'a> {
     pub analysis: bool,
     /// Render-wide switches (depth prepass).
     pub options: RenderOptions,
+    /// Most bytes of shadow storage (None: the device's default,
+    /// [`GpuContext::shadow_memory_budget`](crate::render::GpuContext::shadow_memory_budget)).
+    pub shadow_budget: Option<u64>,
     /// Count the lighting pass's fragment invocations (`FrameReport::forward_fragments`;
     /// each frame waits for the count). Ignored where the device cannot count them.
     pub count_fragments: bool,
@@ -150,11 +178,19 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     renderer.count_forward_fragments(request.count_fragments);
     let mut app = headless_app(renderer);
     app.insert_resource(request.options);
+    if let Some(bytes) = request.shadow_budget {
+        app.world_mut().resource_mut::<ShadowMemoryBudget>().bytes = bytes;
+    }
     let instances = spawn_scene(app.world_mut(), &desc)?;
     let mut reports = Vec::new();
     let mut warnings = Vec::new();
     for _ in 0..frames.max(1) {
         app.update();
+        // NOTE: the lights it names cast no shadow and nothing was allocated for them; a
+        // headless render fails rather than write an image without them.
+        if let Some(error) = &app.world().resource::<ShadowMemory>().error {
+            return Err(RenderError::ShadowMemory(error.clone()));
+        }
         let mut renderer = app.world_mut().resource_mut::<Renderer>();
         let errors = renderer.take_errors();
         if !errors.is_empty() {
@@ -187,5 +223,6 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
         warnings,
         adapter,
         instances,
+        memory: world.resource::<ShadowMemory>().clone(),
     })
 }

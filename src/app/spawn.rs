@@ -23,6 +23,7 @@ use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, Not
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
+use bevy_ecs::name::Name;
 
 mod model;
 
@@ -111,8 +112,8 @@ fn model_error(object: usize, e: AssetError) -> SpawnError {
 #[derive(Clone, Debug)]
 pub struct PreparedScene {
     camera: (Camera3d, Transform),
-    /// The sun first, then the scene's other lights.
-    lights: Vec<LightPlan>,
+    /// The sun first, then the scene's other lights, with their names.
+    lights: Vec<(Name, LightPlan)>,
     ambient: AmbientLight,
     images: Vec<ImageData>,
     /// Materials; `base_color_texture` holds an index into `images`.

@@ -12,8 +12,9 @@
 use std::time::Instant;
 
 use bevy_ecs::entity::Entity;
+use bevy_ecs::name::Name;
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::{Local, Query, Res, ResMut};
+use bevy_ecs::system::{Local, Query, Res, ResMut, SystemParam};
 use bevy_transform::components::GlobalTransform;
 use glam::Vec3;
 
@@ -23,6 +24,7 @@ use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sani
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
+use crate::ecs::shadow_memory::{MemoryScratch, ShadowMemory, ShadowMemoryBudget, apply_memory_budget};
 use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget, ShadowView, ShadowViewKind};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, SeenByCamera};
@@ -33,6 +35,7 @@ use crate::math::light_budget::{
 use crate::math::point::{PointView, point_view};
 use crate::math::spot::{SpotInput, SpotView, spot_view};
 use crate::settings::ShadowSettings;
+use crate::text::echoed;
 
 /// A directional light this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -176,6 +179,37 @@ pub struct LightScratch {
     choice: BudgetChoice,
 }
 
+/// The shadow-memory budget's inputs and output in [`update_frame_lights`].
+#[derive(SystemParam)]
+pub struct MemoryParams<'w, 's> {
+    budget: Res<'w, ShadowMemoryBudget>,
+    account: ResMut<'w, ShadowMemory>,
+    names: Query<'w, 's, &'static Name>,
+    scratch: Local<'s, MemoryScratch>,
+}
+
+impl MemoryParams<'_, '_> {
+    /// Fits the shadowed lights to the memory budget ([`apply_memory_budget`]), keeps the
+    /// account, and raises its warning and error.
+    fn apply(
+        &mut self,
+        lights: &mut FrameLights,
+        shadowed: &mut Vec<usize>,
+        ranking: &RankingView,
+        diagnostics: &mut ShadowDiagnostics,
+    ) {
+        let names = &self.names;
+        let name_of = |e| names.get(e).ok().map(|n: &Name| echoed(n.as_str()).into_owned());
+        let budget = &*self.budget;
+        if let Some(account) = apply_memory_budget(lights, shadowed, ranking, budget, name_of, &mut self.scratch) {
+            *self.account = account;
+        }
+        for message in [&self.account.warning, &self.account.error].into_iter().flatten() {
+            diagnostics.warn(message.clone());
+        }
+    }
+}
+
 /// Collects the lights, chooses which cast shadows under the budget (reporting the others),
 /// and computes the cascades of shadowed suns and the views of shadowed spot and point lights.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -192,6 +226,7 @@ pub fn update_frame_lights(
     mut stats: ResMut<ShadowStats>,
     mut diagnostics: ResMut<ShadowDiagnostics>,
     mut scratch: Local<LightScratch>,
+    mut memory: MemoryParams,
 ) {
     let start = Instant::now();
     let lights = &mut *lights;
@@ -317,6 +352,7 @@ pub fn update_frame_lights(
         &mut scratch.choice,
     );
     report_over_budget(lights, &scratch.choice, &budget, diagnostics);
+    memory.apply(lights, &mut scratch.choice.shadowed, &ranking, diagnostics);
     // NOTE: point lights are sampled as one cube array, so they share a face size: the
     // largest any shadowed one asks for.
     let spots_end = lights.suns.len() + lights.spots.len();

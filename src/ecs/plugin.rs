@@ -17,6 +17,7 @@ use crate::ecs::instances::{RenderInstances, sync_instances};
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
@@ -61,6 +62,8 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ShadowStats>()
             .init_resource::<ShadowDiagnostics>()
             .init_resource::<ShadowLightBudget>()
+            .init_resource::<ShadowMemoryBudget>()
+            .init_resource::<ShadowMemory>()
             .init_resource::<ShadowCulling>()
             .init_resource::<ShadowLods>()
             .configure_sets(

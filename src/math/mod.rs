@@ -26,6 +26,7 @@ pub mod poisson;
 pub mod projection;
 pub mod receivers;
 pub mod seen_depths;
+pub mod shadow_memory;
 pub mod snapping;
 pub mod splits;
 pub mod spot;

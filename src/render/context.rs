@@ -7,6 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use thiserror::Error;
 
+use crate::ecs::shadow_memory::{GPU_BUDGET, SHARED_BUDGET, SOFTWARE_BUDGET, ShadowMemoryBudget};
+use crate::math::shadow_memory::MemoryCosts;
 use crate::render::limits::{DeviceLimits, LimitError, requested_limits};
 use crate::render::shadows::sun_moments::MomentSupport;
 
@@ -183,6 +185,26 @@ impl GpuContext {
     /// 32-bit moments need.
     pub fn filters_fp32(&self) -> bool {
         self.moments_format == wgpu::TextureFormat::Rgba32Float
+    }
+
+    /// The shadow-memory budget sized to this device: wgpu reports no memory size, so it
+    /// follows the kind of adapter — [`GPU_BUDGET`] for a discrete GPU, [`SOFTWARE_BUDGET`]
+    /// for a CPU (software Vulkan, whose memory is the process's own), [`SHARED_BUDGET`]
+    /// otherwise — with this device's moment formats.
+    pub fn shadow_memory_budget(&self) -> ShadowMemoryBudget {
+        let bytes = match self.adapter_info.device_type {
+            wgpu::DeviceType::DiscreteGpu => GPU_BUDGET,
+            wgpu::DeviceType::Cpu => SOFTWARE_BUDGET,
+            _ => SHARED_BUDGET,
+        };
+        let vsm_texel = u64::from(self.moments_format.block_copy_size(None).unwrap_or(16));
+        ShadowMemoryBudget {
+            bytes,
+            costs: MemoryCosts {
+                vsm_texel,
+                support: self.moment_support(),
+            },
+        }
     }
 
     /// The moment formats the device can store and filter.

@@ -18,6 +18,7 @@ use winit::window::{Window, WindowId};
 use crate::app::PreparedScene;
 use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
+use crate::ecs::shadow_memory::ShadowMemoryBudget;
 use crate::ecs::stats::ShadowStats;
 use crate::export::{OutputKind, prepare_output};
 use crate::render::frame::FrameInputs;
@@ -418,6 +419,11 @@ impl ApplicationHandler for Viewer {
         match self.open(event_loop) {
             Ok(state) => {
                 state.window.request_redraw();
+                // NOTE: a budget the application set is kept; else the device's.
+                let world = self.app.world_mut();
+                if *world.resource::<ShadowMemoryBudget>() == ShadowMemoryBudget::default() {
+                    world.insert_resource(state.renderer.gpu.shadow_memory_budget());
+                }
                 self.window = Some(state);
             }
             Err(e) => {

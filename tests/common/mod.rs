@@ -97,6 +97,7 @@ pub fn still_frame(
             tweak: Some(&tweak),
             analysis,
             options,
+            shadow_budget: None,
             count_fragments: false,
         },
     )

@@ -9,6 +9,8 @@ use crate::ecs::frame_lights::{FrameLights, SunView};
 use crate::math::cascades::Cascade;
 use crate::math::evsm::{MomentPrecision, cascade_blur_texels, cascade_exponent};
 use crate::math::msm::{MSM_BIAS_16, MSM_BIAS_32};
+use crate::math::shadow_memory::{self, CascadeMomentFormat, hardening_mips};
+pub use crate::math::shadow_memory::{MOMENT_MIPS, MomentSupport};
 use crate::render::shadows::gpu::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 use crate::settings::{MAX_MOMENT_BLUR_TEXELS, ShadowMode};
 
@@ -128,16 +130,6 @@ pub fn msm_quantised(format: wgpu::TextureFormat) -> bool {
     format != wgpu::TextureFormat::Rgba32Float
 }
 
-/// What the device can store moments in: 32-bit floats it filters (`FLOAT32_FILTERABLE`),
-/// and 16-bit unorm (`TEXTURE_FORMAT_16BIT_NORM`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct MomentSupport {
-    /// 32-bit floats can be filtered.
-    pub fp32_filterable: bool,
-    /// `Rgba16Unorm` can be sampled and written.
-    pub unorm16: bool,
-}
-
 /// Mip levels of the cascades' moments in layers of `side` texels: enough for contact
 /// hardening's widest filter ([`MOMENT_MIPS`]) while a shadowed sun filters MSM with it, else
 /// 1 (EVSM keeps a fixed blur).
@@ -146,16 +138,8 @@ pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
         .suns
         .iter()
         .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.moment_contact_hardening);
-    if hardening {
-        MOMENT_MIPS.min(32 - side.max(1).leading_zeros())
-    } else {
-        1
-    }
+    if hardening { hardening_mips(side) } else { 1 }
 }
-
-/// Mip levels of a sun's moments with contact hardening: the last averages 64² texels, the
-/// widest penumbra filter (`MAX_PENUMBRA_TEXELS` = 32 texels of radius in the shaders).
-pub const MOMENT_MIPS: u32 = 7;
 
 /// MSM's moment bias for moments stored in `format` (what keeps the Hankel matrix
 /// invertible after rounding).
@@ -176,29 +160,17 @@ pub fn any_sun_moments(lights: &FrameLights) -> bool {
 }
 
 /// The format of the cascades' moments this frame, None while no shadowed sun filters
-/// moments: four channels (EVSM2's two moments and their coverage; EVSM4's or MSM's four
-/// moments), in 32-bit floats when a sun resolves to 32 bits (which needs 32-bit filtering),
-/// else 16 bits: `Rgba16Unorm` when every such sun uses MSM and the device has it, else
-/// `Rgba16Float`. 16-bit MSM without unorm takes 32 bits where they filter: in half floats the
-/// quantised moments are too coarse for a receiver lying on a caster (the ground in a far
-/// cascade shadows itself; see `tests/sun_moments.rs`).
+/// moments ([`shadow_memory::cascade_moment_format`] over the shadowed suns).
 pub fn cascade_moment_format(lights: &FrameLights, support: MomentSupport) -> Option<wgpu::TextureFormat> {
-    let mut any = false;
-    let mut fp32 = false;
-    let mut all_msm = true;
-    for sun in lights.suns.iter().filter(|s| s.cascades.count > 0) {
-        let Some(technique) = technique(sun) else {
-            continue;
-        };
-        any = true;
-        all_msm &= technique == SHADOW_FILTER_MSM;
-        fp32 |= sun_precision(sun, support.fp32_filterable) == MomentPrecision::Fp32;
-    }
-    any.then_some(match fp32 {
-        true => wgpu::TextureFormat::Rgba32Float,
-        false if all_msm && support.unorm16 => wgpu::TextureFormat::Rgba16Unorm,
-        false if all_msm && support.fp32_filterable => wgpu::TextureFormat::Rgba32Float,
-        false => wgpu::TextureFormat::Rgba16Float,
+    let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).filter_map(|sun| {
+        let technique = technique(sun)?;
+        let fp32 = sun_precision(sun, support.fp32_filterable) == MomentPrecision::Fp32;
+        Some((technique == SHADOW_FILTER_MSM, fp32))
+    });
+    shadow_memory::cascade_moment_format(suns, support).map(|format| match format {
+        CascadeMomentFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
+        CascadeMomentFormat::Rgba16Unorm => wgpu::TextureFormat::Rgba16Unorm,
+        CascadeMomentFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
     })
 }
 

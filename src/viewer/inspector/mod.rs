@@ -1,9 +1,11 @@
 //! The egui inspector: the sun, every shadow setting (with the ranges of the runtime table),
-//! the cascade debug view, a panel per spot light and extra sun, per-view statistics, GPU and CPU timings with a history plot,
+//! the cascade debug view, a panel per spot light and extra sun, per-view statistics, the
+//! shadow-memory budget and account, GPU and CPU timings with a history plot,
 //! and "save settings to RON". It edits the ECS world directly, so it runs the same with a
 //! window or headless (the tests drive it through egui's accessibility tree).
 
 mod lights;
+mod memory;
 mod render;
 mod settings;
 mod stats;
@@ -113,6 +115,11 @@ impl Inspector {
                 world.resource::<ShadowStats>(),
             );
         });
+        CollapsingHeader::new("Shadow memory")
+            .default_open(true)
+            .show(ui, |ui| {
+                memory::memory_ui(ui, world);
+            });
         CollapsingHeader::new("Timings").default_open(true).show(ui, |ui| {
             let empty = FrameReport::default();
             let report = frame.report.unwrap_or(&empty);

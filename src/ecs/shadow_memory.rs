@@ -1,0 +1,328 @@
+//! The shadow-memory budget: [`ShadowMemoryBudget`] says how many bytes the shadow storages
+//! (depth arrays, moments with their mips, the blur's scratch) may take and what the device
+//! stores moments in; [`ShadowMemory`] is this frame's account — per shadowed light what it
+//! asked for, what it got and its bytes, per array and in total — computed by
+//! [`apply_memory_budget`] from the shadowed lights before their views are made, so the
+//! renderer never allocates past the budget.
+//!
+//! Over budget, the lights smallest on screen have their maps halved first (suns last), never
+//! below 256² ([`fit_budget`](crate::math::shadow_memory::fit_budget)), with one warning naming
+//! them. A light that still does not fit gets no shadow, and [`ShadowMemory::error`] names it
+//! with the bytes it needs at 256²: a headless render fails with that message.
+
+use bevy_ecs::entity::Entity;
+use bevy_ecs::resource::Resource;
+
+use crate::ecs::frame_lights::FrameLights;
+use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
+use crate::math::shadow_memory::{
+    BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
+    fit_budget_into, storage_index,
+};
+use crate::settings::{MomentFormat, ShadowMode, ShadowSettings};
+
+/// Bytes in a mebibyte.
+pub const MIB: u64 = 1 << 20;
+
+/// The default budget on a GPU with memory of its own, bytes (2 GiB). wgpu reports no memory
+/// size, so the default follows the kind of adapter.
+pub const GPU_BUDGET: u64 = 2048 * MIB;
+/// The default budget on an integrated or unknown GPU, bytes (1 GiB).
+pub const SHARED_BUDGET: u64 = 1024 * MIB;
+/// The default budget on software Vulkan (a CPU adapter, whose memory is the process's own),
+/// bytes (512 MiB).
+pub const SOFTWARE_BUDGET: u64 = 512 * MIB;
+
+/// How much memory the shadow storages may take. The default is [`GPU_BUDGET`] with 32-bit
+/// moments (what a desktop GPU has); the renderer's
+/// [`shadow_memory_budget`](crate::render::GpuContext::shadow_memory_budget) sizes it to its
+/// device, and an application may set `bytes`.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShadowMemoryBudget {
+    /// Most bytes of shadow maps, moments and scratch together.
+    pub bytes: u64,
+    /// The device's moment formats.
+    pub costs: MemoryCosts,
+}
+
+impl Default for ShadowMemoryBudget {
+    fn default() -> Self {
+        Self {
+            bytes: GPU_BUDGET,
+            costs: MemoryCosts {
+                vsm_texel: 16,
+                support: MomentSupport {
+                    fp32_filterable: true,
+                    unorm16: true,
+                },
+            },
+        }
+    }
+}
+
+/// One shadowed light's share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightMemory {
+    /// The light.
+    pub entity: Entity,
+    /// How messages name it: its kind, then its [`Name`](bevy_ecs::name::Name) (else its
+    /// entity).
+    pub name: String,
+    /// Its kind.
+    pub kind: LightKind,
+    /// Texels per side it asked for.
+    pub asked: u32,
+    /// Texels per side it got (0: no shadow, the budget could not hold it).
+    pub granted: u32,
+    /// Layers (cascades, 1, or a cube's 6).
+    pub views: u32,
+    /// Bytes of its layers: depth and moments at its array's side (the array's scratch is
+    /// not in it).
+    pub bytes: u64,
+}
+
+/// This frame's shadow memory, before anything is allocated.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct ShadowMemory {
+    /// The budget it was fitted to, bytes.
+    pub budget: u64,
+    /// The shadowed lights (suns, then spot lights, then point lights).
+    pub lights: Vec<LightMemory>,
+    /// The arrays: cascades, spot lights, point lights.
+    pub storages: [StorageBytes; 3],
+    /// Lights lowered to fit, as one warning (None when nothing was lowered).
+    pub warning: Option<String>,
+    /// Lights the budget cannot hold at all, with their bytes.
+    pub error: Option<String>,
+}
+
+impl ShadowMemory {
+    /// Bytes of the three arrays together.
+    pub fn total(&self) -> u64 {
+        self.storages.iter().map(StorageBytes::total).sum()
+    }
+
+    /// The account as text: a line with the total, the budget and what it is made of, then
+    /// one line per shadowed light (what the command line and the inspector show).
+    pub fn lines(&self) -> Vec<String> {
+        let sum = |f: fn(&StorageBytes) -> u64| format_bytes(self.storages.iter().map(f).sum());
+        let mut lines = vec![format!(
+            "{} of a {} budget (depth {}, moments {}, blur scratch {})",
+            format_bytes(self.total()),
+            format_bytes(self.budget),
+            sum(|s| s.depth),
+            sum(|s| s.moments),
+            sum(|s| s.scratch)
+        )];
+        lines.extend(self.lines_of_lights());
+        lines
+    }
+
+    /// One line per shadowed light: its name, views and side, bytes.
+    fn lines_of_lights(&self) -> Vec<String> {
+        self.lights
+            .iter()
+            .map(|l| {
+                let side = self.storages[storage_index(l.kind)].side;
+                let mut size = match l.granted {
+                    0 => "no shadow (over budget)".to_owned(),
+                    g if g < l.asked => format!("{} × {g}² (asked {}²)", l.views, l.asked),
+                    g => format!("{} × {g}²", l.views),
+                };
+                if l.granted > 0 && l.granted < side {
+                    size += &format!(" in layers of {side}²");
+                }
+                format!("{}: {size}, {}", l.name, format_bytes(l.bytes))
+            })
+            .collect()
+    }
+}
+
+/// `bytes` in MiB with one decimal (or KiB for less than a tenth of a MiB).
+pub fn format_bytes(bytes: u64) -> String {
+    if bytes < MIB / 10 && bytes > 0 {
+        format!("{:.1} KiB", bytes as f64 / 1024.0)
+    } else {
+        format!("{:.1} MiB", bytes as f64 / MIB as f64)
+    }
+}
+
+/// The word a message uses for `kind`.
+fn kind_word(kind: LightKind) -> &'static str {
+    match kind {
+        LightKind::Directional => "directional",
+        LightKind::Spot => "spot",
+        LightKind::Point => "point",
+    }
+}
+
+/// Reused buffers of [`apply_memory_budget`], and what it fitted last (an unchanged frame
+/// reuses the fit and allocates nothing).
+#[derive(Default)]
+pub struct MemoryScratch {
+    requests: Vec<LightRequest>,
+    entities: Vec<Entity>,
+    last: Option<(Vec<LightRequest>, Vec<Entity>, ShadowMemoryBudget)>,
+    fit: BudgetFit,
+}
+
+/// What a light's settings make its moments.
+fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> MomentUse {
+    match (kind, s.mode) {
+        (LightKind::Directional, ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm) => MomentUse::Sun {
+            msm: s.mode == ShadowMode::Msm,
+            fp32: s.moment_precision != MomentFormat::Fp16 && fp32_filterable,
+            blur: !s.moment_contact_hardening && s.moment_blur > 0.0,
+            hardening: s.moment_contact_hardening,
+        },
+        (LightKind::Spot | LightKind::Point, ShadowMode::Vsm) => MomentUse::Vsm { blur: s.vsm_blur > 0 },
+        _ => MomentUse::None,
+    }
+}
+
+/// The request of shadowed light `id` (the renderer's light order) and its entity.
+fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -> (LightRequest, Entity) {
+    let spots_end = lights.suns.len() + lights.spots.len();
+    let (kind, settings, views, bounds, entity) = if let Some(sun) = lights.suns.get(id) {
+        let views = sun.settings.cascade_count;
+        (LightKind::Directional, &sun.settings, views, None, sun.entity)
+    } else if id < spots_end {
+        let spot = &lights.spots[id - lights.suns.len()];
+        let bounds = Some((spot.position, spot.light.range));
+        (LightKind::Spot, &spot.settings, 1, bounds, spot.entity)
+    } else {
+        let point = &lights.points[id - spots_end];
+        let bounds = Some((point.position, point.light.range));
+        (LightKind::Point, &point.settings, 6, bounds, point.entity)
+    };
+    let coverage = bounds.map_or(f32::INFINITY, |(centre, range)| screen_coverage(ranking, centre, range));
+    let request = LightRequest {
+        kind,
+        resolution: settings.resolution,
+        views,
+        moments: moment_use(kind, settings, fp32),
+        coverage,
+    };
+    (request, entity)
+}
+
+/// Fits the shadowed lights (`shadowed`: ids in the renderer's light order, with sanitized
+/// settings whose `mode` is the one each light is filtered with) to `budget`: lowers their
+/// `settings.resolution`, and removes from `shadowed` those that cannot fit. Returns the new
+/// account when it differs from last frame's (`name_of` names a light for it).
+pub fn apply_memory_budget(
+    lights: &mut FrameLights,
+    shadowed: &mut Vec<usize>,
+    ranking: &RankingView,
+    budget: &ShadowMemoryBudget,
+    name_of: impl Fn(Entity) -> Option<String>,
+    scratch: &mut MemoryScratch,
+) -> Option<ShadowMemory> {
+    scratch.requests.clear();
+    scratch.entities.clear();
+    let fp32 = budget.costs.support.fp32_filterable;
+    for &id in shadowed.iter() {
+        let (request, entity) = request(lights, id, ranking, fp32);
+        scratch.requests.push(request);
+        scratch.entities.push(entity);
+    }
+    let same = scratch
+        .last
+        .as_ref()
+        .is_some_and(|(r, e, b)| *r == scratch.requests && *e == scratch.entities && b == budget);
+    let account = (!same).then(|| {
+        fit_budget_into(&scratch.requests, &budget.costs, budget.bytes, &mut scratch.fit);
+        scratch.last = Some((scratch.requests.clone(), scratch.entities.clone(), *budget));
+        account(&scratch.requests, &scratch.entities, budget, &scratch.fit, name_of)
+    });
+    let spots_end = lights.suns.len() + lights.spots.len();
+    for (&id, &granted) in shadowed.iter().zip(&scratch.fit.resolutions) {
+        let settings = if let Some(sun) = lights.suns.get_mut(id) {
+            &mut sun.settings
+        } else if id < spots_end {
+            &mut lights.spots[id - lights.suns.len()].settings
+        } else {
+            &mut lights.points[id - spots_end].settings
+        };
+        settings.resolution = granted.max(1);
+    }
+    if !scratch.fit.dropped.is_empty() {
+        let mut k = 0;
+        let fit = &scratch.fit;
+        shadowed.retain(|_| {
+            k += 1;
+            fit.resolutions[k - 1] > 0
+        });
+    }
+    account
+}
+
+/// The account of a fit, with its warning and error.
+fn account(
+    requests: &[LightRequest],
+    entities: &[Entity],
+    budget: &ShadowMemoryBudget,
+    fit: &BudgetFit,
+    name_of: impl Fn(Entity) -> Option<String>,
+) -> ShadowMemory {
+    let rows: Vec<LightMemory> = requests
+        .iter()
+        .zip(entities)
+        .zip(&fit.resolutions)
+        .map(|((r, &entity), &granted)| {
+            let named = name_of(entity).unwrap_or_else(|| entity.to_string());
+            let name = format!("{} light {named}", kind_word(r.kind));
+            let per_layer = fit.storages[storage_index(r.kind)].per_layer();
+            LightMemory {
+                entity,
+                name,
+                kind: r.kind,
+                asked: r.resolution,
+                granted,
+                views: r.views,
+                bytes: if granted > 0 { per_layer * u64::from(r.views) } else { 0 },
+            }
+        })
+        .collect();
+    let warning = (!fit.lowered.is_empty()).then(|| {
+        let asked: Vec<u32> = requests.iter().map(|r| r.resolution).collect();
+        let wanted = crate::math::shadow_memory::storage_bytes(requests, &asked, &budget.costs);
+        let wanted: u64 = wanted.iter().map(StorageBytes::total).sum();
+        let names: Vec<String> = fit
+            .lowered
+            .iter()
+            .map(|&i| format!("{} {}² → {}²", rows[i].name, rows[i].asked, rows[i].granted))
+            .collect();
+        format!(
+            "the shadow maps would take {} but the shadow-memory budget is {}: lowered {} (the lights smallest on screen first); raise the budget (ShadowMemoryBudget, --shadow-budget) to keep them",
+            format_bytes(wanted),
+            format_bytes(budget.bytes),
+            names.join(", ")
+        )
+    });
+    let error = (!fit.dropped.is_empty()).then(|| {
+        let names: Vec<String> = fit
+            .dropped
+            .iter()
+            .map(|&i| {
+                let smallest = requests[i].resolution.min(MIN_BUDGET_RESOLUTION);
+                let bytes = alone_bytes(&requests[i], smallest, &budget.costs);
+                format!("{} ({} at {smallest}²)", rows[i].name, format_bytes(bytes))
+            })
+            .collect();
+        let kept = fit.total();
+        format!(
+            "the shadow-memory budget of {} cannot hold the shadows of {}: they cast none ({} is taken by the other lights at their smallest); raise the budget (ShadowMemoryBudget, --shadow-budget) or shadow fewer lights (ShadowLightBudget)",
+            format_bytes(budget.bytes),
+            names.join(", "),
+            format_bytes(kept)
+        )
+    });
+    ShadowMemory {
+        budget: budget.bytes,
+        lights: rows,
+        storages: fit.storages,
+        warning,
+        error,
+    }
+}
