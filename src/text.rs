@@ -6,7 +6,7 @@ use std::borrow::Cow;
 /// Most characters of user text a message echoes.
 pub const MAX_ECHOED_CHARS: usize = 80;
 
-/// `text` cut to at most `max_chars` characters: the first ones, then `…` and how many
+/// `text` cut to at most `max_chars` characters: the first ones, then `...` and how many
 /// characters were left out. Text that fits is returned as it is.
 pub fn bounded(text: &str, max_chars: usize) -> Cow<'_, str> {
     match text.char_indices().nth(max_chars) {
@@ -15,7 +15,7 @@ pub fn bounded(text: &str, max_chars: usize) -> Cow<'_, str> {
             let keep = max_chars.saturating_sub(1);
             let cut = text.char_indices().nth(keep).map_or(text.len(), |(i, _)| i);
             let left = text[cut..].chars().count();
-            Cow::Owned(format!("{}… ({left} more characters)", &text[..cut]))
+            Cow::Owned(format!("{}... ({left} more characters)", &text[..cut]))
         }
     }
 }
@@ -33,13 +33,13 @@ mod tests {
     fn short_text_is_kept_and_long_text_is_cut_with_a_count() {
         assert_eq!(bounded("sun", 3), "sun");
         assert!(matches!(bounded("sun", 3), Cow::Borrowed(_)));
-        assert_eq!(bounded("sunset", 3), "su… (4 more characters)");
+        assert_eq!(bounded("sunset", 3), "su... (4 more characters)");
         let long = "x".repeat(100_000);
         let cut = echoed(&long);
         assert!(cut.chars().count() < 120, "{} characters", cut.chars().count());
-        assert!(cut.ends_with("… (99921 more characters)"), "{cut}");
+        assert!(cut.ends_with("... (99921 more characters)"), "{cut}");
         // Multi-byte characters are cut on their boundaries.
-        assert_eq!(bounded("ééééé", 3), "éé… (3 more characters)");
+        assert_eq!(bounded("ééééé", 3), "éé... (3 more characters)");
         assert_eq!(bounded("", 0), "");
     }
 }

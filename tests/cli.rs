@@ -432,3 +432,44 @@ error: 1 of 1 scene files have errors
     assert_eq!(rich, expected);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn check_and_render_print_the_shadow_memory_and_fit_it_to_the_budget() {
+    let out = penumbra(&["check", "assets/scenes/night.ron"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("  shadow memory 212.0 MiB of a 2048.0 MiB budget"),
+        "{text}"
+    );
+    assert!(text.contains("    point light lights[0]: 6 × 512², 30.0 MiB"), "{text}");
+    let out = penumbra(&["check", "--shadow-budget", "100", "assets/scenes/night.ron"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("warning: the shadow maps would take 212.0 MiB but the shadow-memory budget is 100.0 MiB: lowered point light lights[1] 512² to 256²"),
+        "{text}"
+    );
+    let out = penumbra(&["check", "--shadow-budget", "3", "assets/scenes/night.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.contains("night.ron: the shadow-memory budget of 3.0 MiB cannot hold the shadows of point light lights[0] (13.5 MiB at 256²)"),
+        "{err}"
+    );
+    // The default scene's four 2048² cascades take 64 MiB; 1 MiB holds four of 256².
+    let out = small_render(&[
+        "--shadow-budget",
+        "1",
+        "--out",
+        scratch("budget").join("o.png").to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("with 256² texels per cascade, 1.0 MiB"), "{text}");
+    assert!(text.contains("memory     1.0 MiB of a 1.0 MiB budget"), "{text}");
+    assert!(
+        text.contains("directional light sun: 4 × 256² (asked 2048²), 1.0 MiB"),
+        "{text}"
+    );
+}

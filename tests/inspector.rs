@@ -37,7 +37,7 @@ fn state(name: &str) -> State {
 }
 
 fn harness(state: State) -> Harness<'static, State> {
-    Harness::builder().with_size(egui::vec2(420.0, 1400.0)).build_ui_state(
+    Harness::builder().with_size(egui::vec2(420.0, 1600.0)).build_ui_state(
         |ui, s: &mut State| {
             let info = FrameInfo {
                 report: None,
@@ -147,6 +147,24 @@ fn sliders_move_the_sun_and_the_split() {
     );
     assert!((light.angular_diameter.to_degrees() - 2.0).abs() < 1e-3);
     assert!((settings(&mut h).split_lambda - 0.25).abs() < 1e-6);
+}
+
+#[test]
+fn the_memory_budget_slider_lowers_the_maps_and_the_account_shows_it() {
+    let mut h = harness(state("memory"));
+    h.run();
+    assert!(h.query_by_label("directional light sun: 4 × 2048², 64.0 MiB").is_some());
+    // 16 MiB holds four cascades of 1024².
+    slider(&h, "budget MiB").set_value_accesskit(16.0);
+    h.run();
+    h.state_mut().app.update();
+    h.run();
+    assert_eq!(renderer(&h).shadow_map_resolution(), Some(1024));
+    assert!(
+        h.query_by_label("directional light sun: 4 × 1024² (asked 2048²), 16.0 MiB")
+            .is_some()
+    );
+    assert!(h.query_by_label_contains("16.0 MiB of a 16.0 MiB budget").is_some());
 }
 
 #[test]

@@ -72,8 +72,8 @@ fn the_reported_scenes_that_ran_out_of_memory_are_lowered_to_the_budget() {
     assert_eq!(sides, [1024, 1024, 1024], "{:?}", fitted.lines());
     let warning = fitted.warning.as_deref().unwrap();
     assert!(
-        warning.contains("point light lights[0] 4096² → 1024²")
-            && warning.contains("point light lights[1] 4096² → 1024²")
+        warning.contains("point light lights[0] 4096² to 1024²")
+            && warning.contains("point light lights[1] 4096² to 1024²")
             && !warning.contains("directional"),
         "{warning}"
     );

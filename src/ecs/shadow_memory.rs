@@ -291,7 +291,7 @@ fn account(
         let names: Vec<String> = fit
             .lowered
             .iter()
-            .map(|&i| format!("{} {}² → {}²", rows[i].name, rows[i].asked, rows[i].granted))
+            .map(|&i| format!("{} {}² to {}²", rows[i].name, rows[i].asked, rows[i].granted))
             .collect();
         format!(
             "the shadow maps would take {} but the shadow-memory budget is {}: lowered {} (the lights smallest on screen first); raise the budget (ShadowMemoryBudget, --shadow-budget) to keep them",
