@@ -13,18 +13,19 @@
 //! else the folder of the scene or model being loaded; [`AssetIo::with_root`] sets it.
 
 use std::fs::File;
-use std::io::{Cursor, Read};
+use std::io::Read;
 use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
 
-use image::ImageReader;
 use thiserror::Error;
-
-use crate::ecs::assets::ImageData;
 
 /// Default cap on one file read, in bytes (1 GiB).
 pub const DEFAULT_MAX_FILE_BYTES: u64 = 1 << 30;
 /// Default cap on one decoded image, in bytes of RGBA8 (256 MiB: 8192² pixels).
 pub const DEFAULT_MAX_IMAGE_BYTES: u64 = 256 << 20;
+/// Default budget of all a scene's decoded images together, in bytes of RGBA8 with their mip
+/// chains (512 MiB: one 8192² image and one 4096², or thirty-two 2048² ones).
+pub const DEFAULT_MAX_TEXTURE_BYTES: u64 = 512 << 20;
 
 /// Why an asset file could not be read. Messages leave out the reference itself: the
 /// caller's message names it (like ``image 0 (`leaf.png`): no file at …``).
@@ -98,15 +99,39 @@ impl AssetPath {
     }
 }
 
-/// The asset root and the read limits.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// The asset root, the read limits, and the tally of decoded images against the texture
+/// budget (shared by clones: one scene's loads draw on one budget).
+#[derive(Clone, Debug)]
 pub struct AssetIo {
     root: PathBuf,
     /// Largest file read, in bytes.
     pub max_file_bytes: u64,
     /// Largest decoded image, in bytes of RGBA8.
     pub max_image_bytes: u64,
+    /// Most bytes of all decoded images together, RGBA8 with their mip chains: an image
+    /// that would pass it is downscaled to fit, with a note ([`take_notes`](Self::take_notes)).
+    pub max_texture_bytes: u64,
+    tally: Arc<TextureTally>,
 }
+
+impl PartialEq for AssetIo {
+    /// The same root and limits (the tallies are not compared).
+    fn eq(&self, other: &Self) -> bool {
+        (
+            &self.root,
+            self.max_file_bytes,
+            self.max_image_bytes,
+            self.max_texture_bytes,
+        ) == (
+            &other.root,
+            other.max_file_bytes,
+            other.max_image_bytes,
+            other.max_texture_bytes,
+        )
+    }
+}
+
+impl Eq for AssetIo {}
 
 impl AssetIo {
     /// An asset root at `root` (made absolute and canonical where it exists) with the default
@@ -118,6 +143,8 @@ impl AssetIo {
             root,
             max_file_bytes: DEFAULT_MAX_FILE_BYTES,
             max_image_bytes: DEFAULT_MAX_IMAGE_BYTES,
+            max_texture_bytes: DEFAULT_MAX_TEXTURE_BYTES,
+            tally: Arc::default(),
         }
     }
 
@@ -225,39 +252,8 @@ impl AssetIo {
         handle.take(wanted).read_to_end(&mut bytes).map_err(read_error)?;
         Ok(bytes)
     }
-
-    /// Decodes image bytes to RGBA8 under the image limits. `what` names the image in errors.
-    pub fn decode_image(&self, bytes: &[u8], what: &str) -> Result<ImageData, AssetError> {
-        let image_error = |message: String| AssetError::Image {
-            reference: what.to_owned(),
-            message,
-        };
-        let mut reader = ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| image_error(e.to_string()))?;
-        let mut limits = image::Limits::default();
-        // NOTE: the decoder's own buffer may be wider than RGBA8 (16-bit channels); the RGBA8
-        // copy is checked separately below.
-        limits.max_alloc = Some(self.max_image_bytes.saturating_mul(2));
-        reader.limits(limits.clone());
-        let (width, height) = reader.into_dimensions().map_err(|e| image_error(e.to_string()))?;
-        let rgba_bytes = width as u64 * height as u64 * 4;
-        if rgba_bytes > self.max_image_bytes {
-            let message = format!(
-                "{width}×{height} pixels need {rgba_bytes} bytes, more than the {} allowed",
-                self.max_image_bytes
-            );
-            return Err(image_error(message));
-        }
-        let mut reader = ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| image_error(e.to_string()))?;
-        reader.limits(limits);
-        let decoded = reader.decode().map_err(|e| image_error(e.to_string()))?.to_rgba8();
-        Ok(ImageData {
-            width: decoded.width(),
-            height: decoded.height(),
-            rgba: decoded.into_raw(),
-        })
-    }
 }
+
+mod decode;
+
+pub use decode::{TextureTally, mip_chain_bytes};

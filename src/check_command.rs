@@ -1,13 +1,13 @@
 //! `penumbra check` (part of the `penumbra` binary): loads scene files and everything they
-//! name as `render` would, without a GPU, reports every problem, and prints the shadow memory
-//! each scene's first frame takes under the budget.
+//! name as `render` would, without a GPU, reports every problem, and prints the memory of each
+//! scene's textures and of the shadow storages its first frame takes, under their budgets.
 
 use std::error::Error;
 use std::path::PathBuf;
 
 use penumbra::app::{PreparedScene, SpawnError, shadow_memory_of};
 use penumbra::diagnostic::{ErrorStyle, render_error};
-use penumbra::ecs::shadow_memory::ShadowMemoryBudget;
+use penumbra::ecs::shadow_memory::{ShadowMemoryBudget, format_bytes};
 use penumbra::scene::{SceneDesc, SceneLimits};
 
 /// The view `check` fits the shadow memory for: `render`'s default image size.
@@ -49,23 +49,36 @@ pub fn check(
             })
             .and_then(|(desc, prepared)| {
                 let entities = prepared.entity_count();
+                let textures = (
+                    prepared.image_count(),
+                    prepared.texture_bytes(),
+                    prepared.warnings().to_vec(),
+                );
                 let memory = shadow_memory_of(prepared, CHECK_VIEW, budget);
                 match &memory.error {
                     Some(message) => Err(Box::new(OverBudget {
                         scene: path.clone(),
                         message: message.clone(),
                     }) as Box<dyn Error>),
-                    None => Ok((desc, entities, memory)),
+                    None => Ok((desc, entities, textures, memory)),
                 }
             });
         match loaded {
-            Ok((desc, entities, memory)) => {
+            Ok((desc, entities, (images, texture_bytes, notes), memory)) => {
                 println!(
                     "{}: ok ({} instances, {} mesh entities)",
                     path.display(),
                     desc.instance_count(),
                     entities
                 );
+                println!(
+                    "  textures {images} images, {} with their mips of a {} budget",
+                    format_bytes(texture_bytes),
+                    format_bytes(desc.limits.max_texture_bytes)
+                );
+                for note in &notes {
+                    println!("  warning: {note}");
+                }
                 let lines = memory.lines();
                 println!("  shadow memory {}", lines[0]);
                 for line in &lines[1..] {

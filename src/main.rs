@@ -126,6 +126,10 @@ struct RenderArgs {
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
     #[arg(long, default_value = "1")]
     msaa: Msaa,
+    /// Most MiB of the scene's decoded images together, with their mip chains (default 512):
+    /// an image that would pass it is downscaled to fit, with a warning.
+    #[arg(long, value_parser = mebibytes(), default_value = "512")]
+    texture_budget: u64,
     /// Most MiB of shadow maps, their moments and blur scratch (default: 2048 on a discrete
     /// GPU, 512 on software Vulkan, 1024 otherwise): the lights smallest on screen are
     /// lowered to fit, with a warning; a light that cannot fit even at 256² is an error.
@@ -160,6 +164,10 @@ enum Command {
         /// Most instances a scene may place (grid copies and glTF primitives counted).
         #[arg(long, default_value_t = DEFAULT_MAX_INSTANCES)]
         max_instances: u64,
+        /// Most MiB of a scene's decoded images together, with their mip chains: an image that
+        /// would pass it is downscaled to fit, with a warning.
+        #[arg(long, value_parser = mebibytes(), default_value = "512")]
+        texture_budget: u64,
         /// Most MiB of shadow maps, their moments and blur scratch (default 2048, a discrete
         /// GPU's; software Vulkan's is 512): lights smallest on screen are lowered to fit.
         #[arg(long, value_parser = mebibytes())]
@@ -210,6 +218,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         single_pass_cascades,
         count_fragments,
         msaa,
+        texture_budget,
         shadow_budget,
         json,
     } = args;
@@ -220,6 +229,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     let limits = SceneLimits {
         asset_root,
         max_instances,
+        max_texture_bytes: texture_budget,
     };
     let mut desc = SceneDesc::load_with(&scene, &limits)?;
     if let (Some(d), Some(sun)) = (sun_diameter, desc.sun.as_mut()) {
@@ -426,11 +436,13 @@ fn main() -> ExitCode {
             scenes,
             asset_root,
             max_instances,
+            texture_budget,
             shadow_budget,
         } => {
             let limits = SceneLimits {
                 asset_root,
                 max_instances,
+                max_texture_bytes: texture_budget,
             };
             let mut budget = ShadowMemoryBudget::default();
             budget.bytes = shadow_budget.unwrap_or(budget.bytes);

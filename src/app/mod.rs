@@ -181,9 +181,10 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     if let Some(bytes) = request.shadow_budget {
         app.world_mut().resource_mut::<ShadowMemoryBudget>().bytes = bytes;
     }
-    let instances = spawn_scene(app.world_mut(), &desc)?;
+    let prepared = PreparedScene::new(&desc)?;
+    let mut warnings = prepared.warnings().to_vec();
+    let instances = prepared.spawn(app.world_mut());
     let mut reports = Vec::new();
-    let mut warnings = Vec::new();
     for _ in 0..frames.max(1) {
         app.update();
         // NOTE: the lights it names cast no shadow and nothing was allocated for them; a

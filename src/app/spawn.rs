@@ -23,6 +23,7 @@ use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, Not
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
+use crate::text::echoed;
 use bevy_ecs::name::Name;
 
 mod model;
@@ -122,6 +123,10 @@ pub struct PreparedScene {
     /// Shadow LODs: (mesh, [(coarser mesh, relative error)]), indices into `meshes`.
     shadow_lods: Vec<(usize, Vec<(usize, f32)>)>,
     entities: Vec<EntityPlan>,
+    /// Bytes of the decoded images, RGBA8 with their mip chains.
+    texture_bytes: u64,
+    /// Images downscaled to fit the texture budget.
+    warnings: Vec<String>,
 }
 
 /// One mesh an object's shape expands to.
@@ -164,9 +169,14 @@ impl PreparedScene {
             meshes: Vec::new(),
             shadow_lods: Vec::new(),
             entities: Vec::new(),
+            texture_bytes: 0,
+            warnings: Vec::new(),
         };
+        let before = io.texture_bytes();
         scene.add_materials(desc, io)?;
         scene.add_objects(desc, io)?;
+        scene.texture_bytes = io.texture_bytes() - before;
+        scene.warnings = io.take_notes();
         Ok(scene)
     }
 
@@ -283,8 +293,8 @@ impl PreparedScene {
         }
         let reference = rel.to_string_lossy();
         let bytes = io.read(&file, &reference, None).map_err(texture_error)?;
-        self.images
-            .push(io.decode_image(&bytes, &reference).map_err(texture_error)?);
+        let what = format!("texture `{}`", echoed(&reference));
+        self.images.push(io.decode_image(&bytes, &what).map_err(texture_error)?);
         loaded.insert(file, self.images.len() - 1);
         Ok(self.images.len() - 1)
     }
@@ -321,6 +331,22 @@ impl PreparedScene {
             material: None,
             object_from_mesh: Mat4::IDENTITY,
         }]
+    }
+
+    /// Bytes of the scene's decoded images, RGBA8 with their mip chains (what the texture
+    /// budget, [`SceneLimits::max_texture_bytes`](crate::scene::SceneLimits::max_texture_bytes), bounds).
+    pub fn texture_bytes(&self) -> u64 {
+        self.texture_bytes
+    }
+
+    /// Number of decoded images.
+    pub fn image_count(&self) -> usize {
+        self.images.len()
+    }
+
+    /// What loading changed to fit the limits (images downscaled to the texture budget).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Number of mesh entities [`spawn`](Self::spawn) creates.

@@ -324,14 +324,16 @@ impl SceneDesc {
         std::iter::once(&mut self.shadows).chain(own)
     }
 
-    /// Where the scene's files are read from, and the read limits: the
+    /// Where the scene's files are read from, and the read limits (with its texture budget): the
     /// [`asset_root`](SceneLimits::asset_root) of its [`limits`](Self::limits), or the default
     /// root for [`base_dir`](Self::base_dir).
     pub fn asset_io(&self) -> AssetIo {
-        match &self.limits.asset_root {
+        let mut io = match &self.limits.asset_root {
             Some(root) => AssetIo::with_root(root),
             None => AssetIo::for_dir(&self.base_dir),
-        }
+        };
+        io.max_texture_bytes = self.limits.max_texture_bytes;
+        io
     }
 
     /// Resolves a path written in the scene (a texture or model) against

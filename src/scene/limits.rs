@@ -1,7 +1,10 @@
 //! Budgets that bound what a scene file can make penumbra do: how many instances it may
-//! place, which folder its files must stay in, and how many problems an error message lists.
+//! place, which folder its files must stay in, how much memory its textures may take, and how
+//! many problems an error message lists.
 
 use std::path::PathBuf;
+
+use crate::asset_io::DEFAULT_MAX_TEXTURE_BYTES;
 
 /// The default of [`SceneLimits::max_instances`]: one million instances.
 ///
@@ -38,6 +41,10 @@ pub struct SceneLimits {
     /// must stay inside; None for the default: the nearest enclosing folder named `assets`,
     /// else the scene's folder (see [`AssetIo`](crate::asset_io::AssetIo)).
     pub asset_root: Option<PathBuf>,
+    /// Most bytes of all the scene's decoded images together (RGBA8 with their mip chains);
+    /// an image that would pass it is downscaled to fit, with a warning. Default
+    /// [`DEFAULT_MAX_TEXTURE_BYTES`].
+    pub max_texture_bytes: u64,
 }
 
 impl Default for SceneLimits {
@@ -45,6 +52,7 @@ impl Default for SceneLimits {
         SceneLimits {
             max_instances: DEFAULT_MAX_INSTANCES,
             asset_root: None,
+            max_texture_bytes: DEFAULT_MAX_TEXTURE_BYTES,
         }
     }
 }
