@@ -133,6 +133,19 @@ fn bad_light_fields_are_located() {
             "direction: (0, -1e-30, 0)",
             "expected a direction long enough to normalise (length at least 1e-22) for `lights[1].direction`, found (0, -1e-30, 0), length 1e-30",
         ),
+        // A light that casts shadows must reach past its shadow views' near plane: `render`
+        // could make no view.
+        (
+            "range: 5",
+            "range: 1e-30",
+            "expected a distance greater than 0.05 m (its shadow views' near plane) for a light that casts shadows, or `shadows_enabled: false` for `lights[2].range`, found 1e-30",
+        ),
+        // Numbers far from one are shown in scientific notation.
+        (
+            "radius: 0.1",
+            "radius: -3e38",
+            "expected an emitter radius ≥ 0 (metres) for `lights[1].radius`, found -3e38",
+        ),
     ];
     for (good, bad, expected) in cases {
         let text = SCENE.replace(good, bad);
@@ -151,6 +164,16 @@ fn bad_light_fields_are_located() {
         err.contains("`range`") && err.contains("found unknown field `reach`"),
         "{err}"
     );
+    // An unknown name, however long, is echoed cut to a bounded length.
+    let long = "A".repeat(100_000);
+    let err = SceneDesc::from_str(&SCENE.replace("Point(", &format!("{long}(")), "lights.ron")
+        .unwrap_err()
+        .to_string();
+    assert!(err.len() < 600, "{} bytes: {}", err.len(), &err[..600.min(err.len())]);
+    assert!(err.contains("... (99921 more characters)`"), "{err}");
+    // Unless the light casts no shadow, which needs no view.
+    let tiny = SCENE.replace("range: 5", "range: 0.01, shadows_enabled: false");
+    assert!(SceneDesc::from_str(&tiny, "lights.ron").is_ok());
     let err = SceneDesc::from_str(&SCENE.replace("Point(", "Area("), "lights.ron")
         .unwrap_err()
         .to_string();

@@ -392,7 +392,7 @@ pub fn update_frame_lights(
                 diagnostics.warn_about(
                     &point.entity.to_string(),
                     format!(
-                        "point light {} has range {}: no shadow view can be made",
+                        "point light {} has range {:?}: no shadow view can be made",
                         point.entity, point.light.range
                     ),
                 );
@@ -405,7 +405,7 @@ pub fn update_frame_lights(
             diagnostics.warn_about(
                 &spot.entity.to_string(),
                 format!(
-                    "spot light {} has range {}, outer angle {} rad: no shadow view can be made",
+                    "spot light {} has range {:?}, outer angle {:?} rad: no shadow view can be made",
                     spot.entity, spot.light.range, spot.light.outer_angle
                 ),
             );

@@ -9,6 +9,7 @@ use crate::diagnostic::{SourceLines, more_problems};
 use crate::scene::limits::MAX_LISTED_PROBLEMS;
 use crate::scene::locate::{Node, Pos, token_at, underline_lengths};
 use crate::scene::suggest::did_you_mean;
+use crate::text::echoed;
 
 /// Why a scene could not be loaded. Every message starts with the file name; parse and
 /// validation messages continue with `line:column:` and what was expected there, and end
@@ -140,7 +141,7 @@ pub(crate) fn parse_error(origin: &str, text: &str, err: &SpannedError) -> Scene
             // ron may point inside the token (after the sign of `-1`) or at the blank before
             // it: point at the token itself.
             pos = start;
-            format!("`{tok}`")
+            format!("`{}`", echoed(&tok))
         }
         None => "the end of the file".to_owned(),
     };
@@ -192,9 +193,10 @@ fn describe(code: &RonError, path: &str, found: &str) -> String {
         RonError::ExpectedMap => of("a map `{ \"name\": value, ... }`"),
         RonError::ExpectedMapColon => format!("expected `:` after the map key, found {found}"),
         RonError::ExpectedMapEnd => format!("expected `,` or `}}`, found {found}"),
-        RonError::ExpectedDifferentStructName { expected, found } => {
-            found_instead(&format!("`{expected}(...)` or `(...)`"), &format!("`{found}(...)`"))
-        }
+        RonError::ExpectedDifferentStructName { expected, found } => found_instead(
+            &format!("`{expected}(...)` or `(...)`"),
+            &format!("`{}(...)`", echoed(found)),
+        ),
         RonError::ExpectedStructLike => of("`(`"),
         RonError::ExpectedNamedStructLike("") => of("`(`"),
         RonError::ExpectedNamedStructLike(name) => of(&format!("`(` or `{name}(`")),
@@ -216,9 +218,10 @@ fn describe(code: &RonError, path: &str, found: &str) -> String {
         }
         RonError::UnclosedBlockComment => "expected `*/` closing a block comment, found the end of the file".to_owned(),
         RonError::NoSuchStructField { expected, found, outer } => format!(
-            "expected one of the fields {}{}, found unknown field `{found}`",
+            "expected one of the fields {}{}, found unknown field `{}`",
             names(expected),
             outer.as_deref().map(|o| format!(" of `{o}`")).unwrap_or_default(),
+            echoed(found),
         ),
         RonError::NoSuchEnumVariant { expected, found, outer } => {
             let what = match (path.is_empty(), outer) {
@@ -227,8 +230,9 @@ fn describe(code: &RonError, path: &str, found: &str) -> String {
                 (true, None) => String::new(),
             };
             format!(
-                "expected one of {}{what}, found unknown variant `{found}`",
-                names(expected)
+                "expected one of {}{what}, found unknown variant `{}`",
+                names(expected),
+                echoed(found)
             )
         }
         RonError::MissingStructField { field, outer } => format!(
@@ -240,9 +244,9 @@ fn describe(code: &RonError, path: &str, found: &str) -> String {
             }
         ),
         RonError::DuplicateStructField { field, .. } => {
-            format!("expected each field once, found `{field}` a second time")
+            format!("expected each field once, found `{}` a second time", echoed(field))
         }
-        RonError::InvalidValueForType { expected, found: what } => found_instead(expected, what),
+        RonError::InvalidValueForType { expected, found: what } => found_instead(expected, &echoed(what)),
         RonError::ExpectedDifferentLength { expected, found: n } => {
             let what = if *n == 1 {
                 "1 element".to_owned()

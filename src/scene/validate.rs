@@ -6,6 +6,7 @@ use std::path::Path;
 use glam::{UVec3, Vec3};
 
 use crate::asset_io::AssetIo;
+use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR};
 use crate::scene::desc::{
     AlphaMode, CameraDesc, GridDesc, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
 };
@@ -220,9 +221,9 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
             outer_angle,
             radius,
             shadows,
-            ..
+            shadows_enabled,
         } => {
-            check_positional(c, *position, *range, *radius, at);
+            check_positional(c, (*position, *range, *radius), *shadows_enabled, SPOT_NEAR, at);
             for p in shadows.iter().flat_map(ShadowSettings::problems) {
                 c.add(at.field("shadows").field(p.field), p.expected, p.found);
             }
@@ -250,9 +251,9 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
             range,
             radius,
             shadows,
-            ..
+            shadows_enabled,
         } => {
-            check_positional(c, *position, *range, *radius, at);
+            check_positional(c, (*position, *range, *radius), *shadows_enabled, POINT_NEAR, at);
             for p in shadows.iter().flat_map(ShadowSettings::problems) {
                 c.add(at.field("shadows").field(p.field), p.expected, p.found);
             }
@@ -271,13 +272,25 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
     }
 }
 
-/// The checks shared by spot and point lights: where they are and how far they reach.
-fn check_positional(c: &mut Checks, position: Vec3, range: f32, radius: f32, at: &FieldPath) {
+/// The checks shared by spot and point lights: where they are and how far they reach. A light
+/// that casts shadows must reach past its shadow views' `near` plane, or it could make none.
+fn check_positional(
+    c: &mut Checks,
+    (position, range, radius): (Vec3, f32, f32),
+    shadows_enabled: bool,
+    near: f32,
+    at: &FieldPath,
+) {
     if !position.is_finite() {
         c.add(at.field("position"), "a finite position", position.shown());
     }
     if !(range.is_finite() && range > 0.0) {
         c.add(at.field("range"), "a distance greater than 0 (metres)", range.shown());
+    } else if shadows_enabled && range <= near {
+        let expected = format!(
+            "a distance greater than {near} m (its shadow views' near plane) for a light that casts shadows, or `shadows_enabled: false`"
+        );
+        c.add(at.field("range"), expected, range.shown());
     }
     if !(radius.is_finite() && radius >= 0.0) {
         c.add(at.field("radius"), "an emitter radius ≥ 0 (metres)", radius.shown());

@@ -33,32 +33,64 @@ pub(crate) trait Shown {
     fn shown(&self) -> String;
 }
 
+/// A number as a message shows it: in decimal, except very small and very large magnitudes
+/// in scientific notation (`1e-30`, not thirty zeros).
+pub fn number(x: f32) -> String {
+    let m = x.abs();
+    if x.is_finite() && m != 0.0 && !(1e-4..1e9).contains(&m) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 impl Shown for f32 {
     fn shown(&self) -> String {
-        format!("{self}")
+        number(*self)
     }
 }
 
 impl Shown for Vec2 {
     fn shown(&self) -> String {
-        format!("({}, {})", self.x, self.y)
+        format!("({}, {})", number(self.x), number(self.y))
     }
 }
 
 impl Shown for Vec3 {
     fn shown(&self) -> String {
-        format!("({}, {}, {})", self.x, self.y, self.z)
+        format!("({}, {}, {})", number(self.x), number(self.y), number(self.z))
     }
 }
 
 impl Shown for Vec4 {
     fn shown(&self) -> String {
-        format!("({}, {}, {}, {})", self.x, self.y, self.z, self.w)
+        format!(
+            "({}, {}, {}, {})",
+            number(self.x),
+            number(self.y),
+            number(self.z),
+            number(self.w)
+        )
     }
 }
 
 impl Shown for UVec3 {
     fn shown(&self) -> String {
         format!("({}, {}, {})", self.x, self.y, self.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_far_from_one_are_shown_in_scientific_notation() {
+        assert_eq!(number(89.99), "89.99");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(1e-30), "1e-30");
+        assert_eq!(number(-3e38), "-3e38");
+        assert_eq!(number(f32::NAN), "NaN");
+        assert_eq!(Vec3::new(0.0, -1e-30, 2.5).shown(), "(0, -1e-30, 2.5)");
     }
 }
