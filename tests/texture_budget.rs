@@ -39,7 +39,7 @@ fn load(dir: &Path, max_texture_bytes: u64) -> Result<PreparedScene, String> {
         max_texture_bytes,
         ..SceneLimits::default()
     };
-    let desc = SceneDesc::load_with(&dir.join("scene.ron"), &limits).map_err(|e| e.to_string())?;
+    let desc = SceneDesc::load_with(dir.join("scene.ron"), &limits).map_err(|e| e.to_string())?;
     PreparedScene::new(&desc).map_err(|e| e.to_string())
 }
 
