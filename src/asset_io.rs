@@ -24,8 +24,10 @@ pub const DEFAULT_MAX_FILE_BYTES: u64 = 1 << 30;
 /// Default cap on one decoded image, in bytes of RGBA8 (256 MiB: 8192² pixels).
 pub const DEFAULT_MAX_IMAGE_BYTES: u64 = 256 << 20;
 /// Default budget of all a scene's decoded images together, in bytes of RGBA8 with their mip
-/// chains (512 MiB: one 8192² image and one 4096², or thirty-two 2048² ones).
-pub const DEFAULT_MAX_TEXTURE_BYTES: u64 = 512 << 20;
+/// chains (256 MiB: three 4096² images, or twelve 2048² ones). An 8192² image (341 MiB with
+/// its mips) needs a larger one: building its mips on the CPU briefly takes 16 bytes a texel,
+/// 1 GiB, which with the rest took a software-Vulkan render of two such images to 1.9 GiB.
+pub const DEFAULT_MAX_TEXTURE_BYTES: u64 = 256 << 20;
 
 /// Why an asset file could not be read. Messages leave out the reference itself: the
 /// caller's message names it (like ``image 0 (`leaf.png`): no file at …``).

@@ -126,9 +126,9 @@ struct RenderArgs {
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
     #[arg(long, default_value = "1")]
     msaa: Msaa,
-    /// Most MiB of the scene's decoded images together, with their mip chains (default 512):
-    /// an image that would pass it is downscaled to fit, with a warning.
-    #[arg(long, value_parser = mebibytes(), default_value = "512")]
+    /// Most MiB of the scene's decoded images together, with their mip chains: an image that
+    /// would pass it is downscaled to fit, with a warning.
+    #[arg(long, value_parser = mebibytes(), default_value = "256")]
     texture_budget: u64,
     /// Most MiB of shadow maps, their moments and blur scratch (default: 2048 on a discrete
     /// GPU, 512 on software Vulkan, 1024 otherwise): the lights smallest on screen are
@@ -166,7 +166,7 @@ enum Command {
         max_instances: u64,
         /// Most MiB of a scene's decoded images together, with their mip chains: an image that
         /// would pass it is downscaled to fit, with a warning.
-        #[arg(long, value_parser = mebibytes(), default_value = "512")]
+        #[arg(long, value_parser = mebibytes(), default_value = "256")]
         texture_budget: u64,
         /// Most MiB of shadow maps, their moments and blur scratch (default 2048, a discrete
         /// GPU's; software Vulkan's is 512): lights smallest on screen are lowered to fit.

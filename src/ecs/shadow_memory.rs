@@ -162,7 +162,7 @@ fn kind_word(kind: LightKind) -> &'static str {
 pub struct MemoryScratch {
     requests: Vec<LightRequest>,
     entities: Vec<Entity>,
-    last: Option<(Vec<LightRequest>, Vec<Entity>, ShadowMemoryBudget)>,
+    last: Option<(Vec<LightRequest>, Vec<Entity>, ShadowMemoryBudget, BudgetFit)>,
     fit: BudgetFit,
 }
 
@@ -226,13 +226,27 @@ pub fn apply_memory_budget(
         scratch.requests.push(request);
         scratch.entities.push(entity);
     }
-    let same = scratch
-        .last
-        .as_ref()
-        .is_some_and(|(r, e, b)| *r == scratch.requests && *e == scratch.entities && b == budget);
+    fit_budget_into(&scratch.requests, &budget.costs, budget.bytes, &mut scratch.fit);
+    // NOTE: a moving light changes its screen coverage every frame; the account only changes
+    // when what was asked or given does, so a moving frame allocates nothing either.
+    let same = scratch.last.as_ref().is_some_and(|(r, e, b, fit)| {
+        let asked = |a: &LightRequest, b: &LightRequest| {
+            LightRequest { coverage: 0.0, ..*a } == LightRequest { coverage: 0.0, ..*b }
+        };
+        r.len() == scratch.requests.len()
+            && r.iter().zip(&scratch.requests).all(|(a, b)| asked(a, b))
+            && *e == scratch.entities
+            && b == budget
+            && *fit == scratch.fit
+    });
     let account = (!same).then(|| {
-        fit_budget_into(&scratch.requests, &budget.costs, budget.bytes, &mut scratch.fit);
-        scratch.last = Some((scratch.requests.clone(), scratch.entities.clone(), *budget));
+        let last = (
+            scratch.requests.clone(),
+            scratch.entities.clone(),
+            *budget,
+            scratch.fit.clone(),
+        );
+        scratch.last = Some(last);
         account(&scratch.requests, &scratch.entities, budget, &scratch.fit, name_of)
     });
     let spots_end = lights.suns.len() + lights.spots.len();
