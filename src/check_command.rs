@@ -7,8 +7,9 @@ use std::path::PathBuf;
 
 use penumbra::app::{PreparedScene, SpawnError, shadow_memory_of};
 use penumbra::diagnostic::{ErrorStyle, render_error};
-use penumbra::ecs::shadow_memory::{ShadowMemoryBudget, format_bytes};
+use penumbra::ecs::shadow_memory::ShadowMemoryBudget;
 use penumbra::scene::{SceneDesc, SceneLimits};
+use penumbra::text::format_bytes;
 
 /// The view `check` fits the shadow memory for: `render`'s default image size.
 const CHECK_VIEW: (u32, u32) = (1280, 720);

@@ -28,6 +28,7 @@ use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+use penumbra::text::format_bytes;
 
 #[derive(Parser)]
 #[command(name = "penumbra", version, about = "Cascaded soft shadows, rendered and measured")]
@@ -335,9 +336,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         String::new()
     };
     println!(
-        "shadows    {} shadow views{cascades}, {:.1} MiB",
+        "shadows    {} shadow views{cascades}, {}",
         result.stats.casters_per_view.len(),
-        result.report.shadow_memory as f64 / (1024.0 * 1024.0)
+        format_bytes(result.report.shadow_memory)
     );
     for (i, line) in result.memory.lines().iter().enumerate() {
         println!("{} {line}", if i == 0 { "memory    " } else { "          " });

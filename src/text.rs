@@ -1,7 +1,18 @@
-//! Bounding user text echoed in messages: a name, a token or a value written by a user is
-//! cut to a fixed number of characters, so a 100,000-character input cannot flood a log.
+//! Text in messages: user text echoed in them (a name, a token or a value written by a user)
+//! cut to a fixed number of characters, so a 100,000-character input cannot flood a log; and
+//! byte counts in MiB.
 
 use std::borrow::Cow;
+
+/// `bytes` in MiB with one decimal (KiB for less than a tenth of a MiB).
+pub fn format_bytes(bytes: u64) -> String {
+    const MIB: f64 = (1 << 20) as f64;
+    if bytes > 0 && (bytes as f64) < MIB / 10.0 {
+        format!("{:.1} KiB", bytes as f64 / 1024.0)
+    } else {
+        format!("{:.1} MiB", bytes as f64 / MIB)
+    }
+}
 
 /// Most characters of user text a message echoes.
 pub const MAX_ECHOED_CHARS: usize = 80;
@@ -41,5 +52,8 @@ mod tests {
         // Multi-byte characters are cut on their boundaries.
         assert_eq!(bounded("ééééé", 3), "éé... (3 more characters)");
         assert_eq!(bounded("", 0), "");
+        assert_eq!(format_bytes(0), "0.0 MiB");
+        assert_eq!(format_bytes(3 << 19), "1.5 MiB");
+        assert_eq!(format_bytes(2048), "2.0 KiB");
     }
 }

@@ -99,20 +99,18 @@ const SETTINGS: &[(&str, &[&str], usize)] = &[
     ("moment_contact_hardening", &["true", "false"], 2),
 ];
 
-/// xorshift64* (Vigna 2016), and whether this scene draws valid values only (so that long
-/// light lists load too).
-struct Rng(u64, bool);
+#[path = "common/xorshift.rs"]
+mod xorshift;
+
+use xorshift::Xorshift;
+
+/// The generator, and whether this scene draws valid values only (so that long light lists
+/// load too).
+struct Rng(Xorshift, bool);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
     fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
+        self.0.below(n)
     }
 
     /// An entry of `list`: one of the first `valid` (valid) entries seven times in eight.
@@ -256,7 +254,7 @@ fn judge(text: &str) -> Result<Option<usize>, String> {
 
 #[test]
 fn light_list_mutants_load_as_check_says_and_fit_the_memory_budget() {
-    let mut rng = Rng(0x11_6475, false);
+    let mut rng = Rng(Xorshift(0x11_6475), false);
     let (mut mutants, mut loaded, mut with_lights, mut lights_loaded) = (0usize, 0usize, 0usize, 0usize);
     let start = Instant::now();
     while mutants < FLOOR || start.elapsed() < BUDGET {

@@ -81,22 +81,10 @@ const NUMBERS: &[&str] = &[
     "1_",
 ];
 
-/// xorshift64* (Vigna 2016): a few lines, deterministic, good enough to pick mutations.
-struct Rng(u64);
+#[path = "common/xorshift.rs"]
+mod xorshift;
 
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// Uniform-ish in `0..n` (`0` when `n == 0`).
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+use xorshift::Xorshift as Rng;
 
 /// One random mutation of `bytes` (a few of them at times); `pool` supplies splices.
 fn mutate(rng: &mut Rng, bytes: &[u8], pool: &[Vec<u8>]) -> Vec<u8> {

@@ -13,7 +13,7 @@ use image::{ImageReader, RgbaImage};
 
 use crate::asset_io::{AssetError, AssetIo};
 use crate::ecs::assets::ImageData;
-use crate::text::echoed;
+use crate::text::{echoed, format_bytes};
 
 /// Most notes kept; later ones are counted in the last.
 const MAX_NOTES: usize = 16;
@@ -52,11 +52,6 @@ fn fitted_size(width: u32, height: u32, room: u64) -> Option<(u32, u32)> {
     Some((w, h))
 }
 
-/// `bytes` in MiB with one decimal.
-fn mib(bytes: u64) -> String {
-    format!("{:.1} MiB", bytes as f64 / (1 << 20) as f64)
-}
-
 impl AssetIo {
     /// Decodes image bytes to RGBA8 under the image limits and the texture budget (halving an
     /// image that would pass the budget, with a note). `what` names the image in errors.
@@ -87,8 +82,8 @@ impl AssetIo {
         let Some((fw, fh)) = fitted_size(width, height, room) else {
             return Err(image_error(format!(
                 "the scene's textures already take {} of the {} texture budget, and not even 1×1 texels fit (raise the budget with --texture-budget)",
-                mib(used),
-                mib(self.max_texture_bytes)
+                format_bytes(used),
+                format_bytes(self.max_texture_bytes)
             )));
         };
         let mut reader = ImageReader::new(Cursor::new(bytes))
@@ -101,8 +96,8 @@ impl AssetIo {
             self.note(format!(
                 "{} downscaled from {width}×{height} to {fw}×{fh}: at full size the scene's textures would take {} with their mips, over the {} texture budget (raise it with --texture-budget)",
                 echoed(what),
-                mib(used + mip_chain_bytes(width, height)),
-                mib(self.max_texture_bytes)
+                format_bytes(used + mip_chain_bytes(width, height)),
+                format_bytes(self.max_texture_bytes)
             ));
         }
         self.tally.used.fetch_add(mip_chain_bytes(fw, fh), Ordering::Relaxed);

@@ -422,13 +422,11 @@ fn report_over_budget(
     diagnostics: &mut ShadowDiagnostics,
 ) {
     for &(kind, id) in &choice.dropped {
-        let (what, entity) = match kind {
-            LightKind::Directional => ("directional", lights.suns[id].entity),
-            LightKind::Spot => ("spot", lights.spots[id - lights.suns.len()].entity),
-            LightKind::Point => (
-                "point",
-                lights.points[id - lights.suns.len() - lights.spots.len()].entity,
-            ),
+        let what = kind.word();
+        let entity = match kind {
+            LightKind::Directional => lights.suns[id].entity,
+            LightKind::Spot => lights.spots[id - lights.suns.len()].entity,
+            LightKind::Point => lights.points[id - lights.suns.len() - lights.spots.len()].entity,
         };
         let order = match kind {
             LightKind::Directional => "it comes later in the scene",

@@ -14,12 +14,14 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
 
 use crate::ecs::frame_lights::FrameLights;
+use crate::math::evsm::MomentPrecision;
 use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
 use crate::math::shadow_memory::{
     BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
     fit_budget_into, storage_index,
 };
-use crate::settings::{MomentFormat, ShadowMode, ShadowSettings};
+use crate::settings::{ShadowMode, ShadowSettings};
+use crate::text::format_bytes;
 
 /// Bytes in a mebibyte.
 pub const MIB: u64 = 1 << 20;
@@ -138,24 +140,6 @@ impl ShadowMemory {
     }
 }
 
-/// `bytes` in MiB with one decimal (or KiB for less than a tenth of a MiB).
-pub fn format_bytes(bytes: u64) -> String {
-    if bytes < MIB / 10 && bytes > 0 {
-        format!("{:.1} KiB", bytes as f64 / 1024.0)
-    } else {
-        format!("{:.1} MiB", bytes as f64 / MIB as f64)
-    }
-}
-
-/// The word a message uses for `kind`.
-fn kind_word(kind: LightKind) -> &'static str {
-    match kind {
-        LightKind::Directional => "directional",
-        LightKind::Spot => "spot",
-        LightKind::Point => "point",
-    }
-}
-
 /// Reused buffers of [`apply_memory_budget`], and what it fitted last (an unchanged frame
 /// reuses the fit and allocates nothing).
 #[derive(Default)]
@@ -171,7 +155,7 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
     match (kind, s.mode) {
         (LightKind::Directional, ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm) => MomentUse::Sun {
             msm: s.mode == ShadowMode::Msm,
-            fp32: s.moment_precision != MomentFormat::Fp16 && fp32_filterable,
+            fp32: s.moment_precision.resolve(fp32_filterable) == MomentPrecision::Fp32,
             blur: !s.moment_contact_hardening && s.moment_blur > 0.0,
             hardening: s.moment_contact_hardening,
         },
@@ -285,7 +269,7 @@ fn account(
         .zip(&fit.resolutions)
         .map(|((r, &entity), &granted)| {
             let named = name_of(entity).unwrap_or_else(|| entity.to_string());
-            let name = format!("{} light {named}", kind_word(r.kind));
+            let name = format!("{} light {named}", r.kind.word());
             let per_layer = fit.storages[storage_index(r.kind)].per_layer();
             LightMemory {
                 entity,

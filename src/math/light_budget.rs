@@ -40,6 +40,17 @@ pub struct ShadowBudget {
     pub point: usize,
 }
 
+impl LightKind {
+    /// The word messages use for the kind: `directional`, `spot` or `point`.
+    pub fn word(self) -> &'static str {
+        match self {
+            LightKind::Directional => "directional",
+            LightKind::Spot => "spot",
+            LightKind::Point => "point",
+        }
+    }
+}
+
 impl ShadowBudget {
     /// The budget for `kind`.
     pub fn of(&self, kind: LightKind) -> usize {

@@ -24,8 +24,8 @@ pub const DEPTH_TEXEL_BYTES: u64 = 4;
 /// widest penumbra filter (`MAX_PENUMBRA_TEXELS` = 32 texels of radius in the shaders).
 pub const MOMENT_MIPS: u32 = 7;
 
-/// The smallest side the budget lowers a light to (the smallest resolution a scene may ask
-/// for); a light that asks for less keeps what it asks for.
+/// The smallest side the budget lowers a light to (also the smallest resolution a scene may
+/// ask for, `settings::MIN_RESOLUTION`); a light that asks for less keeps what it asks for.
 pub const MIN_BUDGET_RESOLUTION: u32 = 256;
 
 /// What the device can store moments in: 32-bit floats it filters (`FLOAT32_FILTERABLE`),

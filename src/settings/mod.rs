@@ -6,12 +6,13 @@ use bevy_ecs::component::Component;
 use serde::{Deserialize, Serialize};
 
 use crate::math::evsm::MomentPrecision;
+use crate::math::shadow_memory::MIN_BUDGET_RESOLUTION;
 
 /// The most cascades a directional light can have.
 pub const MAX_CASCADES: usize = 4;
 /// Smallest shadow-map resolution accepted (texels per side): 256, the seed's point-light
-/// face size.
-pub const MIN_RESOLUTION: u32 = 256;
+/// face size, and the smallest the shadow-memory budget lowers a light to.
+pub const MIN_RESOLUTION: u32 = MIN_BUDGET_RESOLUTION;
 /// Largest shadow-map resolution accepted (texels per side).
 pub const MAX_RESOLUTION: u32 = 4096;
 /// Largest PCF kernel radius: 5 gives an 11×11 grid.
