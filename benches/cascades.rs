@@ -14,8 +14,9 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::{Mat4, Quat, Vec3};
 use penumbra::ecs::culling::cull_view;
 use penumbra::ecs::frame_lights::update_frame_lights;
-use penumbra::ecs::shadow_views::{ShadowLightBudget, update_shadow_views};
+use penumbra::ecs::shadow_views::update_shadow_views;
 use penumbra::ecs::view::update_active_view;
+use penumbra::ecs::view_list::ShadowLightBudget;
 use penumbra::ecs::{
     Camera3d, DirectionalLight, GlobalTransform, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, PointLight,
     ShadowPlugin, ShadowViews, SpotLight, Transform,

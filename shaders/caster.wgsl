@@ -7,6 +7,7 @@
 // the draw list holds each caster once, its entry packing the instance index with the mask
 // of cascades it touches (`penumbra::ecs::single_pass`), and an instance outside the view
 // being rasterised is moved off screen, so each cascade still draws only its own casters.
+#import penumbra::contract::CASCADE_MASK_SHIFT
 #import penumbra::mesh::{instances, draw_indices}
 
 struct CasterView {
@@ -24,8 +25,6 @@ struct CasterViewEntry {
 // Bound with a dynamic offset at the run's first view; view `i` of the pass is entry `i`.
 @group(0) @binding(0) var<uniform> caster_views: array<CasterViewEntry, 4>;
 
-// Bits of a single-pass entry below the cascade mask.
-const CASCADE_MASK_SHIFT: u32 = 28u;
 #else
 // Bound with a dynamic offset: one entry per shadow view.
 @group(0) @binding(0) var<uniform> caster_view: CasterView;

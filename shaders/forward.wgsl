@@ -7,6 +7,9 @@
 // ANALYSIS_OUTPUTS (also write the focus light's shadow factor, world position and normal of
 // every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
 // point-light shadows) and the filter defs of penumbra::shadows.
+#import penumbra::contract::{
+    INSTANCE_FLAG_RECEIVE_SHADOWS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS,
+}
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
@@ -14,7 +17,6 @@
 #ifdef MANY_LIGHTS
 #import penumbra::shadows::bindings::more_lights
 #endif
-#import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
 #ifdef SHADOW_POINT
 #import penumbra::shadows::point::{point_debug_color, point_face}
@@ -22,7 +24,7 @@
 #ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_covers
 #endif
-#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS}
+#import penumbra::shadows::types::{Light, Surface}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;

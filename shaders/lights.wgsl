@@ -19,6 +19,7 @@
 // casts, SHADOW_POINT when a point light does, the PCSS defs when a light filters with PCSS); a material only forwards them.
 #define_import_path penumbra::lights
 
+#import penumbra::contract::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE}
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::{lights, resolved_visibility}
 #ifdef MANY_LIGHTS
@@ -31,7 +32,7 @@
 #ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_visibility
 #endif
-#import penumbra::shadows::types::{Light, Surface, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE}
+#import penumbra::shadows::types::{Light, Surface}
 
 // Light arriving at a surface point from one light.
 struct Incidence {

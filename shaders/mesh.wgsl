@@ -18,8 +18,6 @@ struct Instance {
     padding: u32,
 }
 
-const INSTANCE_FLAG_RECEIVE_SHADOWS: u32 = 1u;
-
 @group(1) @binding(0) var<storage, read> instances: array<Instance>;
 @group(1) @binding(1) var<storage, read> draw_indices: array<u32>;
 

@@ -5,8 +5,8 @@
 // fragment stage; the masked one discards texels below the material's alpha cutoff. When the
 // frame resolves shadows in a compute pass, the `*_normal` stages also write each pixel's
 // normal (facing the camera) and whether it receives shadows, for the resolve.
+#import penumbra::contract::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
-#import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
 #import penumbra::normal_packing::pack_normal
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;

@@ -10,6 +10,7 @@
 // surface's plane to the pixel centre, where the lighting pass shades: a pixel covered by one
 // surface resolves what the lighting pass would filter. A lighting-pass fragment on an edge
 // pixel whose sample 0 saw another surface reads that surface's shadow.
+#import penumbra::contract::{MAX_LIGHTS, RESOLVE_NONE}
 #import penumbra::frame::frame
 #import penumbra::lights::{filtered_visibility, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::{packed_transmits, unpack_normal}
@@ -17,7 +18,7 @@
 #ifdef MANY_LIGHTS
 #import penumbra::shadows::bindings::more_lights
 #endif
-#import penumbra::shadows::types::{Light, Surface, MAX_LIGHTS, RESOLVE_NONE}
+#import penumbra::shadows::types::{Light, Surface}
 
 #ifdef MULTISAMPLED
 @group(1) @binding(0) var camera_depth: texture_depth_multisampled_2d;

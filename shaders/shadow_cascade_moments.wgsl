@@ -16,12 +16,9 @@
 // Shader defs: MOMENTS_RGBA32 (the moments are `rgba32float`), MOMENTS_RGBA16_UNORM
 // (`rgba16unorm`: MSM only), else `rgba16float`.
 
+#import penumbra::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4}
 #import penumbra::shadows::moments::{negative_warp, positive_warp}
 #import penumbra::shadows::msm::{msm_moments, msm_quantize}
-
-// `CascadeMomentsJob::technique` (the `SHADOW_FILTER_*` codes of the light).
-const TECHNIQUE_EVSM2: u32 = 3u;
-const TECHNIQUE_EVSM4: u32 = 4u;
 
 struct CascadeMomentsJob {
     // The cascade's layer in the source (depth, moments or scratch) and the destination.
@@ -59,12 +56,12 @@ struct CascadeMomentsJob {
 // The moments of one texel at depth `d` (0 at the light's side); `occupied`: a caster was
 // drawn there.
 fn texel_moments(d: f32, occupied: bool) -> vec4<f32> {
-    if job.technique == TECHNIQUE_EVSM2 {
+    if job.technique == SHADOW_FILTER_EVSM2 {
         let o = select(0.0, 1.0, occupied);
         let w = positive_warp(d, job.c_positive);
         return vec4<f32>(o * w, o * w * w, o, 0.0);
     }
-    if job.technique == TECHNIQUE_EVSM4 {
+    if job.technique == SHADOW_FILTER_EVSM4 {
         let p = positive_warp(d, job.c_positive);
         let n = negative_warp(d, job.c_negative);
         return vec4<f32>(p, p * p, n, n * n);
@@ -109,7 +106,7 @@ fn store_moments(texel: vec2<u32>, layer: u32, m: vec4<f32>) {
     textureStore(moments_out, texel, layer, m);
 #else
     var out = m;
-    if job.variance_down != 0u && (job.technique == TECHNIQUE_EVSM2 || job.technique == TECHNIQUE_EVSM4) {
+    if job.variance_down != 0u && (job.technique == SHADOW_FILTER_EVSM2 || job.technique == SHADOW_FILTER_EVSM4) {
         out = vec4<f32>(half_moments_rounded_down(m.xy), half_moments_rounded_down(m.zw));
     }
     textureStore(moments_out, texel, layer, out);

@@ -45,6 +45,7 @@ pub mod ecs;
 pub mod export;
 #[cfg(feature = "gltf")]
 pub mod gltf;
+pub mod layout;
 pub mod math;
 pub mod mesh;
 pub mod prelude;

@@ -8,7 +8,7 @@ mod common;
 use bevy_app::App;
 use bevy_ecs::query::Without;
 use common::still_scene;
-use penumbra::ecs::shadow_views::POINT_NEAR;
+use penumbra::ecs::view_list::POINT_NEAR;
 use penumbra::ecs::{FrameLights, GlobalTransform, Mesh3d, Meshes, NotShadowCaster, ShadowStorage};
 use penumbra::mesh::MeshData;
 use penumbra::render::shadows::standalone::{ShadowCaster, StandaloneShadows, read_depth_layer};

@@ -9,18 +9,23 @@
 // such a light is filtered with PCF.
 #define_import_path penumbra::shadows::cascades
 
+#import penumbra::contract::{
+    MAX_PENUMBRA_TEXELS, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM,
+    SHADOW_FILTER_PCSS, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
+}
 #import penumbra::shadows::bindings::{cascade_maps, cascade_moments, moments_sampler, shadow_views}
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row,
-    normal_offset_metres, poisson_rotation,
+    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row, normal_offset_metres,
+    poisson_rotation,
 }
-#import penumbra::shadows::filters::{MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter, search_settled}
-#import penumbra::shadows::moments::{evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding}
+#import penumbra::shadows::filters::{
+    MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter, search_settled,
+}
+#import penumbra::shadows::moments::{
+    evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding,
+}
 #import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
-#import penumbra::shadows::types::{
-    Light, ShadowView, Surface, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM, SHADOW_FILTER_PCSS,
-    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
-}
+#import penumbra::shadows::types::{Light, ShadowView, Surface}
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
 struct CascadeSelection {

@@ -6,13 +6,10 @@
 //   PCSS_FILTER_SAMPLES (16|25|49)  filter taps
 #define_import_path penumbra::shadows::common
 
+#import penumbra::contract::SHADOW_FLAG_TEMPORAL
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::poisson_taps
-#import penumbra::shadows::types::SHADOW_FLAG_TEMPORAL
 
-// Largest PCSS kernel radius, in texels: bounds the cost where layered casters make the
-// average blocker depth far from the receiver.
-const MAX_PENUMBRA_TEXELS: f32 = 32.0;
 // Steepest receiver slope (world depth change per metre sideways) the receiver-plane bias
 // follows; steeper surfaces are treated as this slope, which keeps the bias finite at grazing
 // angles.

@@ -6,9 +6,11 @@
 // The PCSS sample counts are the shader defs of penumbra::shadows::common.
 #define_import_path penumbra::shadows::filters
 
+#import penumbra::contract::SHADOW_FLAG_BLOCKER_EARLY_OUT
 #import penumbra::shadows::bindings::{shadow_compare, shadow_point}
-#import penumbra::shadows::common::{RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap, sixteen_tap}
-#import penumbra::shadows::types::SHADOW_FLAG_BLOCKER_EARLY_OUT
+#import penumbra::shadows::common::{
+    RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap, sixteen_tap,
+}
 
 // A receiver projected into one shadow view, in the UV space of the view's layer.
 struct MapSample {

@@ -18,19 +18,20 @@
 // filtered with PCF.
 #define_import_path penumbra::shadows::point
 
+#import penumbra::contract::{
+    MAX_PENUMBRA_TEXELS, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
+    SHADOW_FLAG_RECEIVER_PLANE,
+}
 #import penumbra::shadows::bindings::{
     moments_sampler, point_maps, point_moments, shadow_compare, shadow_point, shadow_views,
 }
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
+    MAX_FILTER_STEP_METRES, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
     normal_offset_metres, poisson_rotation, sixteen_tap,
 }
 #import penumbra::shadows::filters::search_settled
 #import penumbra::shadows::moments::vsm_covered_visibility
-#import penumbra::shadows::types::{
-    Light, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
-    SHADOW_FLAG_RECEIVER_PLANE,
-}
+#import penumbra::shadows::types::{Light, Surface}
 
 // A receiver seen from a point light.
 struct PointSample {

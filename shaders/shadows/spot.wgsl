@@ -13,19 +13,20 @@
 // filtered with PCF.
 #define_import_path penumbra::shadows::spot
 
+#import penumbra::contract::{
+    MAX_PENUMBRA_TEXELS, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
+    SHADOW_FLAG_RECEIVER_PLANE,
+}
 #import penumbra::shadows::bindings::{moments_sampler, shadow_views, spot_maps, spot_moments}
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, MAX_PENUMBRA_TEXELS, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
+    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
     poisson_rotation, sixteen_tap,
 }
 #import penumbra::shadows::filters::{
     MapSample, compare_tap, find_blockers, pcf_poisson, pcss_filter, search_settled,
 }
 #import penumbra::shadows::moments::vsm_covered_visibility
-#import penumbra::shadows::types::{
-    Light, ShadowView, Surface, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_MOMENT_HARDENING,
-    SHADOW_FLAG_RECEIVER_PLANE,
-}
+#import penumbra::shadows::types::{Light, ShadowView, Surface}
 
 // A receiver projected into a spot light's view.
 struct SpotSample {

@@ -1,35 +1,10 @@
 // Data the shadow library reads: the lights of the frame, the shadow views they render, and
 // the Poisson tap patterns. The Rust mirrors are in `render::shadows::gpu` and
-// `render::gpu_types`; a test compares both layouts field by field, and another the constants
-// below, so neither side counts offsets or flag bits by hand.
+// `render::gpu_types`; a test compares both layouts field by field, and the constants come from
+// the generated `penumbra::contract`, so neither side counts offsets or flag bits by hand.
 #define_import_path penumbra::shadows::types
 
-// `Light::kind`.
-const LIGHT_DIRECTIONAL: u32 = 0u;
-const LIGHT_SPOT: u32 = 1u;
-const LIGHT_POINT: u32 = 2u;
-
-// `Light::shadow_filter`: how a light's shadow map is filtered.
-const SHADOW_FILTER_PCF: u32 = 0u;
-const SHADOW_FILTER_PCSS: u32 = 1u;
-const SHADOW_FILTER_VSM: u32 = 2u;
-const SHADOW_FILTER_EVSM2: u32 = 3u;
-const SHADOW_FILTER_EVSM4: u32 = 4u;
-const SHADOW_FILTER_MSM: u32 = 5u;
-
-// `Light::resolve_layer` of a light without a resolved visibility layer.
-const RESOLVE_NONE: u32 = 0xffffffffu;
-// Lights in the uniform list (`bindings::lights`); the rest are in `bindings::more_lights`.
-const MAX_LIGHTS: u32 = 256u;
-// Capacity of the shadow-view list (a uniform array: the constant cache makes the per-pixel
-// reads cheap). The renderer reports an error for views past it.
-const MAX_SHADOW_VIEWS: u32 = 256u;
-
-// Flag bits of `Light::flags`.
-const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2u;
-const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4u;
-const SHADOW_FLAG_TEMPORAL: u32 = 8u;
-const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16u;
+#import penumbra::contract::{MAX_LIGHTS, MAX_SHADOW_VIEWS}
 
 // One light of the frame (112 bytes). Positions are relative to the render origin.
 struct Light {

@@ -6,7 +6,7 @@ use bevy_ecs::world::World;
 use bevy_transform::components::Transform;
 use glam::Vec3;
 
-use crate::app::spawn::SceneEntity;
+use crate::app::scene_entity::SceneEntity;
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::scene::{LightDesc, SceneDesc, SunDesc};

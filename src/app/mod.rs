@@ -2,6 +2,7 @@
 //! app that renders scenes to images.
 
 mod lights;
+mod scene_entity;
 mod spawn;
 
 pub use spawn::{PreparedScene, SceneEntity, SpawnError, despawn_scene, spawn_scene};

@@ -8,7 +8,6 @@ use std::f32::consts::PI;
 use std::path::Path;
 
 use bevy_ecs::bundle::{Bundle, NoBundleEffect};
-use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::query::With;
 use bevy_ecs::world::World;
@@ -17,6 +16,7 @@ use glam::Mat4;
 use thiserror::Error;
 
 use crate::app::lights::{LightPlan, light_plans, spawn_lights};
+pub use crate::app::scene_entity::SceneEntity;
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
@@ -73,10 +73,6 @@ impl SpawnError {
         }
     }
 }
-
-/// Marks every entity [`spawn_scene`] creates, so [`despawn_scene`] can remove them.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SceneEntity;
 
 /// One mesh entity to spawn: indices into the prepared meshes and materials.
 #[derive(Clone, Debug)]

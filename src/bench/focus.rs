@@ -9,7 +9,7 @@ use bevy_ecs::entity::Entity;
 use glam::Vec3;
 
 use crate::analysis::results::ScoredLight;
-use crate::ecs::frame_lights::{FrameLights, PointLightView, SpotLightView};
+use crate::ecs::light_views::{FrameLights, PointLightView, SpotLightView};
 use crate::math::light_budget::LightKind;
 use crate::reference::{
     ReferencePoint, ReferenceScene, ReferenceSettings, SphereLight, SunDisc, Visibility, sphere_light_visibility,
@@ -207,7 +207,7 @@ mod tests {
 
     use super::*;
     use crate::ecs::components::DirectionalLight;
-    use crate::ecs::frame_lights::SunView;
+    use crate::ecs::light_views::SunView;
     use crate::ecs::lights::{PointLight, SpotLight};
     use crate::math::cascades::CascadeSet;
     use crate::math::point::point_view;

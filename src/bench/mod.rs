@@ -3,6 +3,7 @@
 //! [`focus`]) and measures its cost, then writes a Markdown report and a plot of GPU time
 //! against error; with `--gallery`, pictures of every preset beside the truth ([`gallery`]).
 
+pub mod config;
 pub mod focus;
 pub mod gallery;
 pub mod presets;

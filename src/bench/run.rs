@@ -2,71 +2,22 @@
 //! light ([`score`](crate::bench::score): error against the ray-traced
 //! reference and temporal stability), then their GPU and CPU cost at the timing resolution.
 
-use std::path::{Path, PathBuf};
-
-use thiserror::Error;
+use std::path::Path;
 
 use crate::analysis::results::{BenchReport, GpuTimes, PresetResult, SceneResult, ScoredLight};
-use crate::app::SpawnError;
+use crate::bench::config::short;
+pub use crate::bench::config::{BenchConfig, BenchError};
 use crate::bench::gallery::SceneShots;
-use crate::bench::presets::Preset;
 use crate::bench::progress::{Progress, total_units};
 pub use crate::bench::score::{Points, evaluated_points};
 use crate::bench::score::{SceneScores, score_scene};
 use crate::bench::session::SceneSession;
 use crate::reference::ReferenceSettings;
-use crate::render::frame::FrameInputs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::timer::median;
-use crate::render::{FrameReport, GpuError, Msaa, RenderOptions, Renderer};
-use crate::scene::{SceneDesc, SceneError};
+use crate::render::{FrameReport, Msaa, RenderOptions, Renderer};
+use crate::scene::SceneDesc;
 use crate::settings::{CascadeFit, ShadowSettings};
-
-/// Anything that stops a benchmark.
-#[derive(Debug, Error)]
-#[non_exhaustive]
-pub enum BenchError {
-    /// A scene file is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// A scene could not be spawned.
-    #[error(transparent)]
-    Spawn(#[from] SpawnError),
-    /// No GPU.
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    /// A scene has no light to score: neither a directional light nor a shadowed spot light.
-    #[error("{0}: the benchmark needs a directional light, or a shadowed spot light and no directional light")]
-    NoLight(String),
-}
-
-/// What to measure.
-#[derive(Clone, Debug)]
-pub struct BenchConfig {
-    /// Scene files.
-    pub scenes: Vec<PathBuf>,
-    /// Presets to score.
-    pub presets: Vec<Preset>,
-    /// Resolution of the GPU timings.
-    pub width: u32,
-    /// Resolution of the GPU timings.
-    pub height: u32,
-    /// Resolution at which errors are scored against the reference.
-    pub analysis_width: u32,
-    /// Resolution at which errors are scored against the reference.
-    pub analysis_height: u32,
-    /// Frames timed per preset (after `warmup_frames`).
-    pub timing_frames: u32,
-    /// Frames rendered before timing.
-    pub warmup_frames: u32,
-    /// Reference ray budget.
-    pub reference: ReferenceSettings,
-    /// Camera poses per stability path.
-    pub shimmer_steps: u32,
-    /// Most world points followed for stability.
-    pub max_probes: usize,
-    /// Show progress bars.
-    pub progress: bool,
-}
 
 /// One preset's cost on one scene: GPU times, CPU ms per frame, and the last frame's report.
 type Timing = (GpuTimes, f64, FrameReport);
@@ -135,11 +86,6 @@ fn time_scene(
     }
     progress.finish_and_clear();
     Ok(out)
-}
-
-pub(crate) fn short(path: &Path) -> String {
-    path.file_stem()
-        .map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().to_string())
 }
 
 /// Settings forced onto every scene before the presets apply (for tuning sweeps).

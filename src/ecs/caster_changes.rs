@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
 
-use crate::ecs::instances::DrawKey;
+use crate::ecs::draw_groups::DrawKey;
 use crate::math::aabb::Aabb;
 
 /// The caster changes of the latest rebuild of [`RenderInstances`](crate::ecs::instances::RenderInstances).

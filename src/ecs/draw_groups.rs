@@ -5,7 +5,20 @@
 use bevy_ecs::resource::Resource;
 
 use crate::ecs::assets::{MaterialHandle, MeshHandle};
-use crate::ecs::instances::DrawKey;
+
+/// Draw order key: opaque before masked, single-sided before double-sided, then by mesh and
+/// material, so every run of equal keys is one instanced draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct DrawKey {
+    /// Alpha-masked material.
+    pub masked: bool,
+    /// Double-sided material (drawn without back-face culling).
+    pub double_sided: bool,
+    /// Mesh drawn.
+    pub mesh: MeshHandle,
+    /// Material drawn with.
+    pub material: MaterialHandle,
+}
 
 /// One instanced draw: `count` instances listed at `first..first + count` of the group's
 /// index list.

@@ -13,7 +13,6 @@ use std::time::Instant;
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::name::Name;
-use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Local, Query, Res, ResMut, SystemParam};
 use bevy_transform::components::GlobalTransform;
 use glam::Vec3;
@@ -21,154 +20,22 @@ use glam::Vec3;
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_checks::{sanitize_point, sanitize_spot, sanitize_sun, sanitized_settings, warn_mode};
+use crate::ecs::light_views::{FrameLights, PointLightView, SpotLightView, SunView};
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::{world_forward, world_pose};
 use crate::ecs::shadow_memory::{MemoryScratch, ShadowMemory, ShadowMemoryBudget, apply_memory_budget};
-use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR, ShadowLightBudget, ShadowView, ShadowViewKind};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, SeenByCamera};
+use crate::ecs::view_list::{POINT_NEAR, ShadowLightBudget};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
 };
-use crate::math::point::{PointView, point_view};
-use crate::math::spot::{SpotInput, SpotView, spot_view};
+use crate::math::point::point_view;
+use crate::math::spot::spot_view;
 use crate::settings::ShadowSettings;
 use crate::text::echoed;
-
-/// A directional light this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SunView {
-    /// The light's entity.
-    pub entity: Entity,
-    /// Unit direction the light travels.
-    pub direction: Vec3,
-    /// The light's parameters (repaired where out of range).
-    pub light: DirectionalLight,
-    /// Sanitized shadow settings (the entity's [`ShadowSettings`], else the defaults).
-    pub settings: ShadowSettings,
-    /// Cascades; `count == 0` when the light casts no shadows this frame.
-    pub cascades: CascadeSet,
-}
-
-/// A spot light this frame. Positions are relative to the [`RenderOrigin`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpotLightView {
-    /// The light's entity.
-    pub entity: Entity,
-    /// Position of the light.
-    pub position: Vec3,
-    /// Unit direction the light shines along.
-    pub direction: Vec3,
-    /// The light's parameters (repaired where out of range).
-    pub light: SpotLight,
-    /// Sanitized shadow settings (filter, bias, normal offset, and `resolution`: the side of
-    /// its map; the cascade fields are unused).
-    pub settings: ShadowSettings,
-    /// The shadow view, relative to the render origin, when the light casts a shadow this
-    /// frame.
-    pub shadow: Option<SpotView>,
-}
-
-impl SpotLightView {
-    /// What its shadow view is made from: its placement, cone, range, the near plane
-    /// [`SPOT_NEAR`] and its map's side (also what a standalone pass takes,
-    /// [`StandaloneShadows::render_spot`](crate::render::shadows::standalone::StandaloneShadows::render_spot)).
-    pub fn shadow_input(&self) -> SpotInput {
-        SpotInput {
-            position: self.position,
-            direction: self.direction,
-            outer_angle: self.light.outer_angle,
-            range: self.light.range,
-            near: SPOT_NEAR,
-            resolution: self.settings.resolution,
-        }
-    }
-}
-
-/// A point light this frame. Its position is relative to the [`RenderOrigin`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointLightView {
-    /// The light's entity.
-    pub entity: Entity,
-    /// Position of the light.
-    pub position: Vec3,
-    /// The light's parameters (repaired where out of range).
-    pub light: PointLight,
-    /// Sanitized shadow settings (filter, bias, normal offset, and `resolution`: the side of
-    /// each cube face — shared by every shadowed point light, the largest any asks for; the
-    /// cascade fields are unused).
-    pub settings: ShadowSettings,
-    /// The six face views, relative to the render origin, when the light casts a shadow this
-    /// frame.
-    pub shadow: Option<PointView>,
-}
-
-/// Every light of this frame, per kind, in the order the ECS query returned them.
-#[derive(Resource, Clone, Debug, Default)]
-pub struct FrameLights {
-    /// Directional lights.
-    pub suns: Vec<SunView>,
-    /// Spot lights.
-    pub spots: Vec<SpotLightView>,
-    /// Point lights.
-    pub points: Vec<PointLightView>,
-}
-
-impl FrameLights {
-    /// The first directional light, if any (the one the bench scores and the inspector edits
-    /// first).
-    pub fn sun(&self) -> Option<&SunView> {
-        self.suns.first()
-    }
-
-    /// Number of lights of every kind.
-    pub fn len(&self) -> usize {
-        self.suns.len() + self.spots.len() + self.points.len()
-    }
-
-    /// True when there is no light at all.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Index of light `index` of `kind` in the renderer's light list (suns, then spots, then
-    /// points), which is the `i` a material passes to `get_light(i)`.
-    pub fn light_index(&self, kind: LightKind, index: usize) -> usize {
-        match kind {
-            LightKind::Directional => index,
-            LightKind::Spot => self.suns.len() + index,
-            LightKind::Point => self.suns.len() + self.spots.len() + index,
-        }
-    }
-
-    /// The sun at `light` in the renderer's light list, if that light is a sun.
-    pub fn sun_at(&self, light: u32) -> Option<&SunView> {
-        self.suns.get(light as usize)
-    }
-
-    /// The spot light at `light` in the renderer's light list, if that light is a spot light.
-    pub fn spot_at(&self, light: u32) -> Option<&SpotLightView> {
-        let index = (light as usize).checked_sub(self.suns.len())?;
-        self.spots.get(index)
-    }
-
-    /// The settings of the light `view` belongs to.
-    pub fn view_settings(&self, view: &ShadowView) -> Option<&ShadowSettings> {
-        match view.kind {
-            ShadowViewKind::Cascade(_) => self.sun_at(view.light).map(|s| &s.settings),
-            ShadowViewKind::Spot => self.spot_at(view.light).map(|s| &s.settings),
-            ShadowViewKind::PointFace(_) => self.point_at(view.light).map(|p| &p.settings),
-        }
-    }
-
-    /// The point light at `light` in the renderer's light list, if that light is a point light.
-    pub fn point_at(&self, light: u32) -> Option<&PointLightView> {
-        let index = (light as usize).checked_sub(self.suns.len() + self.spots.len())?;
-        self.points.get(index)
-    }
-}
 
 /// Reused buffers of [`update_frame_lights`]. Candidates are identified by their index in
 /// the renderer's light list ([`FrameLights::light_index`]).

@@ -14,33 +14,21 @@ use log::warn;
 
 use std::collections::HashMap;
 
-use crate::ecs::assets::{MaterialHandle, Materials, MeshHandle, Meshes};
+use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::{CasterChanges, CasterState};
 use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
+pub use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::is_valid_placement;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
-use crate::render::gpu_types::{INSTANCE_FLAG_RECEIVE_SHADOWS, InstanceGpu};
+use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
+use crate::shader::instance::InstanceGpu;
 
 /// Cells per side of the grid the receivers' bounds given to the cascades are grown onto
 /// ([`Aabb::snapped_out`]): a receiver moving inside them leaves every cascade as it was.
 const RECEIVER_GRID: f32 = 256.0;
-
-/// Draw order key: opaque before masked, single-sided before double-sided, then by mesh and
-/// material, so every run of equal keys is one instanced draw.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct DrawKey {
-    /// Alpha-masked material.
-    pub masked: bool,
-    /// Double-sided material (drawn without back-face culling).
-    pub double_sided: bool,
-    /// Mesh drawn.
-    pub mesh: MeshHandle,
-    /// Material drawn with.
-    pub material: MaterialHandle,
-}
 
 /// Every drawable instance, sorted by [`DrawKey`] and, within a key, along a Morton curve
 /// through the scene (so consecutive instances are close in space and cull together), in

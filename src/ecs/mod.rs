@@ -10,6 +10,7 @@ pub mod footprints;
 pub mod frame_lights;
 pub mod instances;
 pub mod light_checks;
+pub mod light_views;
 pub mod lights;
 pub mod origin;
 pub mod placement;
@@ -23,6 +24,7 @@ pub mod stats;
 pub mod view;
 pub mod view_cache;
 pub mod view_culling;
+pub mod view_list;
 pub mod view_order;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
@@ -31,12 +33,12 @@ pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ViewDrawGroups};
-pub use frame_lights::{FrameLights, PointLightView, SpotLightView, SunView};
 pub use instances::RenderInstances;
+pub use light_views::{FrameLights, PointLightView, SpotLightView, SunView};
 pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use shadow_memory::{ShadowMemory, ShadowMemoryBudget};
-pub use shadow_views::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::{ActiveView, SeenByCamera};
+pub use view_list::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};

@@ -12,15 +12,17 @@ use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::cull_view;
 use crate::ecs::draw_groups::ViewDrawGroups;
-use crate::ecs::frame_lights::{FrameLights, update_frame_lights};
+use crate::ecs::frame_lights::update_frame_lights;
 use crate::ecs::instances::{RenderInstances, sync_instances};
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
-use crate::ecs::shadow_views::{ShadowLightBudget, ShadowViews, update_shadow_views};
+use crate::ecs::shadow_views::update_shadow_views;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
+use crate::ecs::view_list::{ShadowLightBudget, ShadowViews};
 
 /// The stages of the shadow systems, run in this order in `PostUpdate`, after
 /// [`TransformSystems::Propagate`] (so every system reads this frame's `GlobalTransform`).

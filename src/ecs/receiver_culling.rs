@@ -8,16 +8,16 @@ use bevy_ecs::resource::Resource;
 use glam::{Mat4, Vec3};
 
 use crate::ecs::assets::Meshes;
-use crate::ecs::frame_lights::FrameLights;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::view::ActiveView;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::chunks::CHUNK;
 use crate::math::frustum::{Frustum, slice_corners};
 use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers};
-use crate::render::gpu_types::INSTANCE_FLAG_RECEIVE_SHADOWS;
 use crate::settings::MAX_CASCADES;
+use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 
 /// A chunk whose sphere is larger than this fraction of the largest slice's half extent is
 /// taken member by member.
@@ -36,7 +36,7 @@ pub struct ShadowCulling {
     /// Shrink cascade cull boxes to the visible receivers (default on).
     pub receivers: bool,
     /// Also list each sun's casters once with the cascades they touch
-    /// ([`ShadowViews::single_pass`](crate::ecs::shadow_views::ShadowViews::single_pass)),
+    /// ([`ShadowViews::single_pass`](crate::ecs::view_list::ShadowViews::single_pass)),
     /// for rendering all cascades in one multiview pass. The render plugin sets it when the
     /// renderer draws cascades that way (default off).
     pub single_pass: bool,

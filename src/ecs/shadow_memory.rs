@@ -13,7 +13,7 @@
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
 
-use crate::ecs::frame_lights::FrameLights;
+use crate::ecs::light_views::FrameLights;
 use crate::math::evsm::MomentPrecision;
 use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
 use crate::math::shadow_memory::{

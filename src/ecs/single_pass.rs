@@ -3,11 +3,10 @@
 //! cascade of the sun with one instanced draw per batch and drop, in the vertex stage, the
 //! instances outside the view being rasterised (`shaders/caster.wgsl`, `MULTIVIEW`).
 
+use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::draw_groups::{DrawGroup, push_instance};
-use crate::ecs::instances::DrawKey;
 
-/// Bits of an index entry below the cascade mask: the instance index.
-pub const CASCADE_MASK_SHIFT: u32 = 28;
+pub use crate::shader::contract::CASCADE_MASK_SHIFT;
 
 /// Instances past this index cannot be packed; a scene with more gets no single-pass lists
 /// and renders each cascade in its own pass.
@@ -30,7 +29,7 @@ pub fn unpack_entry(entry: u32) -> (u32, u8) {
 /// One sun's casters for a single-pass draw of its cascades.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SinglePassGroup {
-    /// Index of the sun's first cascade in [`ShadowViews::views`](crate::ecs::shadow_views::ShadowViews::views);
+    /// Index of the sun's first cascade in [`ShadowViews::views`](crate::ecs::view_list::ShadowViews::views);
     /// its cascades follow in order.
     pub first_view: u32,
     /// Number of cascades.

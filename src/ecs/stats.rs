@@ -19,7 +19,7 @@ pub struct ShadowStats {
     /// CPU time of camera culling.
     pub view_culling_cpu: Duration,
     /// Casters drawn into each shadow view, in the order of
-    /// [`ShadowViews`](crate::ecs::shadow_views::ShadowViews).
+    /// [`ShadowViews`](crate::ecs::view_list::ShadowViews).
     pub casters_per_view: Vec<u32>,
     /// Draw calls issued for each shadow view.
     pub draws_per_view: Vec<u32>,

@@ -15,7 +15,7 @@ use crate::math::frustum::CameraView;
 use crate::math::seen_depths::SeenDepths;
 
 /// The camera of this frame; its position is relative to the [`RenderOrigin`]. The lights
-/// are in [`FrameLights`](crate::ecs::frame_lights::FrameLights).
+/// are in [`FrameLights`](crate::ecs::light_views::FrameLights).
 #[derive(Resource, Clone, Copy, Debug, Default)]
 pub struct ActiveView {
     /// The first entity with [`Camera3d`] and a valid [`GlobalTransform`], if any.

@@ -9,7 +9,7 @@ use glam::Mat4;
 
 use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::draw_groups::DrawGroup;
-use crate::ecs::shadow_views::{CullVolume, ShadowViewKind};
+use crate::ecs::view_list::{CullVolume, ShadowViewKind};
 use crate::math::aabb::Aabb;
 use crate::math::footprint::TileMask;
 use crate::settings::ShadowSettings;

@@ -7,15 +7,16 @@
 use bevy_ecs::entity::Entity;
 
 use crate::ecs::assets::MeshHandle;
+use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::draw_groups::push_instance;
 use crate::ecs::footprints::add_chunk_footprint;
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::instances::{DrawKey, RenderInstances};
+use crate::ecs::instances::RenderInstances;
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
-use crate::ecs::shadow_views::{CullVolume, ShadowView, ShadowViewKind, ShadowViews};
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
+use crate::ecs::view_list::{CullVolume, ShadowView, ShadowViewKind, ShadowViews};
 use crate::math::cascades::Cascade;
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked, cull_spheres_sphere_chunked};
 use crate::math::footprint::{ClipProjector, TileMask};

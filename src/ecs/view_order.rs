@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use crate::ecs::instances::DrawKey;
+use crate::ecs::draw_groups::DrawKey;
 use crate::math::chunks::CHUNK;
 
 /// A run of visible instances sharing a draw key and a culling chunk.

@@ -3,6 +3,7 @@
 //! stabilise the boxes so camera motion moves shadows by whole texels only.
 
 use glam::{DMat3, DVec3, DVec4, Mat3, Mat4, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
 
 use crate::math::aabb::Aabb;
 use crate::math::clip::clipped_bounds;
@@ -12,7 +13,28 @@ use crate::math::pcss::pcss_params_f64;
 use crate::math::seen_depths::SeenDepths;
 use crate::math::snapping::{TexelSnap, f32_down, f32_sat, f32_up, snap_interval};
 use crate::math::splits::wide_view_splits;
-use crate::settings::{CascadeFit, MAX_CASCADES};
+
+pub use crate::math::splits::MAX_CASCADES;
+
+/// How each cascade's orthographic box is fitted to its slice of the view frustum.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum CascadeFit {
+    /// XY fitted tightly to the slice corners in light space: the most texels on screen,
+    /// but the box changes size as the camera turns.
+    #[default]
+    Tight,
+    /// A sphere around the camera position that reaches the slice's farthest corner: a few
+    /// texels are wasted behind the camera, but turning in place never changes the cascades.
+    Stable,
+    /// Sample-distribution (SDSM) fit: the splits divide the view depths the camera's pixels
+    /// covered logarithmically (`split_lambda` is not used), and each box is the Tight fit of its slice cut to the world box those pixels
+    /// spanned at its depths. The renderer reduces each frame's depth buffer on the GPU and a
+    /// later frame fits to it (every bound grown by a guard band of
+    /// [`SEEN_GUARD`](crate::math::seen_depths::SEEN_GUARD)); until a reduction has come back
+    /// (the first frames, or without a renderer) it fits as Tight. Shadows still fade at
+    /// `max_distance`.
+    DepthBounds,
+}
 
 /// Smallest lateral extent or depth range of a cascade box, in world units.
 ///

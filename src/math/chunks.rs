@@ -9,9 +9,9 @@ use glam::Vec3;
 
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
+use crate::math::cascades::MAX_CASCADES;
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
-use crate::settings::MAX_CASCADES;
 
 /// Spheres per chunk.
 pub const CHUNK: usize = 64;

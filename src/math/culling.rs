@@ -4,8 +4,8 @@
 use glam::Vec3;
 
 use crate::math::cascades::CascadeSet;
+use crate::math::cascades::MAX_CASCADES;
 use crate::math::frustum::Frustum;
-use crate::settings::MAX_CASCADES;
 
 /// Relative padding added to each caster's radius in [`cull_casters`], times the L1 norm of
 /// its light-space centre: covers the f32 rounding of the rotation (a few ulps), so a caster

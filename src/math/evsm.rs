@@ -9,7 +9,7 @@
 
 use glam::{Vec2, Vec4};
 
-use crate::math::moments::{chebyshev_upper_bound, reduce_light_bleeding};
+use crate::math::moments::{MIN_COVERAGE, chebyshev_upper_bound, reduce_light_bleeding};
 
 /// The storage of warped moments.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -120,10 +120,6 @@ pub fn evsm2_covered_moments(depth: f32, c: f32, occupied: bool) -> Vec4 {
     let w = positive_warp(depth, c);
     Vec4::new(o * w, o * w * w, o, 0.0)
 }
-
-/// Smallest coverage [`evsm2_covered_visibility`] divides by; below it the footprint counts
-/// as empty (lit).
-pub const MIN_COVERAGE: f32 = 1.0e-4;
 
 /// EVSM2 from filtered covered moments ([`evsm2_covered_moments`]): the footprint's empty
 /// share is lit, its occupied share gets the bound of the occupied texels' own moments (with

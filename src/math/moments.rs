@@ -4,7 +4,10 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::math::evsm::MIN_COVERAGE;
+/// Smallest coverage the covered-moment bounds divide by (EVSM2's
+/// [`evsm2_covered_visibility`](crate::math::evsm::evsm2_covered_visibility), VSM's); below it
+/// the footprint counts as empty (lit).
+pub const MIN_COVERAGE: f32 = 1.0e-4;
 
 /// The first two moments `(E[z], E[z²])` of `depths` with weights `weights` (normalised here):
 /// what a filtered moment map holds over a footprint.

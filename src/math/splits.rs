@@ -2,7 +2,8 @@
 //! linear distributions of view depth, pulled in towards the logarithmic one for views wider
 //! than 120°.
 
-use crate::settings::MAX_CASCADES;
+/// The most cascades a directional light can have.
+pub const MAX_CASCADES: usize = 4;
 
 /// Smallest near distance [`pssm_splits`] accepts; smaller, zero, negative or NaN values are
 /// raised to it.

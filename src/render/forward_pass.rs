@@ -10,11 +10,13 @@ use std::collections::HashMap;
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::depth_bounds::wants_depth_bounds;
 use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
 use crate::render::prepass::camera_depth;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
+use crate::render::variant::forward_variant;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Name of the forward pass in GPU timings.
@@ -199,12 +201,9 @@ impl RenderNode for ForwardPass {
     /// creates the multisampled colour it resolves into the target.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.keep_depth = wants_depth_bounds(inputs);
-        pass.read(frame.cascade_maps);
-        pass.read(frame.spot_maps);
-        pass.read(frame.point_maps);
-        pass.read(frame.spot_moments);
-        pass.read(frame.point_moments);
-        pass.read(frame.cascade_moments);
+        for texture in frame.shadow_textures() {
+            pass.read(texture);
+        }
         if let Some(visibility) = frame.visibility {
             pass.read(visibility);
         }
@@ -259,7 +258,7 @@ impl RenderNode for ForwardPass {
             let variant = ForwardVariant {
                 analysis,
                 transmission: ctx.scene.any_transmission,
-                ..ForwardVariant::for_lights(lights, alpha_mask).with_samples(samples)
+                ..forward_variant(lights, alpha_mask).with_samples(samples)
             };
             let variant = match visibility {
                 Some(_) => variant.reading_resolved(),

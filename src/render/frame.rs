@@ -1,24 +1,16 @@
 //! What one frame is rendered from: the ECS data ([`FrameInputs`]) and what a render-graph
 //! node sees while recording ([`FrameContext`]).
 
-use bevy_ecs::world::World;
-use glam::Vec3;
-
-use crate::ecs::assets::{Images, Materials, Meshes};
-use crate::ecs::components::AmbientLight;
 use crate::ecs::draw_groups::ViewDrawGroups;
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::instances::RenderInstances;
-use crate::ecs::origin::RenderOrigin;
-use crate::ecs::shadow_views::ShadowViews;
-use crate::ecs::view::ActiveView;
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::view_list::ShadowViews;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
-use crate::render::depth_bounds::SeenReadback;
 use crate::render::fragment_count::FragmentCounter;
+pub use crate::render::frame_inputs::FrameInputs;
 use crate::render::layouts::Layouts;
-use crate::render::options::RenderOptions;
 use crate::render::scene_gpu::SceneGpu;
+use crate::render::seen_readback::SeenReadback;
 use crate::render::shadows::ShadowResources;
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -60,52 +52,4 @@ pub struct FrameContext<'a> {
     pub pipeline_error: &'a mut Option<String>,
     /// The depth-bounds reduction's readback ring.
     pub seen: &'a mut SeenReadback,
-}
-
-/// The ECS data one frame is rendered from.
-pub struct FrameInputs<'a> {
-    /// Mesh store.
-    pub meshes: &'a Meshes,
-    /// Material store.
-    pub materials: &'a Materials,
-    /// Image store.
-    pub images: &'a Images,
-    /// Sorted instances.
-    pub instances: &'a RenderInstances,
-    /// Shadow views and their culled casters.
-    pub shadow_views: &'a ShadowViews,
-    /// Culled view instances.
-    pub view_groups: &'a ViewDrawGroups,
-    /// The camera.
-    pub view: &'a ActiveView,
-    /// The lights.
-    pub lights: &'a FrameLights,
-    /// Ambient light.
-    pub ambient: &'a AmbientLight,
-    /// Frame counter.
-    pub frame_index: u32,
-    /// Render-wide switches (the world's [`RenderOptions`], or the defaults).
-    pub options: RenderOptions,
-    /// The render origin every GPU position is relative to ([`RenderOrigin`]).
-    pub origin: Vec3,
-}
-
-impl<'a> FrameInputs<'a> {
-    /// Borrows the inputs from a world that runs [`ShadowPlugin`](crate::ecs::ShadowPlugin).
-    pub fn from_world(world: &'a World, frame_index: u32) -> Self {
-        Self {
-            meshes: world.resource::<Meshes>(),
-            materials: world.resource::<Materials>(),
-            images: world.resource::<Images>(),
-            instances: world.resource::<RenderInstances>(),
-            shadow_views: world.resource::<ShadowViews>(),
-            view_groups: world.resource::<ViewDrawGroups>(),
-            view: world.resource::<ActiveView>(),
-            lights: world.resource::<FrameLights>(),
-            ambient: world.resource::<AmbientLight>(),
-            frame_index,
-            options: world.get_resource::<RenderOptions>().copied().unwrap_or_default(),
-            origin: world.get_resource::<RenderOrigin>().map_or(Vec3::ZERO, |o| o.0),
-        }
-    }
 }

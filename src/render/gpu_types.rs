@@ -90,28 +90,8 @@ pub struct FrameUniformsGpu {
     pub _padding: [u32; 2],
 }
 
-/// Mirror of WGSL `Instance`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct InstanceGpu {
-    /// World from local transform.
-    pub world_from_local: Mat4,
-    /// Inverse transpose of the upper 3×3 (in a 4×4 for alignment).
-    pub normal_from_local: Mat4,
-    /// Base colour factor (linear RGBA).
-    pub base_color: Vec4,
-    /// Alpha cutoff for masked materials, 0 for opaque.
-    pub alpha_cutoff: f32,
-    /// `INSTANCE_FLAG_*` bits.
-    pub flags: u32,
-    /// Diffuse transmission ([`Material::effective_transmission`](crate::ecs::assets::Material::effective_transmission)).
-    pub transmission: f32,
-    /// Padding to the WGSL size.
-    pub _pad: u32,
-}
-
-/// The instance receives shadows.
-pub const INSTANCE_FLAG_RECEIVE_SHADOWS: u32 = 1;
+pub use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
+pub use crate::shader::instance::InstanceGpu;
 
 #[cfg(test)]
 mod tests {
@@ -259,12 +239,5 @@ mod tests {
             }
         }
         assert_eq!(size_of::<CasterViewGpu>(), 256);
-    }
-
-    #[test]
-    fn instance_flag_matches_wgsl_constant() {
-        let mesh = include_str!("../../shaders/mesh.wgsl");
-        let line = format!("const INSTANCE_FLAG_RECEIVE_SHADOWS: u32 = {INSTANCE_FLAG_RECEIVE_SHADOWS}u;");
-        assert!(mesh.contains(&line));
     }
 }

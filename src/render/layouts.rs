@@ -6,6 +6,7 @@
 use std::borrow::Cow;
 use std::num::NonZeroU64;
 
+use crate::layout::group::{BindingKind, Slot, bindings};
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
 use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu,
@@ -15,9 +16,8 @@ use crate::render::shadows::gpu::{
 pub struct Layouts {
     /// Forward group 0: the frame uniforms.
     pub view: wgpu::BindGroupLayout,
-    /// Group 3: lights and shadow views (uniform arrays), the cascade and spot depth arrays and
-    /// the point lights' cube array, the comparison and point samplers, the Poisson taps, the
-    /// resolved visibility, and the spot and point lights' VSM moments with their sampler.
+    /// Group 3: one entry per binding of [`crate::layout::group::bindings`] (lights, shadow
+    /// views, samplers, Poisson taps, resolved visibility, each storage's depth and moments).
     pub shadows: wgpu::BindGroupLayout,
     /// Depth-pass group 0: one shadow view's `CasterView`, bound with a dynamic offset.
     pub caster_view: wgpu::BindGroupLayout,
@@ -72,6 +72,35 @@ fn storage<T>() -> wgpu::BindingType {
     }
 }
 
+/// The layout type of a shadow-group binding of `kind` holding `slot`.
+pub fn shadow_binding_type(slot: Slot, kind: BindingKind) -> wgpu::BindingType {
+    let texture = |sample_type, view_dimension| wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension,
+        multisampled: false,
+    };
+    let filterable = wgpu::TextureSampleType::Float { filterable: true };
+    match kind {
+        BindingKind::Uniform(_) => match slot {
+            Slot::Lights => uniform_array::<LightGpu>(MAX_LIGHTS),
+            Slot::Views => uniform_array::<ShadowViewGpu>(MAX_SHADOW_VIEWS),
+            _ => uniform::<PoissonTapsGpu>(false),
+        },
+        BindingKind::StorageArray(_) => storage::<LightGpu>(),
+        BindingKind::DepthArray => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2Array),
+        BindingKind::DepthCubeArray => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::CubeArray),
+        BindingKind::FloatArray => texture(filterable, wgpu::TextureViewDimension::D2Array),
+        BindingKind::UnfilterableFloatArray => texture(
+            wgpu::TextureSampleType::Float { filterable: false },
+            wgpu::TextureViewDimension::D2Array,
+        ),
+        BindingKind::FloatCubeArray => texture(filterable, wgpu::TextureViewDimension::CubeArray),
+        BindingKind::CompareSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+        BindingKind::NearestSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
+        BindingKind::FilterSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+    }
+}
+
 impl Layouts {
     /// Creates every layout and sampler.
     pub fn new(device: &wgpu::Device) -> Self {
@@ -82,54 +111,13 @@ impl Layouts {
             label: Some("view"),
             entries: &[entry(0, vfc, uniform::<FrameUniformsGpu>(false))],
         });
-        let depth_array = wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Depth,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-            multisampled: false,
-        };
-        let moments = |view_dimension| wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-            view_dimension,
-            multisampled: false,
-        };
+        let shadow_entries: Vec<_> = bindings()
+            .enumerate()
+            .map(|(i, b)| entry(i as u32, fc, shadow_binding_type(b.slot, b.kind)))
+            .collect();
         let shadows = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadows"),
-            entries: &[
-                entry(0, fc, uniform_array::<LightGpu>(MAX_LIGHTS)),
-                entry(1, fc, uniform_array::<ShadowViewGpu>(MAX_SHADOW_VIEWS)),
-                entry(2, fc, depth_array),
-                entry(3, fc, depth_array),
-                entry(4, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
-                entry(
-                    5,
-                    fc,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
-                ),
-                entry(6, fc, uniform::<PoissonTapsGpu>(false)),
-                entry(
-                    7,
-                    fc,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-                entry(
-                    8,
-                    fc,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::CubeArray,
-                        multisampled: false,
-                    },
-                ),
-                entry(9, fc, moments(wgpu::TextureViewDimension::D2Array)),
-                entry(10, fc, moments(wgpu::TextureViewDimension::CubeArray)),
-                entry(11, fc, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-                entry(12, fc, moments(wgpu::TextureViewDimension::D2Array)),
-                entry(13, fc, storage::<LightGpu>()),
-            ],
+            entries: &shadow_entries,
         });
         let caster_view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("caster view"),

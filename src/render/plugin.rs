@@ -9,7 +9,7 @@ use bevy_ecs::world::World;
 use crate::ecs::components::ViewportSize;
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::view::SeenByCamera;
-use crate::render::frame::FrameInputs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::options::RenderOptions;
 use crate::render::renderer::Renderer;
 

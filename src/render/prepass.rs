@@ -15,7 +15,8 @@ use std::borrow::Cow;
 
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
 use crate::render::target::DEPTH_FORMAT;

@@ -3,12 +3,14 @@
 
 use bevy_ecs::resource::Resource;
 
+use crate::layout::ShadowStorage;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
-use crate::render::depth_bounds::{DepthBoundsPass, SeenReadback};
+use crate::render::depth_bounds::DepthBoundsPass;
 use crate::render::forward_pass::ForwardPass;
 use crate::render::fragment_count::FragmentCounter;
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
@@ -19,6 +21,7 @@ use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
+use crate::render::seen_readback::SeenReadback;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
@@ -139,12 +142,14 @@ impl Renderer {
 
     /// Side of the cascades' shadow maps (None until a sun has cast a shadow).
     pub fn shadow_map_resolution(&self) -> Option<u32> {
-        (!self.shadows.cascades.placeholder).then_some(self.shadows.cascades.side)
+        let maps = self.shadows.array(ShadowStorage::Cascades);
+        (!maps.placeholder).then_some(maps.side)
     }
 
     /// Side of the spot lights' shadow maps (None until a spot light has cast a shadow).
     pub fn spot_map_resolution(&self) -> Option<u32> {
-        (!self.shadows.spots.placeholder).then_some(self.shadows.spots.side)
+        let maps = self.shadows.array(ShadowStorage::Spots);
+        (!maps.placeholder).then_some(maps.side)
     }
 
     /// Chooses the light (an index into the light list: suns, then spots, then points) whose
@@ -439,12 +444,10 @@ impl Renderer {
             size: (target.width, target.height),
             samples,
             analysis,
-            cascade_maps: graph.import_texture("cascade maps", &self.shadows.cascades.array_view),
-            spot_maps: graph.import_texture("spot maps", &self.shadows.spots.array_view),
-            point_maps: graph.import_texture("point maps", &self.shadows.points.array_view),
-            spot_moments: graph.import_texture("spot moments", &self.shadows.spot_moments.moments.sampled),
-            point_moments: graph.import_texture("point moments", &self.shadows.point_moments.moments.sampled),
-            cascade_moments: graph.import_texture("cascade moments", &self.shadows.cascade_moments.moments.sampled),
+            shadow_maps: ShadowStorage::ALL
+                .map(|s| graph.import_texture(s.desc().label, &self.shadows.array(s).array_view)),
+            shadow_moments: ShadowStorage::ALL
+                .map(|s| graph.import_texture(s.desc().moments_label, &self.shadows.moments(s).moments.sampled)),
             depth_prepass,
             depth: None,
             normals: None,

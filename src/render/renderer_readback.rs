@@ -4,13 +4,13 @@
 use glam::Vec3;
 use image::RgbaImage;
 
-use crate::ecs::shadow_views::ShadowStorage;
+use crate::layout::ShadowStorage;
 use crate::math::seen_depths::SeenDepths;
-use crate::render::frame::FrameInputs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
 use crate::render::renderer::Renderer;
 use crate::render::target::AnalysisImage;
-use crate::shader::ForwardVariant;
+use crate::render::variant::forward_variant;
 
 impl Renderer {
     /// The latest depths the camera saw that have come back from the GPU (frames that fit
@@ -32,7 +32,7 @@ impl Renderer {
     /// frame first). Values are what a material at that point would multiply into that
     /// light's term.
     pub fn evaluate_probes(&mut self, input: &FrameInputs<'_>, probes: &[ProbeGpu]) -> Vec<f32> {
-        let variant = ForwardVariant::for_lights(input.lights, false);
+        let variant = forward_variant(input.lights, false);
         let groups = [&self.scene.view_group, &self.shadows.group];
         self.probes
             .evaluate(&self.gpu, &self.layouts, &mut self.library, variant, groups, probes)

@@ -9,10 +9,12 @@
 
 use std::collections::HashMap;
 
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::layouts::{Layouts, camera_texture_entry, entry, main_compute_pipeline};
 use crate::render::shadows::visibility::VISIBILITY_FORMAT;
+use crate::render::variant::forward_variant;
 use crate::shader::{ForwardVariant, ShaderLibrary};
 
 /// Name of the resolve in GPU timings and the graph.
@@ -88,12 +90,9 @@ impl RenderNode for VisibilityResolve {
         };
         pass.read(depth);
         pass.read(normals);
-        pass.read(frame.cascade_maps);
-        pass.read(frame.spot_maps);
-        pass.read(frame.point_maps);
-        pass.read(frame.spot_moments);
-        pass.read(frame.point_moments);
-        pass.read(frame.cascade_moments);
+        for texture in frame.shadow_textures() {
+            pass.read(texture);
+        }
         pass.write(visibility);
         self.handles = Some(Handles {
             depth,
@@ -113,7 +112,7 @@ impl RenderNode for VisibilityResolve {
             debug_cascades: false,
             alpha_mask: false,
             analysis: false,
-            ..ForwardVariant::for_lights(ctx.lights, false)
+            ..forward_variant(ctx.lights, false)
         };
         let key = (variant, handles.samples);
         let pipeline = self

@@ -10,7 +10,7 @@ use wgpu::util::DeviceExt;
 use crate::ecs::assets::{ImageData, Meshes};
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
-use crate::render::frame::FrameInputs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu};
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{UVec3, Vec3};
 
 use crate::asset_io::AssetIo;
-use crate::ecs::shadow_views::{POINT_NEAR, SPOT_NEAR};
+use crate::ecs::view_list::{POINT_NEAR, SPOT_NEAR};
 use crate::scene::desc::{
     AlphaMode, CameraDesc, GridDesc, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape, SunDesc,
 };

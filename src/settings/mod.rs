@@ -8,8 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::math::evsm::MomentPrecision;
 use crate::math::shadow_memory::MIN_BUDGET_RESOLUTION;
 
-/// The most cascades a directional light can have.
-pub const MAX_CASCADES: usize = 4;
+pub use crate::math::cascades::{CascadeFit, MAX_CASCADES};
 /// Smallest shadow-map resolution accepted (texels per side): 256, the seed's point-light
 /// face size, and the smallest the shadow-memory budget lowers a light to.
 pub const MIN_RESOLUTION: u32 = MIN_BUDGET_RESOLUTION;
@@ -130,26 +129,6 @@ impl PcssQuality {
             PcssQuality::High => 49,
         }
     }
-}
-
-/// How each cascade's orthographic box is fitted to its slice of the view frustum.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum CascadeFit {
-    /// XY fitted tightly to the slice corners in light space: the most texels on screen,
-    /// but the box changes size as the camera turns.
-    #[default]
-    Tight,
-    /// A sphere around the camera position that reaches the slice's farthest corner: a few
-    /// texels are wasted behind the camera, but turning in place never changes the cascades.
-    Stable,
-    /// Sample-distribution (SDSM) fit: the splits divide the view depths the camera's pixels
-    /// covered logarithmically (`split_lambda` is not used), and each box is the Tight fit of its slice cut to the world box those pixels
-    /// spanned at its depths. The renderer reduces each frame's depth buffer on the GPU and a
-    /// later frame fits to it (every bound grown by a guard band of
-    /// [`SEEN_GUARD`](crate::math::seen_depths::SEEN_GUARD)); until a reduction has come back
-    /// (the first frames, or without a renderer) it fits as Tight. Shadows still fade at
-    /// `max_distance`.
-    DepthBounds,
 }
 
 /// A debug visualisation drawn instead of normal shading.

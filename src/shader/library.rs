@@ -7,6 +7,8 @@ use naga::valid::{Capabilities, ValidationFlags, Validator};
 use naga_oil::compose::{ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderLanguage, ShaderType};
 use thiserror::Error;
 
+use crate::layout::group;
+use crate::shader::contract;
 use crate::shader::variant::ForwardVariant;
 
 /// A shader that failed to compose or validate.
@@ -37,8 +39,17 @@ struct ModuleSource {
     source: &'static str,
 }
 
+/// Modules generated from Rust descriptions (file name, builder): the constants both sides
+/// share, registered first, and the shadow bind group's declarations, registered after
+/// [`BEFORE_BINDINGS`] (the types they name).
+const CONTRACT: (&str, fn() -> String) = ("contract.wgsl (generated)", contract::wgsl);
+const BINDINGS: (&str, fn() -> String) = ("shadows/bindings.wgsl (generated)", group::wgsl);
+
+/// How many of [`MODULES`] the bindings' declarations need.
+const BEFORE_BINDINGS: usize = 3;
+
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 14] = [
+const MODULES: [ModuleSource; 13] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -50,10 +61,6 @@ const MODULES: [ModuleSource; 14] = [
     ModuleSource {
         file: "shadows/types.wgsl",
         source: include_str!("../../shaders/shadows/types.wgsl"),
-    },
-    ModuleSource {
-        file: "shadows/bindings.wgsl",
-        source: include_str!("../../shaders/shadows/bindings.wgsl"),
     },
     ModuleSource {
         file: "shadows/common.wgsl",
@@ -150,7 +157,11 @@ impl ShaderLibrary {
             forward_override: None,
             forward_generation: 0,
         };
-        for module in &MODULES {
+        library.add_module(CONTRACT.0, &(CONTRACT.1)())?;
+        for (i, module) in MODULES.iter().enumerate() {
+            if i == BEFORE_BINDINGS {
+                library.add_module(BINDINGS.0, &(BINDINGS.1)())?;
+            }
             library.add_module(module.file, module.source)?;
         }
         Ok(library)

@@ -2,6 +2,8 @@
 //! pipelines' shaders, one variant per shader-def set. Everything here is pure naga work (no
 //! GPU), so `cargo test` validates every variant.
 
+pub mod contract;
+pub mod instance;
 mod library;
 mod variant;
 

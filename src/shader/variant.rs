@@ -4,8 +4,6 @@ use std::collections::HashMap;
 
 use naga_oil::compose::ShaderDefValue;
 
-use crate::ecs::frame_lights::FrameLights;
-use crate::render::shadows::gpu::MAX_LIGHTS;
 use crate::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
 
 /// Which shadow filters a forward shader compiles in: PCF always, PCSS (with the sample
@@ -50,7 +48,7 @@ pub struct ForwardVariant {
     /// Also write the shadow factor, world position and normal of every pixel (three extra
     /// `Rgba32Float` targets), for scoring against a reference.
     pub analysis: bool,
-    /// Also read the lights past the uniform list's [`MAX_LIGHTS`] (`MANY_LIGHTS`: the frame
+    /// Also read the lights past the uniform list's [`MAX_LIGHTS`](crate::shader::contract::MAX_LIGHTS) (`MANY_LIGHTS`: the frame
     /// has more); without, their code and binding are left out (compiled in, they made the
     /// H200's lighting pass 4–7 % slower on scenes of a few lights).
     pub many_lights: bool,
@@ -74,43 +72,6 @@ impl ForwardVariant {
             alpha_to_coverage: false,
             analysis: false,
             many_lights: false,
-        }
-    }
-
-    /// The variant a frame's lights need: PCSS (at the highest quality any shadowed PCSS
-    /// light asks for) when one uses it, else PCF; each light then picks its own filter among
-    /// those compiled in. The cascade (or cube-face) debug tint is on when a sun or point
-    /// light asks for it.
-    pub fn for_lights(lights: &FrameLights, alpha_mask: bool) -> Self {
-        // NOTE: called for every pipeline a frame draws with, so nothing is collected.
-        let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).map(|s| &s.settings);
-        let spots = lights.spots.iter().filter(|s| s.shadow.is_some()).map(|s| &s.settings);
-        let points = lights.points.iter().filter(|p| p.shadow.is_some()).map(|p| &p.settings);
-        let quality = suns
-            .chain(spots)
-            .chain(points)
-            .filter(|s| s.mode == ShadowMode::Pcss)
-            .map(|s| s.pcss_quality)
-            .max_by_key(|q| (q.filter_samples(), q.blocker_samples()));
-        Self {
-            filter: quality.map_or(ShadowFilter::Pcf, ShadowFilter::Pcss),
-            spot_shadows: lights.spots.iter().any(|s| s.shadow.is_some()),
-            point_shadows: lights.points.iter().any(|p| p.shadow.is_some()),
-            sun_moments: lights
-                .suns
-                .iter()
-                .any(|s| s.cascades.count > 0 && s.settings.mode.effective(true).is_sun_moments()),
-            debug_cascades: lights
-                .suns
-                .iter()
-                .map(|s| &s.settings)
-                .chain(lights.points.iter().map(|p| &p.settings))
-                .any(|s| s.debug_view == ShadowDebugView::Cascades),
-            transmission: false,
-            alpha_mask,
-            alpha_to_coverage: false,
-            analysis: false,
-            many_lights: lights.suns.len() + lights.spots.len() + lights.points.len() > MAX_LIGHTS,
         }
     }
 

@@ -21,7 +21,7 @@ use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::shadow_memory::ShadowMemoryBudget;
 use crate::ecs::stats::ShadowStats;
 use crate::export::{OutputKind, prepare_output};
-use crate::render::frame::FrameInputs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::plugin::publish_seen_depths;
 use crate::render::target::TargetViews;
 use crate::render::{GpuContext, RenderOptions, Renderer};

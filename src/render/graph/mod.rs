@@ -17,7 +17,9 @@ pub use pool::GraphResources;
 
 use thiserror::Error;
 
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::layout::ShadowStorage;
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::declare::Declarations;
 use crate::render::graph::pool::{Physical, TransientPool};
 use crate::render::graph::schedule::Schedule;
@@ -65,18 +67,11 @@ pub struct FrameResources {
     pub samples: u32,
     /// The analysis targets, when the frame is scored (imported).
     pub analysis: Option<[TextureId; 3]>,
-    /// The cascades' depth array (imported: it persists between frames).
-    pub cascade_maps: TextureId,
-    /// The spot lights' depth array (imported).
-    pub spot_maps: TextureId,
-    /// The point lights' cube array (imported).
-    pub point_maps: TextureId,
-    /// The spot lights' VSM moments (imported).
-    pub spot_moments: TextureId,
-    /// The point lights' VSM moments (imported).
-    pub point_moments: TextureId,
-    /// The suns' cascade moments, EVSM or MSM (imported).
-    pub cascade_moments: TextureId,
+    /// Each shadow storage's depth array, at [`ShadowStorage::index`] (imported: they persist
+    /// between frames).
+    pub shadow_maps: [TextureId; ShadowStorage::COUNT],
+    /// Each shadow storage's moments, at [`ShadowStorage::index`] (imported).
+    pub shadow_moments: [TextureId; ShadowStorage::COUNT],
     /// The frame writes the camera depth in a prepass (decided once per frame by the
     /// renderer from [`RenderOptions::depth_prepass`](crate::render::RenderOptions)).
     pub depth_prepass: bool,
@@ -87,6 +82,23 @@ pub struct FrameResources {
     pub normals: Option<TextureId>,
     /// The resolved visibility (imported), when the frame resolves it.
     pub visibility: Option<TextureId>,
+}
+
+impl FrameResources {
+    /// The depth array of `storage`.
+    pub fn maps(&self, storage: ShadowStorage) -> TextureId {
+        self.shadow_maps[storage.index()]
+    }
+
+    /// The moments of `storage`.
+    pub fn moments(&self, storage: ShadowStorage) -> TextureId {
+        self.shadow_moments[storage.index()]
+    }
+
+    /// Every storage's depth array and moments: what a pass that samples shadows reads.
+    pub fn shadow_textures(&self) -> impl Iterator<Item = TextureId> + use<> {
+        self.shadow_maps.into_iter().chain(self.shadow_moments)
+    }
 }
 
 /// The nodes, the pool of transients, and the last frame's schedule.

@@ -12,8 +12,10 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::ecs::shadow_views::ShadowViewKind;
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::ecs::view_list::ShadowViewKind;
+use crate::layout::ShadowStorage;
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::entry;
 use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
@@ -160,8 +162,8 @@ impl RenderNode for CascadeMomentsPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
         if any_sun_moments(inputs.lights) {
-            pass.read(frame.cascade_maps);
-            pass.write(frame.cascade_moments);
+            pass.read(frame.maps(ShadowStorage::Cascades));
+            pass.write(frame.moments(ShadowStorage::Cascades));
         }
     }
 
@@ -171,7 +173,7 @@ impl RenderNode for CascadeMomentsPass {
             return;
         }
         let device = &ctx.gpu.device;
-        let moments = &ctx.shadows.cascade_moments;
+        let moments = ctx.shadows.moments(ShadowStorage::Cascades);
         let format = moments.moments.texture.format();
         if self.pipelines.as_ref().is_none_or(|p| p.format != format) {
             self.pipelines = Some(create_pipelines(device, ctx.library, format));
@@ -208,7 +210,7 @@ impl RenderNode for CascadeMomentsPass {
         let Some((buffer, generation)) = uploaded else {
             return;
         };
-        let depth = &ctx.shadows.cascades;
+        let depth = ctx.shadows.array(ShadowStorage::Cascades);
         let key = (depth.id, moments.id, generation);
         if self.groups.as_ref().is_none_or(|(held, _)| *held != key) {
             self.groups = Some((key, bind_groups(device, pipelines, buffer, depth, moments)));
@@ -302,7 +304,10 @@ impl CascadeMomentsPass {
     /// hold.
     fn plan(&mut self, ctx: &FrameContext<'_>) {
         self.jobs.clear();
-        let ids = (ctx.shadows.cascades.id, ctx.shadows.cascade_moments.id);
+        let ids = (
+            ctx.shadows.array(ShadowStorage::Cascades).id,
+            ctx.shadows.moments(ShadowStorage::Cascades).id,
+        );
         if self.held_for != ids {
             self.held_for = ids;
             self.held.clear();

@@ -21,11 +21,13 @@ use std::fmt::Write;
 use std::num::NonZeroU32;
 
 use crate::ecs::draw_groups::DrawGroup;
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowStorage, ShadowView, ShadowViewKind};
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::view_list::{ShadowView, ShadowViewKind};
+use crate::layout::ShadowStorage;
 use crate::math::footprint::{TILES, TexelRect, TileMask};
 use crate::render::draw::draw_batches;
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::clear::ClearPipelines;
@@ -106,14 +108,10 @@ impl RenderNode for DepthPass {
         self.cache = inputs.options.shadow_cache;
         self.single_pass = inputs.options.single_pass_cascades;
         let views = &inputs.shadow_views.views;
-        if views.iter().any(|v| matches!(v.kind, ShadowViewKind::Cascade(_))) {
-            pass.write(frame.cascade_maps);
-        }
-        if views.iter().any(|v| v.kind == ShadowViewKind::Spot) {
-            pass.write(frame.spot_maps);
-        }
-        if views.iter().any(|v| matches!(v.kind, ShadowViewKind::PointFace(_))) {
-            pass.write(frame.point_maps);
+        for storage in ShadowStorage::ALL {
+            if views.iter().any(|v| v.kind.storage() == storage) {
+                pass.write(frame.maps(storage));
+            }
         }
     }
 

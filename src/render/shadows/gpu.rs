@@ -5,45 +5,24 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::view_list::{ShadowView, ShadowViewKind, ShadowViews};
 use crate::render::shadows::sun_moments::{
     MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised,
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 
+pub use crate::shader::contract::{
+    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4,
+    SHADOW_FILTER_MSM, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
+    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
+};
+
 /// Lights in the uniform light list (WGSL `MAX_LIGHTS`); the rest go to a storage buffer that
 /// grows with the scene.
-pub const MAX_LIGHTS: usize = 256;
+pub const MAX_LIGHTS: usize = crate::shader::contract::MAX_LIGHTS as usize;
 /// Capacity of the shadow-view list (WGSL `MAX_SHADOW_VIEWS`).
-pub const MAX_SHADOW_VIEWS: usize = 256;
-
-/// `Light::kind` of a directional light.
-pub const LIGHT_DIRECTIONAL: u32 = 0;
-/// `Light::kind` of a spot light.
-pub const LIGHT_SPOT: u32 = 1;
-/// `Light::kind` of a point light.
-pub const LIGHT_POINT: u32 = 2;
-/// `Light::shadow_filter`: PCF.
-pub const SHADOW_FILTER_PCF: u32 = 0;
-/// `Light::shadow_filter`: PCSS.
-pub const SHADOW_FILTER_PCSS: u32 = 1;
-/// `Light::shadow_filter`: variance shadow map (spot and point lights).
-pub const SHADOW_FILTER_VSM: u32 = 2;
-/// `Light::shadow_filter`: EVSM2 from the cascades' moments (suns).
-pub const SHADOW_FILTER_EVSM2: u32 = 3;
-/// `Light::shadow_filter`: EVSM4 from the cascades' moments (suns).
-pub const SHADOW_FILTER_EVSM4: u32 = 4;
-/// `Light::shadow_filter`: 4-moment shadow map from the cascades' moments (suns).
-pub const SHADOW_FILTER_MSM: u32 = 5;
-/// PCSS blocker early-out.
-pub const SHADOW_FLAG_BLOCKER_EARLY_OUT: u32 = 2;
-/// Receiver-plane depth bias.
-pub const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4;
-/// Temporal rotation of the Poisson patterns.
-pub const SHADOW_FLAG_TEMPORAL: u32 = 8;
-/// Contact hardening of a sun's moment shadows (mipmapped moments).
-pub const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16;
+pub const MAX_SHADOW_VIEWS: usize = crate::shader::contract::MAX_SHADOW_VIEWS as usize;
 
 /// Mirror of WGSL `Light`.
 #[repr(C)]
@@ -241,9 +220,6 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
     }
 }
 
-/// `LightGpu::resolve_layer` of a light whose shadow the lighting pass filters itself.
-pub const RESOLVE_NONE: u32 = u32::MAX;
-
 /// Gives each shadowed light (one with shadow views) its own layer of the resolved
 /// visibility, in order, when `resolve`; the others get [`RESOLVE_NONE`]. Returns the number
 /// of layers.
@@ -298,37 +274,4 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
         }
     }
     gpu
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn constants_match_wgsl() {
-        let source = include_str!("../../../shaders/shadows/types.wgsl");
-        for (name, value) in [
-            ("LIGHT_DIRECTIONAL", LIGHT_DIRECTIONAL),
-            ("LIGHT_SPOT", LIGHT_SPOT),
-            ("LIGHT_POINT", LIGHT_POINT),
-            ("SHADOW_FILTER_PCF", SHADOW_FILTER_PCF),
-            ("SHADOW_FILTER_PCSS", SHADOW_FILTER_PCSS),
-            ("SHADOW_FILTER_VSM", SHADOW_FILTER_VSM),
-            ("SHADOW_FILTER_EVSM2", SHADOW_FILTER_EVSM2),
-            ("SHADOW_FILTER_EVSM4", SHADOW_FILTER_EVSM4),
-            ("SHADOW_FILTER_MSM", SHADOW_FILTER_MSM),
-            ("SHADOW_FLAG_BLOCKER_EARLY_OUT", SHADOW_FLAG_BLOCKER_EARLY_OUT),
-            ("SHADOW_FLAG_RECEIVER_PLANE", SHADOW_FLAG_RECEIVER_PLANE),
-            ("SHADOW_FLAG_TEMPORAL", SHADOW_FLAG_TEMPORAL),
-            ("SHADOW_FLAG_MOMENT_HARDENING", SHADOW_FLAG_MOMENT_HARDENING),
-            ("MAX_LIGHTS", MAX_LIGHTS as u32),
-            ("MAX_SHADOW_VIEWS", MAX_SHADOW_VIEWS as u32),
-        ] {
-            assert!(
-                source.contains(&format!("const {name}: u32 = {value}u;")),
-                "{name} differs"
-            );
-        }
-        assert_eq!(size_of::<CasterViewGpu>(), 256);
-    }
 }

@@ -22,8 +22,10 @@ pub mod visibility;
 
 use wgpu::util::DeviceExt;
 
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowStorage, ShadowViewKind, ShadowViews};
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::view_list::{ShadowViewKind, ShadowViews};
+use crate::layout::ShadowStorage;
+use crate::layout::group::{Slot, bindings};
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
 use crate::render::gpu_types::PoissonTapsGpu;
@@ -42,19 +44,12 @@ use crate::settings::ShadowMode;
 
 /// Everything the shadow passes and the materials share.
 pub struct ShadowResources {
-    /// Every cascade of every shadowed sun.
-    pub cascades: DepthArray,
-    /// Every shadowed spot light.
-    pub spots: DepthArray,
-    /// The six faces of every shadowed point light (sampled as a cube array).
-    pub points: DepthArray,
-    /// VSM moments of the spot lights' layers (a stand-in while no spot light uses VSM).
-    pub spot_moments: MomentArray,
-    /// VSM moments of the point lights' cubes (a stand-in while no point light uses VSM).
-    pub point_moments: MomentArray,
-    /// EVSM or MSM moments of the suns' cascades (a stand-in while no sun filters moments),
-    /// in [`cascade_moment_format`].
-    pub cascade_moments: MomentArray,
+    /// Each storage's depth array, at [`ShadowStorage::index`].
+    maps: [DepthArray; ShadowStorage::COUNT],
+    /// Each storage's moments, at [`ShadowStorage::index`]: VSM for spot and point lights,
+    /// EVSM or MSM (in [`cascade_moment_format`]) for the cascades; a stand-in while none of
+    /// the storage's lights filters moments.
+    moments: [MomentArray; ShadowStorage::COUNT],
     lights: wgpu::Buffer,
     more_lights: GrowBuffer,
     views: wgpu::Buffer,
@@ -84,17 +79,8 @@ pub struct ShadowResources {
 pub struct Resolved {
     /// One layer per shadowed light.
     pub target: VisibilityTarget,
-    /// The shadow group with `target` at binding 7.
+    /// The shadow group with `target` at its [`Slot::Resolved`] binding.
     pub group: wgpu::BindGroup,
-}
-
-/// The label of `storage`'s depth array.
-fn storage_label(storage: ShadowStorage) -> &'static str {
-    match storage {
-        ShadowStorage::Cascades => "cascade shadow maps",
-        ShadowStorage::Spots => "spot shadow maps",
-        ShadowStorage::Points => "point shadow cubes",
-    }
 }
 
 /// Whether a view of `storage` this frame filters with VSM, and whether one of those blurs
@@ -109,11 +95,6 @@ pub(crate) fn vsm_use(lights: &FrameLights, views: &ShadowViews, storage: Shadow
         .fold((false, false), |(_, blur), s| (true, blur || s.vsm_blur > 0))
 }
 
-/// Labels of the spot and point lights' moment arrays.
-const MOMENT_LABELS: [&str; 2] = ["spot shadow moments", "point shadow moments"];
-/// Label of the cascades' moment array.
-const CASCADE_MOMENTS: &str = "cascade shadow moments";
-
 /// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
 /// it wrote.
 fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u8>, data: &[u8]) -> bool {
@@ -126,78 +107,40 @@ fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u
     true
 }
 
+/// The shadow bind group over `buffers` (lights, more lights, views, Poisson taps), each
+/// storage's depth array and moments, and the resolved `visibility`: one entry per binding
+/// of [`bindings`].
 fn shadow_group(
     device: &wgpu::Device,
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 4],
-    maps: [&DepthArray; 3],
-    moments: [&MomentArray; 3],
+    maps: &[DepthArray; ShadowStorage::COUNT],
+    moments: &[MomentArray; ShadowStorage::COUNT],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, more_lights, views, taps] = buffers;
-    let [cascades, spots, points] = maps;
-    let [spot_moments, point_moments, cascade_moments] = moments;
+    let entries: Vec<wgpu::BindGroupEntry> = bindings()
+        .enumerate()
+        .map(|(binding, b)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource: match b.slot {
+                Slot::Lights => lights.as_entire_binding(),
+                Slot::MoreLights => more_lights.as_entire_binding(),
+                Slot::Views => views.as_entire_binding(),
+                Slot::PoissonTaps => taps.as_entire_binding(),
+                Slot::CompareSampler => wgpu::BindingResource::Sampler(&layouts.shadow_compare),
+                Slot::PointSampler => wgpu::BindingResource::Sampler(&layouts.shadow_point),
+                Slot::MomentsSampler => wgpu::BindingResource::Sampler(&layouts.moments_sampler),
+                Slot::Resolved => wgpu::BindingResource::TextureView(&visibility.view),
+                Slot::Maps(s) => wgpu::BindingResource::TextureView(&maps[s.index()].array_view),
+                Slot::Moments(s) => wgpu::BindingResource::TextureView(&moments[s.index()].moments.sampled),
+            },
+        })
+        .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("shadows"),
         layout: &layouts.shadows,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: lights.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: views.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&cascades.array_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&spots.array_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::Sampler(&layouts.shadow_compare),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::Sampler(&layouts.shadow_point),
-            },
-            wgpu::BindGroupEntry {
-                binding: 6,
-                resource: taps.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 7,
-                resource: wgpu::BindingResource::TextureView(&visibility.view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 8,
-                resource: wgpu::BindingResource::TextureView(&points.array_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 9,
-                resource: wgpu::BindingResource::TextureView(&spot_moments.moments.sampled),
-            },
-            wgpu::BindGroupEntry {
-                binding: 10,
-                resource: wgpu::BindingResource::TextureView(&point_moments.moments.sampled),
-            },
-            wgpu::BindGroupEntry {
-                binding: 11,
-                resource: wgpu::BindingResource::Sampler(&layouts.moments_sampler),
-            },
-            wgpu::BindGroupEntry {
-                binding: 12,
-                resource: wgpu::BindingResource::TextureView(&cascade_moments.moments.sampled),
-            },
-            wgpu::BindGroupEntry {
-                binding: 13,
-                resource: more_lights.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     })
 }
 
@@ -248,31 +191,24 @@ impl ShadowResources {
             contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let cascades = DepthArray::placeholder(device, storage_label(ShadowStorage::Cascades), false);
-        let spots = DepthArray::placeholder(device, storage_label(ShadowStorage::Spots), false);
-        let points = DepthArray::placeholder(device, storage_label(ShadowStorage::Points), true);
-        let spot_moments = MomentArray::placeholder(device, MOMENT_LABELS[0], moments_format, false);
-        let point_moments = MomentArray::placeholder(device, MOMENT_LABELS[1], moments_format, true);
-        let cascade_moments = MomentArray::placeholder(device, CASCADE_MOMENTS, moments_format, false);
+        let maps = ShadowStorage::ALL.map(|s| DepthArray::placeholder(device, s.desc().label, s.desc().cube));
+        let moments = ShadowStorage::ALL
+            .map(|s| MomentArray::placeholder(device, s.desc().moments_label, moments_format, s.desc().cube));
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
         let group = shadow_group(
             device,
             layouts,
             [&lights, &more_lights.buffer, &views, &poisson_taps],
-            [&cascades, &spots, &points],
-            [&spot_moments, &point_moments, &cascade_moments],
+            &maps,
+            &moments,
             &no_visibility,
         );
         let [caster_group, caster_run_group] = caster_groups(device, layouts, &caster_views.buffer);
         Self {
             resolved: None,
             no_visibility,
-            cascades,
-            spots,
-            points,
-            spot_moments,
-            point_moments,
-            cascade_moments,
+            maps,
+            moments,
             lights,
             more_lights,
             views,
@@ -295,35 +231,18 @@ impl ShadowResources {
 
     /// The depth array of `storage`.
     pub fn array(&self, storage: ShadowStorage) -> &DepthArray {
-        match storage {
-            ShadowStorage::Cascades => &self.cascades,
-            ShadowStorage::Spots => &self.spots,
-            ShadowStorage::Points => &self.points,
-        }
+        &self.maps[storage.index()]
     }
 
-    fn array_mut(&mut self, storage: ShadowStorage) -> &mut DepthArray {
-        match storage {
-            ShadowStorage::Cascades => &mut self.cascades,
-            ShadowStorage::Spots => &mut self.spots,
-            ShadowStorage::Points => &mut self.points,
-        }
-    }
-
-    /// Bytes of shadow-map memory (depth and VSM moments).
+    /// Bytes of shadow-map memory (depth and moments).
     pub fn memory_bytes(&self) -> u64 {
-        let depth: u64 = ShadowStorage::ALL.iter().map(|&s| self.array(s).memory_bytes()).sum();
-        let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
-        depth + moments.iter().map(|m| m.memory_bytes()).sum::<u64>()
+        let depth: u64 = self.maps.iter().map(DepthArray::memory_bytes).sum();
+        depth + self.moments.iter().map(MomentArray::memory_bytes).sum::<u64>()
     }
 
     /// The moments of `storage`: VSM for spot and point lights, EVSM or MSM for the cascades.
     pub fn moments(&self, storage: ShadowStorage) -> &MomentArray {
-        match storage {
-            ShadowStorage::Cascades => &self.cascade_moments,
-            ShadowStorage::Spots => &self.spot_moments,
-            ShadowStorage::Points => &self.point_moments,
-        }
+        &self.moments[storage.index()]
     }
 
     /// Bytes of the resolved visibility (0 while nothing is resolved).
@@ -353,26 +272,23 @@ impl ShadowResources {
         let mut rebuild = false;
         for kind in ShadowStorage::ALL {
             let (side, layers) = views.extent(kind);
-            let storage = self.array_mut(kind);
+            let desc = kind.desc();
+            let storage = &mut self.maps[kind.index()];
             if storage.needs(side, layers) {
                 gpu.limits.check_target(side, side)?;
-                let cube = kind == ShadowStorage::Points;
-                *storage = DepthArray::new(device, storage_label(kind), side, layers, cube);
+                *storage = DepthArray::new(device, desc.label, side, layers, desc.cube);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
         }
-        for (k, kind) in [ShadowStorage::Spots, ShadowStorage::Points].into_iter().enumerate() {
+        for kind in [ShadowStorage::Spots, ShadowStorage::Points] {
             let (uses_vsm, blur) = vsm_use(lights, views, kind);
             let (side, layers) = if uses_vsm { views.extent(kind) } else { (0, 0) };
-            let moments = if k == 0 {
-                &mut self.spot_moments
-            } else {
-                &mut self.point_moments
-            };
+            let desc = kind.desc();
+            let moments = &mut self.moments[kind.index()];
             if moments.needs(side, layers, blur) {
                 let format = moments.moments.texture.format();
-                *moments = MomentArray::new(device, MOMENT_LABELS[k], format, (side, layers, 1), k == 1, blur);
+                *moments = MomentArray::new(device, desc.moments_label, format, (side, layers, 1), desc.cube, blur);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -382,10 +298,11 @@ impl ShadowResources {
             let (side, layers) = views.extent(ShadowStorage::Cascades);
             let blur = sun_moment_blur(lights);
             let mips = sun_moment_mips(lights, side);
-            let moments = &mut self.cascade_moments;
+            let label = ShadowStorage::Cascades.desc().moments_label;
+            let moments = &mut self.moments[ShadowStorage::Cascades.index()];
             let other = moments.moments.texture.format() != format || moments.mips() != mips;
             if moments.needs(side, layers, blur) || other {
-                *moments = MomentArray::new(device, CASCADE_MOMENTS, format, (side, layers, mips), false, blur);
+                *moments = MomentArray::new(device, label, format, (side, layers, mips), false, blur);
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -441,9 +358,7 @@ impl ShadowResources {
         }
         let buffers = [&self.lights, &self.more_lights.buffer, &self.views, &self.poisson_taps];
         if rebuild {
-            let maps = [&self.cascades, &self.spots, &self.points];
-            let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
-            self.group = shadow_group(device, layouts, buffers, maps, moments, &self.no_visibility);
+            self.group = shadow_group(device, layouts, buffers, &self.maps, &self.moments, &self.no_visibility);
             counters.shadow_groups += 1;
         }
         match resolve {
@@ -454,9 +369,7 @@ impl ShadowResources {
                     Some(resolved) if !rebuild => resolved,
                     kept => {
                         let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
-                        let maps = [&self.cascades, &self.spots, &self.points];
-                        let moments = [&self.spot_moments, &self.point_moments, &self.cascade_moments];
-                        let group = shadow_group(device, layouts, buffers, maps, moments, &target);
+                        let group = shadow_group(device, layouts, buffers, &self.maps, &self.moments, &target);
                         counters.shadow_groups += 1;
                         Resolved { target, group }
                     }

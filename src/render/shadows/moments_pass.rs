@@ -12,9 +12,11 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::ecs::shadow_views::{ShadowStorage, ShadowViewKind};
+use crate::ecs::view_list::ShadowViewKind;
+use crate::layout::ShadowStorage;
 use crate::math::point::FACES;
-use crate::render::frame::{FrameContext, FrameInputs};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
 use crate::render::layouts::entry;
 use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
@@ -23,6 +25,9 @@ use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::vsm_use;
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
+
+/// The storages whose lights filter VSM moments, in the order of the pass's jobs.
+const VSM_STORAGES: [ShadowStorage; 2] = [ShadowStorage::Spots, ShadowStorage::Points];
 
 /// Mirror of WGSL `MomentsJob`, padded to the 256-byte dynamic-offset alignment.
 #[repr(C)]
@@ -177,13 +182,11 @@ impl RenderNode for MomentsPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
         let uses_vsm = |storage| vsm_use(inputs.lights, inputs.shadow_views, storage).0;
-        if uses_vsm(ShadowStorage::Spots) {
-            pass.read(frame.spot_maps);
-            pass.write(frame.spot_moments);
-        }
-        if uses_vsm(ShadowStorage::Points) {
-            pass.read(frame.point_maps);
-            pass.write(frame.point_moments);
+        for storage in VSM_STORAGES {
+            if uses_vsm(storage) {
+                pass.read(frame.maps(storage));
+                pass.write(frame.moments(storage));
+            }
         }
     }
 
@@ -193,7 +196,7 @@ impl RenderNode for MomentsPass {
             return;
         }
         let device = &ctx.gpu.device;
-        let format = ctx.shadows.spot_moments.moments.texture.format();
+        let format = ctx.shadows.moments(ShadowStorage::Spots).moments.texture.format();
         let pipelines = self
             .pipelines
             .get_or_insert_with(|| create_pipelines(device, ctx.library, format));
@@ -201,11 +204,7 @@ impl RenderNode for MomentsPass {
         // scratch (layer 0 on); blur y scratch → moments.
         self.data.clear();
         for job in &self.jobs {
-            let side = if job.storage == 0 {
-                ctx.shadows.spots.side
-            } else {
-                ctx.shadows.points.side
-            };
+            let side = ctx.shadows.array(VSM_STORAGES[job.storage]).side;
             let stages = [(job.first, job.first, 0), (job.first, 0, 0), (0, job.first, 1)];
             for &(src_layer, dst_layer, axis) in &stages[..job.stages()] {
                 self.data.push(MomentsJobGpu {
@@ -226,10 +225,8 @@ impl RenderNode for MomentsPass {
         let Some((buffer, generation)) = uploaded else {
             return;
         };
-        let stores: [(&DepthArray, &MomentArray); 2] = [
-            (&ctx.shadows.spots, &ctx.shadows.spot_moments),
-            (&ctx.shadows.points, &ctx.shadows.point_moments),
-        ];
+        let stores: [(&DepthArray, &MomentArray); 2] =
+            VSM_STORAGES.map(|s| (ctx.shadows.array(s), ctx.shadows.moments(s)));
         // NOTE: the groups are made again only when an allocation behind them changed.
         for (k, (depth, moments)) in stores.into_iter().enumerate() {
             let key = (depth.id, moments.id, generation);
@@ -322,10 +319,7 @@ impl MomentsPass {
     fn plan(&mut self, ctx: &FrameContext<'_>) {
         self.jobs.clear();
         let views = &ctx.shadow_views.views;
-        let ids = [
-            (ctx.shadows.spot_moments.id, ctx.shadows.spots.id),
-            (ctx.shadows.point_moments.id, ctx.shadows.points.id),
-        ];
+        let ids = VSM_STORAGES.map(|s| (ctx.shadows.moments(s).id, ctx.shadows.array(s).id));
         for (held, &(moments, depth)) in self.held.iter_mut().zip(&ids) {
             if (held.0, held.1) != (moments, depth) {
                 *held = (moments, depth, Vec::new());

@@ -5,14 +5,14 @@
 //! ([`cascade_moments_pass`](super::cascade_moments_pass)) and the packed shadow views read the
 //! same values from here, so what is baked is what is tested.
 
-use crate::ecs::frame_lights::{FrameLights, SunView};
+use crate::ecs::light_views::{FrameLights, SunView};
 use crate::math::cascades::Cascade;
 use crate::math::evsm::{MomentPrecision, cascade_blur_texels, cascade_exponent};
 use crate::math::msm::{MSM_BIAS_16, MSM_BIAS_32};
 use crate::math::shadow_memory::{self, CascadeMomentFormat, hardening_mips};
 pub use crate::math::shadow_memory::{MOMENT_MIPS, MomentSupport};
-use crate::render::shadows::gpu::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 use crate::settings::{MAX_MOMENT_BLUR_TEXELS, ShadowMode};
+use crate::shader::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 
 /// How one cascade's moments are baked and tested.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,7 @@ use glam::Vec3;
 
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::lights::{PointLight, SpotLight};
-use crate::ecs::shadow_views::ShadowLightBudget;
+use crate::ecs::view_list::ShadowLightBudget;
 use crate::math::spot::MAX_SPOT_HALF_ANGLE;
 use crate::settings::ShadowSettings;
 use crate::viewer::inspector::settings::{bias_ui, filter_ui, resolution_ui, settings_ui};

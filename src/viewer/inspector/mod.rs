@@ -17,9 +17,9 @@ use bevy_ecs::world::World;
 use egui::{Button, CollapsingHeader, Color32, Slider, Ui};
 
 use crate::ecs::components::DirectionalLight;
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::ShadowViews;
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::ecs::view_list::ShadowViews;
 use crate::render::{FrameReport, RenderOptions};
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;

@@ -3,9 +3,9 @@
 
 use egui::{Color32, Grid, Sense, Stroke, Ui, pos2, vec2};
 
-use crate::ecs::frame_lights::FrameLights;
-use crate::ecs::shadow_views::{ShadowViewKind, ShadowViews};
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::stats::ShadowStats;
+use crate::ecs::view_list::{ShadowViewKind, ShadowViews};
 use crate::render::FrameReport;
 use crate::render::shadows::depth_pass::view_name;
 use crate::viewer::history::TimingHistory;

@@ -1,0 +1,149 @@
+//! The frame's shadow views as data: every view a shadow map is rendered from ([`ShadowView`],
+//! listed in [`ShadowViews`] with their draw groups), what each renders ([`ShadowViewKind`])
+//! and what its casters are culled against ([`CullVolume`]); and how many lights may cast
+//! ([`ShadowLightBudget`]). [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views)
+//! fills them each frame.
+
+use bevy_ecs::entity::Entity;
+use bevy_ecs::resource::Resource;
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::ecs::draw_groups::DrawGroup;
+use crate::ecs::single_pass::SinglePassGroup;
+pub use crate::layout::ShadowStorage;
+use crate::math::footprint::TileMask;
+use crate::math::frustum::Frustum;
+use crate::math::light_budget::{LightKind, ShadowBudget};
+
+/// How many lights of each kind may cast shadows, and the shadow-map size of a spot or point
+/// light without its own [`ShadowSettings`](crate::settings::ShadowSettings).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShadowLightBudget {
+    /// Most shadowed lights per kind (4 suns; the seed's layout: 8 spot lights, 4 point
+    /// lights).
+    pub lights: ShadowBudget,
+    /// Side of a spot light's shadow map, texels.
+    pub spot_resolution: u32,
+    /// Side of each cube face of a point light's shadow, texels.
+    pub point_resolution: u32,
+}
+
+impl Default for ShadowLightBudget {
+    fn default() -> Self {
+        Self {
+            lights: ShadowBudget {
+                directional: 4,
+                spot: 8,
+                point: 4,
+            },
+            spot_resolution: 1024,
+            point_resolution: 512,
+        }
+    }
+}
+
+/// Near plane of a spot light's shadow view, metres: casters closer to the light are clamped
+/// to it (depth clamping) or clipped.
+pub const SPOT_NEAR: f32 = 0.05;
+
+/// Near plane of a point light's cube faces, metres (along each face's axis).
+pub const POINT_NEAR: f32 = 0.05;
+
+/// What a shadow view renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowViewKind {
+    /// Cascade `i` of a directional light (into the cascades' depth array).
+    Cascade(u32),
+    /// A spot light's perspective view (into the spot lights' depth array).
+    Spot,
+    /// Face `f` (cube-map layer order: +X, −X, +Y, −Y, +Z, −Z) of a point light's cube (into
+    /// the point lights' depth array).
+    PointFace(u32),
+}
+
+impl ShadowViewKind {
+    /// The storage a view of this kind renders into.
+    pub fn storage(self) -> ShadowStorage {
+        match self {
+            ShadowViewKind::Cascade(_) => ShadowStorage::Cascades,
+            ShadowViewKind::Spot => ShadowStorage::Spots,
+            ShadowViewKind::PointFace(_) => ShadowStorage::Points,
+        }
+    }
+}
+
+/// The volume a view's casters must touch to be drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CullVolume {
+    /// A cascade's light-space box (casters are extended towards the light).
+    LightBox {
+        /// Light space from world, rotation only.
+        light_rotation: Mat3,
+        /// Box corner with the smallest coordinates, light space.
+        min: Vec3,
+        /// Box corner with the largest coordinates, light space.
+        max: Vec3,
+    },
+    /// A perspective view's frustum.
+    Frustum(Frustum),
+}
+
+/// One view a shadow map is rendered from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowView {
+    /// The light's entity.
+    pub entity: Entity,
+    /// The light's kind.
+    pub light_kind: LightKind,
+    /// The light's index in the renderer's light list ([`FrameLights::light_index`](crate::ecs::light_views::FrameLights::light_index)).
+    pub light: u32,
+    /// What the view renders.
+    pub kind: ShadowViewKind,
+    /// Light clip space from world (reverse-Z), relative to the render origin.
+    pub clip_from_world: Mat4,
+    /// What its casters were culled against.
+    pub cull: CullVolume,
+    /// Its layer in the storage of its kind.
+    pub slot: u32,
+    /// Side of its shadow map, texels.
+    pub resolution: u32,
+    /// The tiles of its map its casters can write ([`crate::ecs::footprints`]): what a
+    /// redraw of the layer must clear first.
+    pub footprint: TileMask,
+    /// Content version: the same while nothing that changes this map changed (its matrix,
+    /// resolution, light settings, or a caster in its cull volume); unique across views, so
+    /// the renderer redraws a layer only when the version it holds differs.
+    pub version: u64,
+}
+
+/// This frame's shadow views and their culled casters: `groups[i]` holds the draws of
+/// `views[i]`, indexing `indices`. Views are listed suns first (cascade by cascade), then
+/// spot lights, then point lights (six faces each), in the order of [`FrameLights`](crate::ecs::light_views::FrameLights).
+#[derive(Resource, Debug, Default)]
+pub struct ShadowViews {
+    /// Every view rendered this frame.
+    pub views: Vec<ShadowView>,
+    /// The casters of each view, as instanced draws.
+    pub groups: Vec<DrawGroup>,
+    /// Each sun's casters listed once for a single-pass draw of its cascades, while
+    /// [`ShadowCulling::single_pass`](crate::ecs::receiver_culling::ShadowCulling::single_pass) is on (else empty); their packed entries follow the
+    /// groups' in `indices`.
+    pub single_pass: Vec<SinglePassGroup>,
+    /// Instance indices of every group, concatenated.
+    pub indices: Vec<u32>,
+    /// Bumped whenever `groups` and `indices` are rebuilt (the renderer uploads them then).
+    pub generation: u64,
+}
+
+impl ShadowViews {
+    /// What `storage` must hold this frame: the side of its largest view and the number of
+    /// layers (0, 0 without views).
+    pub fn extent(&self, storage: ShadowStorage) -> (u32, u32) {
+        self.views
+            .iter()
+            .filter(|v| v.kind.storage() == storage)
+            .fold((0, 0), |(side, layers), v| {
+                (side.max(v.resolution), layers.max(v.slot + 1))
+            })
+    }
+}

@@ -1,0 +1,108 @@
+//! Shadow layouts described once: the storages a layout renders its views into (what
+//! [`ShadowStorage`] names, with its label, its sampled dimension and its bindings) and the
+//! shadow bind group (group 3) built from those descriptions ([`group`]). Everything here is
+//! plain data: the ECS, the shader library and the renderer all read it, and it imports
+//! none of them.
+
+pub mod group;
+
+/// The storage a shadow view renders into: one depth array per layout (and, for the layouts
+/// that filter moments, one moment array beside it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowStorage {
+    /// The cascades of every shadowed sun, a layer each.
+    Cascades,
+    /// Every shadowed spot light, a layer each.
+    Spots,
+    /// Every shadowed point light, six layers (a cube) each.
+    Points,
+}
+
+/// What the renderer needs to know about one storage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StorageDesc {
+    /// Label of its depth array (and the start of its other resources' labels).
+    pub label: &'static str,
+    /// Label of its moment array.
+    pub moments_label: &'static str,
+    /// WGSL name of its depth array in the shadow group.
+    pub maps_binding: &'static str,
+    /// WGSL name of its moment array in the shadow group.
+    pub moments_binding: &'static str,
+    /// What its depth array holds, for the generated WGSL's comment.
+    pub doc: &'static str,
+    /// Sampled as a cube array (hardware face selection), so every light in it shares one
+    /// face size; otherwise a 2D array whose lights each keep their own size.
+    pub cube: bool,
+    /// Its views can be rendered in one multiview pass per light (a sun's cascades).
+    pub single_pass: bool,
+}
+
+impl ShadowStorage {
+    /// Every storage, in the order of the renderer's arrays.
+    pub const ALL: [ShadowStorage; 3] = [ShadowStorage::Cascades, ShadowStorage::Spots, ShadowStorage::Points];
+
+    /// Number of storages.
+    pub const COUNT: usize = Self::ALL.len();
+
+    /// Its position in [`ALL`](Self::ALL): the index of its arrays in the renderer's lists.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Its description.
+    pub fn desc(self) -> &'static StorageDesc {
+        match self {
+            ShadowStorage::Cascades => &CASCADES,
+            ShadowStorage::Spots => &SPOTS,
+            ShadowStorage::Points => &POINTS,
+        }
+    }
+}
+
+const CASCADES: StorageDesc = StorageDesc {
+    label: "cascade shadow maps",
+    moments_label: "cascade shadow moments",
+    maps_binding: "cascade_maps",
+    moments_binding: "cascade_moments",
+    doc: "Every cascade of every shadowed sun, one layer each; its moments (EVSM2, EVSM4 or MSM) a layer per cascade.",
+    cube: false,
+    single_pass: true,
+};
+
+const SPOTS: StorageDesc = StorageDesc {
+    label: "spot shadow maps",
+    moments_label: "spot shadow moments",
+    maps_binding: "spot_maps",
+    moments_binding: "spot_moments",
+    doc: "Every shadowed spot light, one layer each; its VSM moments (z, z²) beside it.",
+    cube: false,
+    single_pass: false,
+};
+
+const POINTS: StorageDesc = StorageDesc {
+    label: "point shadow cubes",
+    moments_label: "point shadow moments",
+    maps_binding: "point_maps",
+    moments_binding: "point_moments",
+    doc: "Every shadowed point light's six faces, sampled as a cube (index: first layer / 6); its VSM moments beside it.",
+    cube: true,
+    single_pass: false,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_storage_sits_at_its_index_with_its_own_labels() {
+        for (i, storage) in ShadowStorage::ALL.into_iter().enumerate() {
+            assert_eq!(storage.index(), i);
+            let others = ShadowStorage::ALL.iter().filter(|s| **s != storage);
+            for other in others {
+                assert_ne!(storage.desc().label, other.desc().label);
+                assert_ne!(storage.desc().moments_label, other.desc().moments_label);
+            }
+        }
+    }
+}
