@@ -136,9 +136,10 @@ fn plugin_app(n: usize, sun: bool) -> App {
         world.spawn((
             DirectionalLight::default(),
             Transform::default().looking_at(input.light_direction, Vec3::Y),
-            ShadowSettings {
-                max_distance: input.max_distance,
-                ..Default::default()
+            {
+                let mut s = ShadowSettings::default();
+                s.map.max_distance = input.max_distance;
+                s
             },
         ));
     }

@@ -8,7 +8,7 @@
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
-#import penumbra::mesh::INSTANCE_FLAG_RECEIVE_SHADOWS
+#import penumbra::contract::INSTANCE_FLAG_RECEIVE_SHADOWS
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;

@@ -48,8 +48,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         Transform::default().looking_at(Vec3::new(-0.6, -1.0, -0.4), Vec3::Y),
         ShadowSettings {
-            mode: ShadowMode::Pcss,
-            max_distance: 50.0,
+            map: ShadowMapSettings {
+                max_distance: 50.0,
+                ..Default::default()
+            },
+            filter: ShadowFilterSettings {
+                mode: ShadowMode::Pcss,
+                ..Default::default()
+            },
             ..Default::default()
         },
     ));

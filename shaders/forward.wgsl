@@ -143,7 +143,7 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         let light = get_light(frame.focus_light);
         var tint = vec3<f32>(1.0);
         if light.kind == LIGHT_DIRECTIONAL {
-            tint = cascade_debug_color(light, view_depth);
+            tint = cascade_debug_color(light, surface);
         }
 #ifdef SHADOW_POINT
         if light.kind == LIGHT_POINT {
@@ -164,7 +164,7 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     if frame.focus_light < light_count() {
         let light = get_light(frame.focus_light);
         if light.kind == LIGHT_DIRECTIONAL {
-            focus_cascade = cascade_index(light, view_depth);
+            focus_cascade = cascade_index(light, surface);
         }
 #ifdef SHADOW_SPOT
         if light.kind == LIGHT_SPOT && spot_covers(light, surface) {

@@ -33,6 +33,13 @@ impl From<Fit> for CascadeFit {
     }
 }
 
+/// How a sun's shadow is divided into maps (`SunLayout`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Layout {
+    Cascades,
+    Clipmap,
+}
+
 /// Storage of a sun's moments (`MomentFormat`).
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Precision {

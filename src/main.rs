@@ -16,7 +16,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use bench_command::{BenchArgs, bench};
 use check_command::check;
-use cli_values::{Fit, Mode, Precision, Prepass, Quality};
+use cli_values::{Fit, Layout, Mode, Precision, Prepass, Quality};
 
 use penumbra::app::{RenderError, RenderRequest, render_scene_with};
 use penumbra::diagnostic::{ErrorStyle, render_error};
@@ -27,7 +27,7 @@ use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
-use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings, SunLayout};
 use penumbra::text::format_bytes;
 
 #[derive(Parser)]
@@ -85,7 +85,19 @@ struct RenderArgs {
     /// depth-bounds (to the depths the camera saw, a frame or two late).
     #[arg(long, value_enum)]
     fit: Option<Fit>,
-    /// Tint pixels by the cascade they sample.
+    /// How the sun's shadow is divided into maps (default: the scene's): cascades, or a
+    /// clipmap of `--clipmap-levels` levels around the camera, the finest
+    /// `--clipmap-extent` metres wide.
+    #[arg(long, value_enum)]
+    layout: Option<Layout>,
+    /// Clipmap levels, 1-8 (with `--layout clipmap`; default: the scene's, else 6).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8))]
+    clipmap_levels: Option<u32>,
+    /// Side of the finest clipmap level in metres, 0.5-1e5 (with `--layout clipmap`;
+    /// default: the scene's, else 32).
+    #[arg(long, value_parser = clipmap_extent)]
+    clipmap_extent: Option<f32>,
+    /// Tint pixels by the cascade (or clipmap level) they sample.
     #[arg(long)]
     debug_cascades: bool,
     /// Folder every file the scene names must stay inside (default: the nearest enclosing
@@ -195,6 +207,14 @@ fn sun_degrees(text: &str) -> Result<f32, String> {
     }
 }
 
+/// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
+fn clipmap_extent(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(m) if (0.5..=1.0e5).contains(&m) => Ok(m),
+        _ => Err(format!("expected metres from 0.5 to 1e5, found `{text}`")),
+    }
+}
+
 fn render(args: RenderArgs) -> Result<(), RenderError> {
     let RenderArgs {
         scene,
@@ -208,6 +228,9 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
         moment_contact_hardening,
         sun_diameter,
         fit,
+        layout,
+        clipmap_levels,
+        clipmap_extent,
         debug_cascades,
         asset_root,
         max_instances,
@@ -238,7 +261,7 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     }
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
-            s.mode = match m {
+            s.filter.mode = match m {
                 Mode::Pcf => ShadowMode::Pcf,
                 Mode::Pcss => ShadowMode::Pcss,
                 Mode::Vsm => ShadowMode::Vsm,
@@ -248,30 +271,42 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
             };
         }
         if let Some(p) = moment_precision {
-            s.moment_precision = match p {
+            s.filter.moments.precision = match p {
                 Precision::Auto => MomentFormat::Auto,
                 Precision::Fp16 => MomentFormat::Fp16,
                 Precision::Fp32 => MomentFormat::Fp32,
             };
         }
         if let Some(q) = quality {
-            s.pcss_quality = match q {
+            s.filter.pcss_quality = match q {
                 Quality::Low => PcssQuality::Low,
                 Quality::Medium => PcssQuality::Medium,
                 Quality::High => PcssQuality::High,
             };
         }
         if let Some(r) = pcf_radius {
-            s.pcf_radius = r;
+            s.filter.pcf_radius = r;
         }
         if let Some(on) = moment_contact_hardening {
-            s.moment_contact_hardening = on;
+            s.filter.moments.contact_hardening = on;
         }
         if let Some(fit) = fit {
-            s.fit = fit.into();
+            s.map.cascades.fit = fit.into();
         }
+        let (levels, extent) = match s.map.layout {
+            SunLayout::Clipmap { levels, level0_extent } => (levels, level0_extent),
+            SunLayout::Cascades => (6, 32.0),
+        };
+        s.map.layout = match layout {
+            Some(Layout::Cascades) => SunLayout::Cascades,
+            Some(Layout::Clipmap) => SunLayout::Clipmap {
+                levels: clipmap_levels.unwrap_or(levels),
+                level0_extent: clipmap_extent.unwrap_or(extent),
+            },
+            None => s.map.layout,
+        };
         if debug_cascades {
-            s.debug_view = ShadowDebugView::Cascades;
+            s.filter.debug_view = ShadowDebugView::Cascades;
         }
     };
     let request = RenderRequest {
@@ -329,8 +364,8 @@ fn render(args: RenderArgs) -> Result<(), RenderError> {
     let cascades = if desc.sun.is_some() {
         format!(
             ", sun {:?} with {}² texels per cascade",
-            s.mode.effective(true),
-            sun_side.map_or(s.resolution, |l| l.granted)
+            s.filter.mode.effective(true),
+            sun_side.map_or(s.map.resolution, |l| l.granted)
         )
     } else {
         String::new()

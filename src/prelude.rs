@@ -16,4 +16,7 @@ pub use crate::ecs::{
 pub use crate::mesh::{cuboid, plane, sphere};
 pub use crate::render::{DepthPrepass, GpuContext, Msaa, RenderOptions, RenderPlugin, Renderer};
 pub use crate::scene::SceneDesc;
-pub use crate::settings::{CascadeFit, MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+pub use crate::settings::{
+    CascadeFit, CascadeSettings, MomentFormat, MomentSettings, PcssQuality, ShadowBias, ShadowDebugView,
+    ShadowFilterSettings, ShadowMapSettings, ShadowMode, ShadowSettings, VsmSettings,
+};

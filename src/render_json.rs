@@ -35,7 +35,7 @@ pub fn summary_json(
         "adapter": result.adapter,
         "image": { "path": out.display().to_string(), "width": width, "height": height, "frames": frames.max(1) },
         "instances": { "total": result.instances, "visible": stats.visible_instances },
-        "sun": settings.map(|s| json!({ "mode": s.mode.effective(true), "resolution": s.resolution })),
+        "sun": settings.map(|s| json!({ "mode": s.filter.mode.effective(true), "resolution": s.map.resolution })),
         "shadow_views": stats.casters_per_view.len(),
         "shadow_memory_bytes": report.shadow_memory,
         "shadow_memory_plan": {

@@ -24,7 +24,7 @@ fn the_example_shader_composes_for_every_shipped_variant() {
 fn ink_hatching_follows_the_shadow() {
     let desc = SceneDesc::load("assets/scenes/pillars.ron").unwrap();
     let (width, height) = (192, 108);
-    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.temporal_rotation = false;
+    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.filter.temporal_rotation = false;
     let reference = render_scene_with(
         &desc,
         &RenderRequest {

@@ -46,7 +46,7 @@ fn app_with(fit: CascadeFit, frames: usize, prepass: DepthPrepass) -> App {
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        s.fit = fit;
+        s.map.cascades.fit = fit;
     }
     for _ in 0..frames {
         app.update();

@@ -51,13 +51,11 @@ fn app_with_boxes(n: usize, settings: ShadowSettings) -> App {
 
 #[test]
 fn casters_are_culled_into_every_cascade_they_touch() {
-    let mut app = app_with_boxes(
-        100,
-        ShadowSettings {
-            max_distance: 150.0,
-            ..Default::default()
-        },
-    );
+    let mut app = app_with_boxes(100, {
+        let mut s = ShadowSettings::default();
+        s.map.max_distance = 150.0;
+        s
+    });
     app.update();
     let world = app.world();
     let groups = world.resource::<ShadowViews>();
@@ -74,7 +72,7 @@ fn casters_are_culled_into_every_cascade_they_touch() {
             "cascade {c} is empty: {:?}",
             stats.casters_per_view
         );
-        assert_eq!(groups.views[c].kind, ShadowViewKind::Cascade(c as u32));
+        assert_eq!(groups.views[c].kind, ShadowViewKind::cascade(c as u32));
         // All boxes share a mesh and material: one instanced draw per cascade.
         assert_eq!(groups.groups[c].opaque.len(), 1);
         assert!(groups.groups[c].masked.is_empty());
@@ -88,18 +86,19 @@ fn casters_are_culled_into_every_cascade_they_touch() {
 
 #[test]
 fn invalid_settings_are_clamped_with_a_warning() {
-    let bad = ShadowSettings {
-        cascade_count: 9,
-        split_lambda: f32::NAN,
-        resolution: 10,
-        ..Default::default()
+    let bad = {
+        let mut s = ShadowSettings::default();
+        s.map.cascades.count = 9;
+        s.map.cascades.split_lambda = f32::NAN;
+        s.map.resolution = 10;
+        s
     };
     let mut app = app_with_boxes(10, bad);
     app.update();
     let world = app.world();
     let sun = world.resource::<FrameLights>().sun().expect("the light is still used");
-    assert_eq!(sun.settings.cascade_count, 4);
-    assert_eq!(sun.settings.resolution, MIN_RESOLUTION);
+    assert_eq!(sun.settings.map.cascades.count, 4);
+    assert_eq!(sun.settings.map.resolution, MIN_RESOLUTION);
     assert!(sun.cascades.active().iter().all(|c| c.clip_from_world.is_finite()));
     let warnings = &world.resource::<ShadowDiagnostics>().current;
     for field in ["cascade_count", "split_lambda", "resolution"] {
@@ -176,7 +175,7 @@ fn changing_cascade_count_between_frames_updates_the_groups() {
     let world = app.world_mut();
     let mut q = world.query::<&mut ShadowSettings>();
     for mut s in q.iter_mut(world) {
-        s.cascade_count = 2;
+        s.map.cascades.count = 2;
     }
     app.update();
     let world = app.world();

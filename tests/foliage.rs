@@ -314,7 +314,7 @@ fn a_sample_count_the_adapter_lacks_falls_back_with_one_warning() {
         ..RenderOptions::default()
     };
     let frames = |msaa| {
-        let tweak = |s: &mut penumbra::settings::ShadowSettings| s.temporal_rotation = false;
+        let tweak = |s: &mut penumbra::settings::ShadowSettings| s.filter.temporal_rotation = false;
         let request = RenderRequest {
             width: 96,
             height: 54,

@@ -267,11 +267,12 @@ fn scene_mutants_never_panic_and_errors_are_located() {
 
 #[test]
 fn settings_mutants_never_panic_and_errors_are_located() {
-    let custom = ShadowSettings {
-        mode: ShadowMode::Pcss,
-        cascade_count: 3,
-        split_lambda: 0.25,
-        ..ShadowSettings::default()
+    let custom = {
+        let mut s = ShadowSettings::default();
+        s.filter.mode = ShadowMode::Pcss;
+        s.map.cascades.count = 3;
+        s.map.cascades.split_lambda = 0.25;
+        s
     };
     let seeds: Vec<Vec<u8>> = [settings_to_ron(&ShadowSettings::default()), settings_to_ron(&custom)]
         .into_iter()

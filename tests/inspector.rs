@@ -76,26 +76,26 @@ fn mode_and_pcss_switches_reach_the_settings_and_the_renderer() {
     let mut h = harness(state("mode"));
     h.run();
     // The default scene starts with PCSS, so its pipelines exist.
-    assert_eq!(settings(&mut h).mode, ShadowMode::Pcss);
+    assert_eq!(settings(&mut h).filter.mode, ShadowMode::Pcss);
     let pcss_only = renderer(&h).counters().forward_pipelines;
 
     choose(&mut h, "mode", "PCF");
-    assert_eq!(settings(&mut h).mode, ShadowMode::Pcf);
+    assert_eq!(settings(&mut h).filter.mode, ShadowMode::Pcf);
     h.state_mut().app.update();
     let with_pcf = renderer(&h).counters().forward_pipelines;
     assert!(with_pcf > pcss_only, "no PCF pipeline was built after the switch");
 
     // Back to PCSS: the cached pipelines are reused, nothing is rebuilt.
     choose(&mut h, "mode", "PCSS");
-    assert_eq!(settings(&mut h).mode, ShadowMode::Pcss);
+    assert_eq!(settings(&mut h).filter.mode, ShadowMode::Pcss);
     h.state_mut().app.update();
     assert_eq!(renderer(&h).counters().forward_pipelines, with_pcf);
 
     // The PCSS-only controls are back; the early-out switch toggles.
-    let early_out = settings(&mut h).blocker_early_out;
+    let early_out = settings(&mut h).filter.blocker_early_out;
     h.get_by_label("blocker early-out").click();
     h.run();
-    assert_eq!(settings(&mut h).blocker_early_out, !early_out);
+    assert_eq!(settings(&mut h).filter.blocker_early_out, !early_out);
 }
 
 #[test]
@@ -106,7 +106,7 @@ fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
 
     slider(&h, "cascades").set_value_accesskit(2.0);
     h.run();
-    assert_eq!(settings(&mut h).cascade_count, 2);
+    assert_eq!(settings(&mut h).map.cascades.count, 2);
     h.state_mut().app.update();
     assert_eq!(h.state().app.world().resource::<ShadowViews>().views.len(), 2);
     assert_eq!(
@@ -116,7 +116,7 @@ fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
     );
 
     choose(&mut h, "resolution", "1024");
-    assert_eq!(settings(&mut h).resolution, 1024);
+    assert_eq!(settings(&mut h).map.resolution, 1024);
     h.state_mut().app.update();
     assert_eq!(renderer(&h).shadow_map_resolution(), Some(1024));
     assert_eq!(renderer(&h).counters().shadow_maps, before.shadow_maps + 1);
@@ -146,7 +146,7 @@ fn sliders_move_the_sun_and_the_split() {
         "{before} -> {forward}"
     );
     assert!((light.angular_diameter.to_degrees() - 2.0).abs() < 1e-3);
-    assert!((settings(&mut h).split_lambda - 0.25).abs() < 1e-6);
+    assert!((settings(&mut h).map.cascades.split_lambda - 0.25).abs() < 1e-6);
 }
 
 #[test]
@@ -225,8 +225,8 @@ fn a_spot_light_panel_edits_the_light_and_gives_it_settings() {
     let world = h.state_mut().app.world_mut();
     let mut q = world.query_filtered::<&ShadowSettings, bevy_ecs::query::With<SpotLight>>();
     let settings = *q.single(world).expect("the spot light got its own settings");
-    assert_eq!(settings.normal_offset, 2.0);
-    assert_eq!(settings.resolution, 1024);
+    assert_eq!(settings.bias.normal_offset, 2.0);
+    assert_eq!(settings.map.resolution, 1024);
     // Its shadow is drawn on the next frame.
     h.state_mut().app.update();
     let views = h.state().app.world().resource::<ShadowViews>();
@@ -234,7 +234,7 @@ fn a_spot_light_panel_edits_the_light_and_gives_it_settings() {
         views
             .views
             .iter()
-            .filter(|v| v.kind == penumbra::ecs::ShadowViewKind::Spot)
+            .filter(|v| v.kind == penumbra::ecs::ShadowViewKind::SPOT)
             .count(),
         1
     );
@@ -268,15 +268,15 @@ fn a_point_light_panel_switches_its_filter_to_vsm_and_edits_the_blur() {
         .single(world)
         .expect("the point light got its own settings");
     assert_eq!(light.radius, 0.25);
-    assert_eq!((settings.mode, settings.vsm_blur), (ShadowMode::Vsm, 5));
-    assert_eq!(settings.resolution, 512, "the budget's point resolution");
+    assert_eq!((settings.filter.mode, settings.filter.vsm.blur), (ShadowMode::Vsm, 5));
+    assert_eq!(settings.map.resolution, 512, "the budget's point resolution");
     // Its six faces are drawn on the next frame.
     h.state_mut().app.update();
     let views = h.state().app.world().resource::<ShadowViews>();
     let faces = views
         .views
         .iter()
-        .filter(|v| matches!(v.kind, penumbra::ecs::ShadowViewKind::PointFace(_)))
+        .filter(|v| v.kind.storage == penumbra::layout::ShadowStorage::Points)
         .count();
     assert_eq!(faces, 6);
 }

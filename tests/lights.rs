@@ -50,7 +50,7 @@ fn scene_lights_spawn_with_their_fields_and_placement() {
         .map(|(l, s)| (*l, *s))
         .collect();
     assert_eq!(suns.len(), 2);
-    assert_eq!(suns.iter().map(|s| s.1.cascade_count).collect::<Vec<_>>(), [4, 2]);
+    assert_eq!(suns.iter().map(|s| s.1.map.cascades.count).collect::<Vec<_>>(), [4, 2]);
     let (spot, at) = world.query::<(&SpotLight, &GlobalTransform)>().single(world).unwrap();
     assert!((spot.outer_angle - 30f32.to_radians()).abs() < 1e-6);
     assert!((spot.inner_angle - 20f32.to_radians()).abs() < 1e-6);
@@ -71,7 +71,7 @@ fn scene_lights_spawn_with_their_fields_and_placement() {
     let views = world.resource::<penumbra::ecs::ShadowViews>();
     assert_eq!(views.views.len(), 13);
     let faces: Vec<ShadowViewKind> = views.views[7..].iter().map(|v| v.kind).collect();
-    assert_eq!(faces, (0..6).map(ShadowViewKind::PointFace).collect::<Vec<_>>());
+    assert_eq!(faces, (0..6).map(ShadowViewKind::point_face).collect::<Vec<_>>());
     let warnings = &world.resource::<ShadowDiagnostics>().current;
     assert!(warnings.is_empty(), "{warnings:?}");
 }
@@ -230,7 +230,7 @@ fn each_shadowed_spot_light_gets_a_view_with_the_casters_in_its_cone() {
         views
             .views
             .iter()
-            .all(|v| v.kind == penumbra::ecs::ShadowViewKind::Spot)
+            .all(|v| v.kind == penumbra::ecs::ShadowViewKind::SPOT)
     );
     // Each view belongs to one spot light (the scene has no sun, so light i is spot i).
     let spot_of = |i: usize| lights.spots[views.views[i].light as usize].shadow.unwrap();

@@ -10,7 +10,7 @@ use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use common::{spawn_box, still_scene};
 use glam::{Vec3, Vec4};
-use penumbra::ecs::{FrameLights, ShadowDiagnostics, ShadowLightBudget, ShadowViewKind, ShadowViews, Transform};
+use penumbra::ecs::{FrameLights, ShadowDiagnostics, ShadowLightBudget, ShadowStorage, ShadowViews, Transform};
 use penumbra::math::aabb::Aabb;
 use penumbra::math::point::face_frustum;
 use penumbra::render::{RenderOptions, Renderer};
@@ -45,10 +45,8 @@ fn faces(app: &App) -> Vec<(u32, u32, u64)> {
     views
         .views
         .iter()
-        .filter_map(|v| match v.kind {
-            ShadowViewKind::PointFace(f) => Some((v.light, f, v.version)),
-            _ => None,
-        })
+        .filter(|v| v.kind.storage == ShadowStorage::Points)
+        .map(|v| (v.light, v.kind.index, v.version))
         .collect()
 }
 

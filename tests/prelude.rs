@@ -19,8 +19,14 @@ fn an_app_needs_only_the_prelude() {
         DirectionalLight::default(),
         Transform::default().looking_at(Vec3::new(-0.5, -1.0, -0.3), Vec3::Y),
         ShadowSettings {
-            mode: ShadowMode::Msm,
-            moment_precision: MomentFormat::Fp16,
+            filter: ShadowFilterSettings {
+                mode: ShadowMode::Msm,
+                moments: MomentSettings {
+                    precision: MomentFormat::Fp16,
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
             ..Default::default()
         },
     ));

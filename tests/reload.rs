@@ -152,7 +152,7 @@ fn a_settings_file_edit_applies_without_respawning() {
         }
     );
     let s = sun_settings(app.world_mut());
-    assert_eq!((s.mode, s.cascade_count), (ShadowMode::Pcss, 2));
+    assert_eq!((s.filter.mode, s.map.cascades.count), (ShadowMode::Pcss, 2));
     let after: Vec<_> = app.world_mut().query::<&Mesh3d>().iter(app.world()).copied().collect();
     assert_eq!(before, after, "a settings edit respawned the scene");
 
@@ -165,5 +165,5 @@ fn a_settings_file_edit_applies_without_respawning() {
         error.contains("settings.ron:2:17") && error.contains("resolution"),
         "{error}"
     );
-    assert_eq!(sun_settings(app.world_mut()).cascade_count, 2);
+    assert_eq!(sun_settings(app.world_mut()).map.cascades.count, 2);
 }

@@ -204,7 +204,7 @@ fn default_scene_matches_its_reference_image() {
     // edges are tested in tests/foliage.rs). The mip chains of base-colour textures, which
     // the foliage cards' alpha test reads at a distance, moved this image by a mean 0.0038,
     // 0.83 % of channels.
-    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.resolution = 1024;
+    let tweak = |s: &mut penumbra::settings::ShadowSettings| s.map.resolution = 1024;
     let request = RenderRequest {
         width: 320,
         height: 180,
@@ -248,7 +248,7 @@ fn render_with_and_without_shadows(path: &std::path::Path, width: u32, height: u
     use penumbra::render::Renderer;
 
     let mut desc = SceneDesc::load(path).unwrap_or_else(|e| panic!("{e}"));
-    desc.shadows.resolution = 1024;
+    desc.shadows.map.resolution = 1024;
     let mut images = Vec::new();
     for shadows in [true, false] {
         let renderer = Renderer::headless(width, height).unwrap_or_else(|e| panic!("{e}"));

@@ -16,7 +16,7 @@ fn app() -> App {
     let desc = SceneDesc::load("assets/scenes/default.ron").expect("default scene loads");
     spawn_scene(app.world_mut(), &desc).expect("default scene spawns");
     // Frames must be identical for the image comparisons below.
-    settings(&mut app, |s| s.temporal_rotation = false);
+    settings(&mut app, |s| s.filter.temporal_rotation = false);
     app.update();
     app
 }
@@ -51,7 +51,7 @@ fn cascade_count_recreates_nothing_and_resolution_only_the_shadow_map() {
     assert_eq!(before.shadow_maps, 1, "{before:?}");
     assert_eq!(renderer(&app).shadow_map_resolution(), Some(2048));
 
-    settings(&mut app, |s| s.cascade_count = 2);
+    settings(&mut app, |s| s.map.cascades.count = 2);
     app.update();
     app.update();
     assert_eq!(
@@ -60,7 +60,7 @@ fn cascade_count_recreates_nothing_and_resolution_only_the_shadow_map() {
         "a new cascade count rebuilt something"
     );
 
-    settings(&mut app, |s| s.resolution = 1024);
+    settings(&mut app, |s| s.map.resolution = 1024);
     app.update();
     let after = renderer(&app).counters();
     assert_eq!(renderer(&app).shadow_map_resolution(), Some(1024));

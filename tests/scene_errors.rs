@@ -189,6 +189,22 @@ fn cascade_count_five() {
 }
 
 #[test]
+fn clipmap_levels_and_extent_out_of_range() {
+    let msg = error(&[("cascade_count: 4", "layout: Clipmap(levels: 9, level0_extent: 0.1)")]);
+    let lines: Vec<&str> = msg.lines().collect();
+    assert_eq!(
+        lines[..2],
+        [
+            "scenes/test.ron:4:39: expected an integer from 1 to 8 for `shadows.layout.levels`, found 9",
+            "scenes/test.ron:4:57: expected metres from 0.5 to 1e5 for `shadows.layout.level0_extent`, found 0.1",
+        ],
+        "{msg}"
+    );
+    let msg = error(&[("cascade_count: 4", "layout: Clipmap(levels: 6, level0_extnt: 32)")]);
+    assert!(msg.contains("level0_extnt") && msg.contains("level0_extent"), "{msg}");
+}
+
+#[test]
 fn resolution_out_of_range() {
     let msg = error(&[("resolution: 2048", "resolution: 100")]);
     assert_eq!(
@@ -397,8 +413,8 @@ fn every_shipped_scene_loads() {
 fn shipped_scenes_have_what_they_promise() {
     let load = |name: &str| SceneDesc::load(assets().join("scenes").join(name)).unwrap();
     let default = load("default.ron");
-    assert_eq!(default.shadows.cascade_count, 4);
-    assert_eq!(default.shadows.mode, penumbra::settings::ShadowMode::Pcss);
+    assert_eq!(default.shadows.map.cascades.count, 4);
+    assert_eq!(default.shadows.filter.mode, penumbra::settings::ShadowMode::Pcss);
     assert!(default.materials.iter().any(|m| m.texture.is_some()));
     let field = load("field.ron");
     assert!(field.instance_count() >= 100_000, "{}", field.instance_count());

@@ -9,8 +9,8 @@ fn every_forward_variant_validates() {
     let variants = ForwardVariant::all();
     assert_eq!(
         variants.len(),
-        1536,
-        "PCF + 3 PCSS qualities, each with and without spot shadows, point shadows, sun moments, debug view, transmission, analysis outputs and the lights past the uniform list, and opaque, alpha-masked or alpha-to-coverage"
+        768,
+        "PCF and PCSS, each with and without spot shadows, point shadows, sun moments, debug view, transmission, analysis outputs and the lights past the uniform list, and opaque, alpha-masked or alpha-to-coverage"
     );
     let more_lights_binding = binding(Slot::MoreLights);
     let mut covered = 0;
@@ -37,7 +37,7 @@ fn every_forward_variant_validates() {
         );
         covered += variant.alpha_to_coverage as u32;
     }
-    assert_eq!(covered, 512);
+    assert_eq!(covered, 256);
     // The transmission code is compiled in only when asked for.
     let base = ForwardVariant::all()[0];
     assert!(!base.transmission);
@@ -510,4 +510,35 @@ fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
     let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 2]).collect();
     assert!(visibilities.iter().any(|&v| v > 0.99) && visibilities.iter().any(|&v| v < 0.01));
     assert!(visibilities.iter().any(|&v| v > 0.3 && v < 0.7), "{visibilities:?}");
+}
+
+#[test]
+fn each_light_samples_the_pcss_taps_of_its_own_quality() {
+    use penumbra::render::shadows::gpu::pcss_samples;
+    use penumbra::settings::{PcssQuality, ShadowSettings};
+    let qualities = [PcssQuality::Low, PcssQuality::Medium, PcssQuality::High];
+    let mut body = String::new();
+    for (i, quality) in qualities.iter().enumerate() {
+        let mut settings = ShadowSettings::default();
+        settings.filter.pcss_quality = *quality;
+        let packed = pcss_samples(&settings);
+        body += &format!(
+            "    light.pcss_samples = {packed}u;\n    out[{}] = f32(blocker_samples(light));\n    out[{}] = f32(filter_samples(light));\n",
+            2 * i,
+            2 * i + 1
+        );
+    }
+    let source = format!(
+        "#import penumbra::shadows::common::{{blocker_samples, filter_samples}}\n#import penumbra::shadows::types::Light\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n    var light: Light;\n{body}}}\n"
+    );
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library
+        .compose("pcss_samples.wgsl", &source, Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let counts = run_compute(module, 6);
+    let expected: Vec<f32> = qualities
+        .iter()
+        .flat_map(|q| [q.blocker_samples() as f32, q.filter_samples() as f32])
+        .collect();
+    assert_eq!(counts, expected);
 }

@@ -74,7 +74,7 @@ impl Pair {
         views
             .views
             .iter()
-            .map(|v| (v.kind == ShadowViewKind::Spot, v.version))
+            .map(|v| (v.kind == ShadowViewKind::SPOT, v.version))
             .collect()
     }
 
@@ -171,7 +171,7 @@ fn every_change_draws_again_exactly_the_views_it_touches() {
     pair.frame(|world, _| {
         let mut spots = world.query::<(&SpotLight, &mut ShadowSettings)>();
         let (_, mut s) = spots.iter_mut(world).next().expect("a spot light with settings");
-        s.slope_bias += 1.0;
+        s.bias.slope_bias += 1.0;
     });
     let set = changed(&before, &pair.versions());
     assert_eq!(set.len(), 1, "{set:?}");
@@ -184,7 +184,7 @@ fn every_change_draws_again_exactly_the_views_it_touches() {
     pair.frame(|world, _| {
         let mut suns = world.query::<(&DirectionalLight, &mut ShadowSettings)>();
         let (_, mut s) = suns.iter_mut(world).next().expect("a sun");
-        s.resolution = 1024;
+        s.map.resolution = 1024;
     });
     assert_eq!(pair.drawn(), 7);
     pair.same_image("a sun's resolution");
@@ -217,7 +217,7 @@ fn a_camera_turn_that_moves_no_stable_cascade_draws_nothing() {
         pair.frame(|world, _| {
             let mut suns = world.query::<(&DirectionalLight, &mut ShadowSettings)>();
             for (_, mut s) in suns.iter_mut(world) {
-                s.fit = fit;
+                s.map.cascades.fit = fit;
             }
         });
         pair.frame(|_, _| {});

@@ -161,7 +161,7 @@ fn cascade_ndc(app: &App, c: u32, p: Vec3) -> Vec3 {
     let view = views
         .views
         .iter()
-        .find(|v| v.kind == ShadowViewKind::Cascade(c))
+        .find(|v| v.kind == ShadowViewKind::cascade(c))
         .expect("cascade view");
     view.clip_from_world.project_point3(p)
 }
@@ -177,7 +177,7 @@ fn a_caster_the_clipper_splits_is_drawn_alike_in_one_pass() {
         let world = app.world_mut();
         let mut suns = world.query::<(&DirectionalLight, &mut ShadowSettings)>();
         for (_, mut s) in suns.iter_mut(world) {
-            s.cascade_count = 2;
+            s.map.cascades.count = 2;
         }
         let mut meshes = world.query_filtered::<Entity, With<Mesh3d>>();
         let meshes: Vec<Entity> = meshes.iter(world).collect();
@@ -189,7 +189,7 @@ fn a_caster_the_clipper_splits_is_drawn_alike_in_one_pass() {
     }
     let inverse = |c: u32| {
         let views = apps[0].world().resource::<ShadowViews>();
-        let view = views.views.iter().find(|v| v.kind == ShadowViewKind::Cascade(c));
+        let view = views.views.iter().find(|v| v.kind == ShadowViewKind::cascade(c));
         view.expect("cascade view").clip_from_world.inverse()
     };
     let (c0, c1) = (inverse(0), inverse(1));

@@ -82,7 +82,7 @@ fn standalone_spot_and_point_maps_equal_the_engines() {
             point.position,
             POINT_NEAR,
             point.light.range,
-            point.settings.resolution,
+            point.resolution,
             &point.settings,
         )
         .expect("a point view");

@@ -290,7 +290,7 @@ fn a_still_sun_bakes_its_moments_once_and_again_when_its_settings_change() {
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        s.mode = ShadowMode::Evsm;
+        s.filter.mode = ShadowMode::Evsm;
     }
     // Cascades baked in each of `frames` frames (each frame's timings waited for, so every
     // frame is timed).
@@ -315,7 +315,7 @@ fn a_still_sun_bakes_its_moments_once_and_again_when_its_settings_change() {
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        s.evsm_exponent = 3.0;
+        s.filter.moments.evsm_exponent = 3.0;
     }
     assert_eq!(bakes(&mut app, 3), [4, 0, 0]);
     let mut renderer = app.world_mut().resource_mut::<Renderer>();

@@ -11,12 +11,13 @@
 
 #import penumbra::contract::{
     MAX_PENUMBRA_TEXELS, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM,
-    SHADOW_FILTER_PCSS, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FILTER_PCSS, SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
 }
+#import penumbra::shadows::clipmap::{clipmap_fade, select_level}
 #import penumbra::shadows::bindings::{cascade_maps, cascade_moments, moments_sampler, shadow_views}
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, linear_row, normal_offset_metres,
-    poisson_rotation,
+    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, blocker_samples, filter_samples,
+    linear_row, normal_offset_metres, poisson_rotation,
 }
 #import penumbra::shadows::filters::{
     MapSample, compare_tap, find_blockers, pcf_grid, pcss_filter, search_settled,
@@ -124,7 +125,7 @@ struct CascadeSearch {
     // The penumbra's half width from the blockers' mean depth (layer UV, along u): the
     // distance to them times tan(θ/2), at most the reach of the search.
     radius: f32,
-    // Blocker texels found, of 4 · PCSS_BLOCKER_SAMPLES.
+    // Blocker texels found, of 4 · blocker_samples(light).
     count: f32,
     // The smallest kernel radius (one filter step along u).
     min_radius: f32,
@@ -149,10 +150,10 @@ fn cascade_search(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>)
     let max_radius = MAX_PENUMBRA_TEXELS * p.texel;
     out.rotation = poisson_rotation(frag_coord, light.flags);
     let search_radius = clamp(0.5 * (1.0 - p.depth) * pcss_scale, out.min_radius, max_radius);
-    let blockers = find_blockers(cascade_maps, p, search_radius, out.aspect, out.rotation);
+    let blockers = find_blockers(cascade_maps, p, search_radius, out.aspect, out.rotation, blocker_samples(light));
     out.count = blockers.count;
     out.radius = min(0.5 * max(blockers.depth - p.depth, 0.0) * pcss_scale, max_radius);
-    out.settled = search_settled(blockers.count, light.flags);
+    out.settled = search_settled(blockers.count, light);
     return out;
 }
 
@@ -165,7 +166,7 @@ fn cascade_pcss(light: Light, index: u32, p: MapSample, frag_coord: vec2<f32>) -
         return search.settled;
     }
     let radius = max(search.radius, search.min_radius);
-    return pcss_filter(cascade_maps, p, radius, search.aspect, search.rotation, search.count);
+    return pcss_filter(cascade_maps, p, radius, search.aspect, search.rotation, search.count, filter_samples(light));
 }
 #endif
 
@@ -270,43 +271,67 @@ fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
     return pcf_grid(cascade_maps, p, light.pcf_radius);
 }
 
-// The fraction of a sun visible from `surface` (1 lit, 0 shadowed), with cascade blending and
-// distance fade; 1 for a sun without shadow views.
+// The view a receiver samples among a sun's cascades (by view depth) or clipmap levels (by
+// its light-frame position), and its blend towards the next; `index` is `view_count` for a
+// receiver outside every clipmap level.
+fn select_view(light: Light, surface: Surface) -> CascadeSelection {
+    if (light.flags & SHADOW_FLAG_CLIPMAP) != 0u {
+        let level = select_level(light, surface.position);
+        return CascadeSelection(level.index, level.blend);
+    }
+    return select_cascade(light, surface.view_depth);
+}
+
+// 1 where a sun's shadows are at full strength, falling to 0 where they end: its
+// max_distance (cascades) or the last clipmap level's edge.
+fn sun_fade(light: Light, surface: Surface) -> f32 {
+    if (light.flags & SHADOW_FLAG_CLIPMAP) != 0u {
+        return clipmap_fade(light, surface.position);
+    }
+    return shadow_distance_fade(light, surface.view_depth);
+}
+
+// The fraction of a sun visible from `surface` (1 lit, 0 shadowed), with cascade (or level)
+// blending and distance fade; 1 for a sun without shadow views.
 fn directional_visibility(light: Light, surface: Surface) -> f32 {
     if light.view_count == 0u || surface.view_depth >= light.shadow_params.y {
         return 1.0;
     }
-    let selection = select_cascade(light, surface.view_depth);
+    let selection = select_view(light, surface);
+    if selection.index >= light.view_count {
+        return 1.0;
+    }
     var visibility = sample_cascade(light, selection.index, surface);
     if selection.blend > 0.0 {
         let next = sample_cascade(light, selection.index + 1u, surface);
         visibility = mix(visibility, next, selection.blend);
     }
-    return mix(1.0, visibility, shadow_distance_fade(light, surface.view_depth));
+    return mix(1.0, visibility, sun_fade(light, surface));
 }
 
-// The cascade a fragment at `view_depth` samples, or -1 when the light has no shadow or the
-// fragment lies past its max_distance (for analysis outputs and debug views).
-fn cascade_index(light: Light, view_depth: f32) -> i32 {
-    if light.view_count == 0u || view_depth >= light.shadow_params.y {
+// The cascade (or clipmap level) `surface` samples, or -1 when the light has no shadow or the
+// fragment lies past where its shadows end (for analysis outputs and debug views).
+fn cascade_index(light: Light, surface: Surface) -> i32 {
+    if light.view_count == 0u || surface.view_depth >= light.shadow_params.y {
         return -1;
     }
-    return i32(select_cascade(light, view_depth).index);
+    let index = select_view(light, surface).index;
+    return select(i32(index), -1, index >= light.view_count);
 }
 
 // Debug colour of the cascade a fragment samples (red, green, blue, yellow, repeating),
 // blended like the shadow itself; grey beyond max_distance or without shadows.
-fn cascade_debug_color(light: Light, view_depth: f32) -> vec3<f32> {
+fn cascade_debug_color(light: Light, surface: Surface) -> vec3<f32> {
     var colors = array<vec3<f32>, 4>(
         vec3<f32>(1.0, 0.25, 0.25),
         vec3<f32>(0.25, 1.0, 0.25),
         vec3<f32>(0.3, 0.45, 1.0),
         vec3<f32>(1.0, 1.0, 0.25),
     );
-    if light.view_count == 0u || view_depth >= light.shadow_params.y {
+    if cascade_index(light, surface) < 0 {
         return vec3<f32>(0.5);
     }
-    let selection = select_cascade(light, view_depth);
+    let selection = select_view(light, surface);
     let next = min(selection.index + 1u, light.view_count - 1u);
     return mix(colors[selection.index % 4u], colors[next % 4u], selection.blend);
 }

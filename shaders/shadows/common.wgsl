@@ -1,14 +1,12 @@
 // Pieces every shadow layout and filter shares: the per-pixel rotation of the sampling
 // patterns, the Poisson taps, and the limits that keep biases and kernels finite.
 //
-// Shader defs:
-//   PCSS_BLOCKER_SAMPLES (16 | 32)  blocker search taps
-//   PCSS_FILTER_SAMPLES (16|25|49)  filter taps
 #define_import_path penumbra::shadows::common
 
 #import penumbra::contract::SHADOW_FLAG_TEMPORAL
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::poisson_taps
+#import penumbra::shadows::types::Light
 
 // Steepest receiver slope (world depth change per metre sideways) the receiver-plane bias
 // follows; steeper surfaces are treated as this slope, which keeps the bias finite at grazing
@@ -71,24 +69,33 @@ fn unpack_tap(pair: vec4<f32>, i: u32) -> vec2<f32> {
     return select(pair.xy, pair.zw, (i & 1u) == 1u);
 }
 
-// Poisson tap `i` of the blocker search pattern (unit disc).
-fn blocker_tap(i: u32) -> vec2<f32> {
-#if PCSS_BLOCKER_SAMPLES == 32
-    return unpack_tap(poisson_taps.blocker_thirty_two[i / 2u], i);
-#else
-    return unpack_tap(poisson_taps.blocker_sixteen[i / 2u], i);
-#endif
+// The light's PCSS blocker-search taps (16 or 32; `Light::pcss_samples`, bits 0–7).
+fn blocker_samples(light: Light) -> u32 {
+    return light.pcss_samples & 0xffu;
 }
 
-// Poisson tap `i` of the PCSS filter pattern (unit disc).
-fn filter_tap(i: u32) -> vec2<f32> {
-#if PCSS_FILTER_SAMPLES == 49
-    return unpack_tap(poisson_taps.filter_forty_nine[i / 2u], i);
-#else if PCSS_FILTER_SAMPLES == 25
-    return unpack_tap(poisson_taps.filter_twenty_five[i / 2u], i);
-#else
+// The light's PCSS filter taps (16, 25 or 49; `Light::pcss_samples`, bits 8–15).
+fn filter_samples(light: Light) -> u32 {
+    return (light.pcss_samples >> 8u) & 0xffu;
+}
+
+// Poisson tap `i` of the blocker search pattern of `samples` taps (unit disc).
+fn blocker_tap(i: u32, samples: u32) -> vec2<f32> {
+    if samples == 32u {
+        return unpack_tap(poisson_taps.blocker_thirty_two[i / 2u], i);
+    }
+    return unpack_tap(poisson_taps.blocker_sixteen[i / 2u], i);
+}
+
+// Poisson tap `i` of the PCSS filter pattern of `samples` taps (unit disc).
+fn filter_tap(i: u32, samples: u32) -> vec2<f32> {
+    if samples == 49u {
+        return unpack_tap(poisson_taps.filter_forty_nine[i / 2u], i);
+    }
+    if samples == 25u {
+        return unpack_tap(poisson_taps.filter_twenty_five[i / 2u], i);
+    }
     return unpack_tap(poisson_taps.filter_sixteen[i / 2u], i);
-#endif
 }
 
 // Tap `i` of the 16-tap pattern (spot-light PCF).

@@ -8,8 +8,9 @@
 
 #import penumbra::contract::SHADOW_FLAG_BLOCKER_EARLY_OUT
 #import penumbra::shadows::bindings::{shadow_compare, shadow_point}
+#import penumbra::shadows::types::Light
 #import penumbra::shadows::common::{
-    RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap, sixteen_tap,
+    RECEIVER_PLANE_EPSILON_TEXELS, blocker_samples, blocker_tap, filter_tap, sixteen_tap,
 }
 
 // A receiver projected into one shadow view, in the UV space of the view's layer.
@@ -87,7 +88,7 @@ fn pcss_tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
 }
 
 // What the blocker search found: the mean depth of the blocking texels and how many of the
-// `4 · PCSS_BLOCKER_SAMPLES` gathered texels block.
+// `4 · blocker_samples(light)` gathered texels block.
 struct Blockers {
     depth: f32,
     count: f32,
@@ -96,13 +97,13 @@ struct Blockers {
 // What a blocker search that found `count` blocking texels settles: 1 (no blocker: lit), 0
 // (every gathered texel blocks and the light's flags ask for the early-out: umbra) or -1 (a
 // penumbra to filter).
-fn search_settled(count: f32, flags: u32) -> f32 {
-    let total_taps = 4.0 * f32(#{PCSS_BLOCKER_SAMPLES});
-    let early_out = (flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u;
+fn search_settled(count: f32, light: Light) -> f32 {
+    let total_taps = 4.0 * f32(blocker_samples(light));
+    let early_out = (light.flags & SHADOW_FLAG_BLOCKER_EARLY_OUT) != 0u;
     return select(select(-1.0, 0.0, early_out && count >= total_taps), 1.0, count == 0.0);
 }
 
-// Gathers `PCSS_BLOCKER_SAMPLES` 2x2 footprints over a rotated Poisson disc of `radius`
+// Gathers `samples` 2x2 footprints over a rotated Poisson disc of `radius`
 // (layer UV, stretched by `aspect`) and averages the depth of those nearer the light than
 // the receiver's plane.
 fn find_blockers(
@@ -111,11 +112,12 @@ fn find_blockers(
     radius: f32,
     aspect: vec2<f32>,
     rotation: mat2x2<f32>,
+    samples: u32,
 ) -> Blockers {
     var sum = 0.0;
     var count = 0.0;
-    for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
-        let offset = rotation * blocker_tap(i) * radius * aspect;
+    for (var i = 0u; i < samples; i++) {
+        let offset = rotation * blocker_tap(i, samples) * radius * aspect;
         let depths = textureGather(map, shadow_point, p.uv + offset, p.layer);
         let reference = pcss_tap_depth(p, offset);
         let is_blocker = vec4<f32>(depths > vec4<f32>(reference));
@@ -125,7 +127,7 @@ fn find_blockers(
     return Blockers(sum / max(count, 1.0), count);
 }
 
-// `PCSS_FILTER_SAMPLES` comparison taps over a rotated Poisson disc of `radius` (layer UV,
+// `samples` comparison taps over a rotated Poisson disc of `radius` (layer UV,
 // stretched by `aspect`), faded towards lit where the search found few blockers (it only
 // grazed the penumbra's outer edge).
 fn pcss_filter(
@@ -135,12 +137,13 @@ fn pcss_filter(
     aspect: vec2<f32>,
     rotation: mat2x2<f32>,
     blocker_count: f32,
+    samples: u32,
 ) -> f32 {
     var lit = 0.0;
-    for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
-        let offset = rotation * filter_tap(i) * radius * aspect;
+    for (var i = 0u; i < samples; i++) {
+        let offset = rotation * filter_tap(i, samples) * radius * aspect;
         lit += textureSampleCompareLevel(map, shadow_compare, p.uv + offset, p.layer, pcss_tap_depth(p, offset));
     }
-    lit /= f32(#{PCSS_FILTER_SAMPLES});
+    lit /= f32(samples);
     return mix(1.0, lit, smoothstep(0.0, 4.0, blocker_count));
 }

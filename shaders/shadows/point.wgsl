@@ -26,8 +26,8 @@
     moments_sampler, point_maps, point_moments, shadow_compare, shadow_point, shadow_views,
 }
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, RECEIVER_PLANE_EPSILON_TEXELS, blocker_tap, filter_tap,
-    normal_offset_metres, poisson_rotation, sixteen_tap,
+    MAX_FILTER_STEP_METRES, RECEIVER_PLANE_EPSILON_TEXELS, blocker_samples, blocker_tap, filter_samples,
+    filter_tap, normal_offset_metres, poisson_rotation, sixteen_tap,
 }
 #import penumbra::shadows::filters::search_settled
 #import penumbra::shadows::moments::vsm_covered_visibility
@@ -157,8 +157,9 @@ fn point_search(light: Light, s: PointSample, rotation: mat2x2<f32>) -> PointSea
     let search_radius = clamp(search, s.filter_step, max_radius);
     var sum = 0.0;
     var count = 0.0;
-    for (var i = 0u; i < u32(#{PCSS_BLOCKER_SAMPLES}); i++) {
-        let d = tap_direction(s, rotation * blocker_tap(i) * search_radius);
+    let samples = blocker_samples(light);
+    for (var i = 0u; i < samples; i++) {
+        let d = tap_direction(s, rotation * blocker_tap(i, samples) * search_radius);
         let depths = textureGather(point_maps, shadow_point, d, s.cube);
         let is_blocker = vec4<f32>(depths > vec4<f32>(tap_reference(s, d)));
         // NOTE: the four texels share the tap's face; a blocker's distance along the tap's
@@ -173,7 +174,7 @@ fn point_search(light: Light, s: PointSample, rotation: mat2x2<f32>) -> PointSea
         sum += dot(axis * stretch, is_blocker);
         count += dot(is_blocker, vec4<f32>(1.0));
     }
-    var out = PointSearch(search_settled(count, light.flags), 0.0, count);
+    var out = PointSearch(search_settled(count, light), 0.0, count);
     let blocker = sum / max(count, 1.0);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
     out.radius = clamp(0.5 * penumbra, s.filter_step, max_radius);
@@ -189,10 +190,11 @@ fn point_pcss(light: Light, s: PointSample, rotation: mat2x2<f32>) -> f32 {
         return search.settled;
     }
     var lit = 0.0;
-    for (var i = 0u; i < u32(#{PCSS_FILTER_SAMPLES}); i++) {
-        lit += point_tap(s, rotation * filter_tap(i) * search.radius);
+    let samples = filter_samples(light);
+    for (var i = 0u; i < samples; i++) {
+        lit += point_tap(s, rotation * filter_tap(i, samples) * search.radius);
     }
-    lit /= f32(#{PCSS_FILTER_SAMPLES});
+    lit /= f32(samples);
     return mix(1.0, lit, smoothstep(0.0, 4.0, search.count));
 }
 #endif

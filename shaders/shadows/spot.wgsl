@@ -19,8 +19,8 @@
 }
 #import penumbra::shadows::bindings::{moments_sampler, shadow_views, spot_maps, spot_moments}
 #import penumbra::shadows::common::{
-    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, normal_offset_metres,
-    poisson_rotation, sixteen_tap,
+    MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, blocker_samples, filter_samples,
+    normal_offset_metres, poisson_rotation, sixteen_tap,
 }
 #import penumbra::shadows::filters::{
     MapSample, compare_tap, find_blockers, pcf_poisson, pcss_filter, search_settled,
@@ -136,8 +136,8 @@ fn spot_search(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f
     // b; in UV that is largest at the near plane.
     let search = 0.5 * light_size * (s.distance - near) / s.distance / spot_view_width(view, near);
     let search_radius = clamp(search * view.rect.z, min_radius, max_radius);
-    let blockers = find_blockers(spot_maps, p, search_radius, vec2<f32>(1.0), rotation);
-    var out = SpotSearch(search_settled(blockers.count, light.flags), 0.0, blockers.count);
+    let blockers = find_blockers(spot_maps, p, search_radius, vec2<f32>(1.0), rotation, blocker_samples(light));
+    var out = SpotSearch(search_settled(blockers.count, light), 0.0, blockers.count);
     let blocker = spot_linear_distance(blockers.depth, near, far);
     let penumbra = max(s.distance - blocker, 0.0) * light_size / max(blocker, 1e-6);
     out.radius = clamp(0.5 * penumbra / spot_view_width(view, s.distance) * view.rect.z, min_radius, max_radius);
@@ -151,7 +151,7 @@ fn spot_pcss(light: Light, view: ShadowView, s: SpotSample, rotation: mat2x2<f32
     if search.settled >= 0.0 {
         return search.settled;
     }
-    return pcss_filter(spot_maps, s.map, search.radius, vec2<f32>(1.0), rotation, search.count);
+    return pcss_filter(spot_maps, s.map, search.radius, vec2<f32>(1.0), rotation, search.count, filter_samples(light));
 }
 #endif
 

@@ -42,7 +42,8 @@ struct Light {
     // visibility per pixel, computed before the lighting pass; RESOLVE_NONE when the
     // lighting pass filters the shadow itself.
     resolve_layer: u32,
-    padding_b: u32,
+    // PCSS sample counts: blocker-search taps in bits 0–7, filter taps in bits 8–15.
+    pcss_samples: u32,
     padding_c: u32,
 }
 

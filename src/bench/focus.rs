@@ -220,6 +220,7 @@ mod tests {
             direction: Vec3::NEG_Y,
             light: DirectionalLight::default(),
             settings: ShadowSettings::default(),
+            resolution: 2048,
             cascades: CascadeSet::default(),
         }
     }
@@ -247,6 +248,7 @@ mod tests {
             direction: Vec3::NEG_Y,
             light,
             settings: ShadowSettings::default(),
+            resolution: 2048,
             shadow: shadow.filter(|_| shadowed),
         }
     }
@@ -303,6 +305,7 @@ mod tests {
             position,
             light,
             settings: ShadowSettings::default(),
+            resolution: 2048,
             shadow: point_view(position, 0.05, light.range, 512).filter(|_| shadowed),
         }
     }

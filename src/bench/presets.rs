@@ -4,7 +4,7 @@
 //! a sun with EVSM2 and the EVSM and MSM presets render spot and point lights with VSM (each
 //! kind's own moment technique, [`ShadowMode::effective`]).
 
-use crate::settings::{MomentFormat, PcssQuality, ShadowMode, ShadowSettings};
+use crate::settings::{MomentFormat, PcssQuality, ShadowMode, ShadowSettings, SunLayout};
 
 /// One named configuration of the shadow filter.
 #[derive(Clone, Copy, Debug)]
@@ -18,30 +18,30 @@ pub struct Preset {
 }
 
 fn pcf(s: &mut ShadowSettings, radius: u32) {
-    s.mode = ShadowMode::Pcf;
-    s.pcf_radius = radius;
+    s.filter.mode = ShadowMode::Pcf;
+    s.filter.pcf_radius = radius;
 }
 
 fn pcss(s: &mut ShadowSettings, quality: PcssQuality) {
-    s.mode = ShadowMode::Pcss;
-    s.pcss_quality = quality;
+    s.filter.mode = ShadowMode::Pcss;
+    s.filter.pcss_quality = quality;
 }
 
 fn vsm(s: &mut ShadowSettings, blur: u32) {
-    s.mode = ShadowMode::Vsm;
-    s.vsm_blur = blur;
+    s.filter.mode = ShadowMode::Vsm;
+    s.filter.vsm.blur = blur;
 }
 
 fn moments(s: &mut ShadowSettings, mode: ShadowMode, precision: MomentFormat) {
-    s.mode = mode;
-    s.moment_precision = precision;
+    s.filter.mode = mode;
+    s.filter.moments.precision = precision;
 }
 
 /// Every preset: hard shadows, PCF radius 1–5, PCSS Low/Medium/High, receiver-plane bias and
 /// cascade blending switched off on the mid presets, VSM with contact hardening (the default)
 /// without and with pre-blur and VSM with a fixed blur, the suns' EVSM2 (16 and 32 bits),
 /// EVSM4 and MSM (16 and 32 bits) with contact hardening, and EVSM2 and MSM with a fixed blur
-/// instead.
+/// instead; and a sun's clipmap with PCF, PCSS and EVSM2.
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -79,7 +79,7 @@ pub fn presets() -> Vec<Preset> {
             description: "PCF 5×5 without receiver-plane bias",
             apply: |s| {
                 pcf(s, 2);
-                s.receiver_plane_bias = false;
+                s.filter.receiver_plane_bias = false;
             },
         },
         Preset {
@@ -87,7 +87,7 @@ pub fn presets() -> Vec<Preset> {
             description: "PCF 5×5 without cascade blending",
             apply: |s| {
                 pcf(s, 2);
-                s.blend_width = 0.0;
+                s.map.cascades.blend_width = 0.0;
             },
         },
         Preset {
@@ -110,7 +110,7 @@ pub fn presets() -> Vec<Preset> {
             description: "PCSS Medium without receiver-plane bias",
             apply: |s| {
                 pcss(s, PcssQuality::Medium);
-                s.receiver_plane_bias = false;
+                s.filter.receiver_plane_bias = false;
             },
         },
         Preset {
@@ -118,7 +118,7 @@ pub fn presets() -> Vec<Preset> {
             description: "PCSS Medium without cascade blending",
             apply: |s| {
                 pcss(s, PcssQuality::Medium);
-                s.blend_width = 0.0;
+                s.map.cascades.blend_width = 0.0;
             },
         },
         Preset {
@@ -136,7 +136,7 @@ pub fn presets() -> Vec<Preset> {
             description: "VSM, a fixed 2-texel pre-blur and one fetch (no contact hardening; spot and point lights)",
             apply: |s| {
                 vsm(s, 2);
-                s.moment_contact_hardening = false;
+                s.filter.moments.contact_hardening = false;
             },
         },
         Preset {
@@ -169,7 +169,7 @@ pub fn presets() -> Vec<Preset> {
             description: "EVSM2, 32-bit moments, a fixed blur (no contact hardening), suns",
             apply: |s| {
                 moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
-                s.moment_contact_hardening = false;
+                s.filter.moments.contact_hardening = false;
             },
         },
         Preset {
@@ -177,10 +177,43 @@ pub fn presets() -> Vec<Preset> {
             description: "4-moment shadow map, 16 bits, a fixed blur (no contact hardening), suns",
             apply: |s| {
                 moments(s, ShadowMode::Msm, MomentFormat::Fp16);
-                s.moment_contact_hardening = false;
+                s.filter.moments.contact_hardening = false;
+            },
+        },
+        Preset {
+            name: "clipmap-pcf",
+            description: "a sun's clipmap (6 levels, the finest 32 m) with PCF 5×5",
+            apply: |s| {
+                clipmap(s);
+                pcf(s, 2);
+            },
+        },
+        Preset {
+            name: "clipmap-pcss",
+            description: "a sun's clipmap (6 levels, the finest 32 m) with PCSS Medium",
+            apply: |s| {
+                clipmap(s);
+                pcss(s, PcssQuality::Medium);
+            },
+        },
+        Preset {
+            name: "clipmap-evsm",
+            description: "a sun's clipmap (6 levels, the finest 32 m) with 32-bit EVSM2",
+            apply: |s| {
+                clipmap(s);
+                moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
             },
         },
     ]
+}
+
+/// A sun's clipmap of the presets: 6 levels, the finest 32 m wide (spot and point lights
+/// render as their base preset does).
+fn clipmap(s: &mut ShadowSettings) {
+    s.map.layout = SunLayout::Clipmap {
+        levels: 6,
+        level0_extent: 32.0,
+    };
 }
 
 #[cfg(test)]
@@ -199,6 +232,6 @@ mod tests {
         }
         let mut hard = ShadowSettings::default();
         (all[0].apply)(&mut hard);
-        assert_eq!((hard.mode, hard.pcf_radius), (ShadowMode::Pcf, 0));
+        assert_eq!((hard.filter.mode, hard.filter.pcf_radius), (ShadowMode::Pcf, 0));
     }
 }

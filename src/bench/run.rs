@@ -114,16 +114,16 @@ impl SettingsOverrides {
 
     fn apply_to(&self, s: &mut ShadowSettings) {
         if let Some(v) = self.normal_offset {
-            s.normal_offset = v;
+            s.bias.normal_offset = v;
         }
         if let Some(v) = self.slope_bias {
-            s.slope_bias = v;
+            s.bias.slope_bias = v;
         }
         if let Some(fit) = self.fit {
-            s.fit = fit;
+            s.map.cascades.fit = fit;
         }
         if let Some(resolution) = self.resolution {
-            s.resolution = resolution;
+            s.map.resolution = resolution;
         }
     }
 

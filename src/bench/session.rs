@@ -59,12 +59,11 @@ impl SceneSession {
             let world = session.app.world_mut();
             let own = world.get::<ShadowSettings>(focus.entity).copied();
             let budget = world.get_resource::<ShadowLightBudget>().copied().unwrap_or_default();
-            let base = own.unwrap_or_else(|| ShadowSettings {
-                resolution: match focus.kind {
+            let base = own.unwrap_or_else(|| {
+                ShadowSettings::with_resolution(match focus.kind {
                     FocusKind::Point => budget.point_resolution,
                     _ => budget.spot_resolution,
-                },
-                ..ShadowSettings::default()
+                })
             });
             if own.is_none() {
                 world.entity_mut(focus.entity).insert(base);
@@ -239,8 +238,8 @@ mod tests {
     }
 
     fn pcf3(s: &mut ShadowSettings) {
-        s.mode = ShadowMode::Pcf;
-        s.pcf_radius = 3;
+        s.filter.mode = ShadowMode::Pcf;
+        s.filter.pcf_radius = 3;
     }
 
     #[test]
@@ -253,10 +252,13 @@ mod tests {
         session.apply_settings(pcf3);
         session.update();
         let spot = session.lights().spots[0];
-        assert_eq!((spot.settings.mode, spot.settings.pcf_radius), (ShadowMode::Pcf, 3));
+        assert_eq!(
+            (spot.settings.filter.mode, spot.settings.filter.pcf_radius),
+            (ShadowMode::Pcf, 3)
+        );
         // The rest is the spot light's own settings, not the scene's `shadows`.
-        assert_eq!(spot.settings.resolution, 2048);
-        assert_eq!(spot.settings.pcss_quality, PcssQuality::High);
+        assert_eq!(spot.settings.map.resolution, 2048);
+        assert_eq!(spot.settings.filter.pcss_quality, PcssQuality::High);
         assert_eq!(spot.light.radius, 0.25);
     }
 
@@ -270,7 +272,7 @@ mod tests {
         session.apply_settings(pcf3);
         session.update();
         let lights = session.lights();
-        assert!(lights.suns.iter().all(|s| s.settings.pcf_radius == 3));
+        assert!(lights.suns.iter().all(|s| s.settings.filter.pcf_radius == 3));
         let after: Vec<ShadowSettings> = lights.spots.iter().map(|s| s.settings).collect();
         assert_eq!(before, after);
     }
@@ -302,6 +304,9 @@ mod tests {
         assert_eq!(session.focus_light_index(), index, "the light list keeps its order");
         let spot = session.lights().spot_at(index as u32).expect("the focus light");
         assert_eq!(spot.entity, focus.entity);
-        assert_eq!((spot.settings.pcf_radius, spot.settings.resolution), (3, 1024));
+        assert_eq!(
+            (spot.settings.filter.pcf_radius, spot.settings.map.resolution),
+            (3, 1024)
+        );
     }
 }

@@ -29,12 +29,13 @@ use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, SeenByCamera};
 use crate::ecs::view_list::{POINT_NEAR, ShadowLightBudget};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
+use crate::math::clipmap::{ClipmapInput, clipmap_cascades, compute_clipmap};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
 };
 use crate::math::point::point_view;
 use crate::math::spot::spot_view;
-use crate::settings::ShadowSettings;
+use crate::settings::{ShadowSettings, SunLayout};
 use crate::text::echoed;
 
 /// Reused buffers of [`update_frame_lights`]. Candidates are identified by their index in
@@ -120,7 +121,7 @@ pub fn update_frame_lights(
             warn_mode(diagnostics, "directional light", entity, &settings, true);
         }
         // NOTE: every pass reads the technique the light is filtered with, not the one asked.
-        settings.mode = settings.mode.effective(true);
+        settings.filter.mode = settings.filter.mode.effective(true);
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
                 id: lights.suns.len(),
@@ -133,6 +134,7 @@ pub fn update_frame_lights(
             direction,
             light,
             settings,
+            resolution: settings.map.resolution,
             cascades: CascadeSet::default(),
         });
     }
@@ -155,19 +157,19 @@ pub fn update_frame_lights(
         }
         // NOTE: a spot without its own settings uses the budget's resolution, so adding many
         // spot lights does not multiply the sun's 2048² maps.
-        let resolution = settings.map_or(budget.spot_resolution, |s| s.resolution);
+        let resolution = settings.map_or(budget.spot_resolution, |s| s.map.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
         warn_mode(diagnostics, "spot light", entity, &settings, false);
         // NOTE: EVSM or MSM asked for a spot light is VSM for every pass (its moments are
         // baked only for VSM): read as asked, they were never baked and the light was dark.
-        settings.mode = settings.mode.effective(false);
-        settings.resolution = resolution.max(1);
+        settings.filter.mode = settings.filter.mode.effective(false);
         lights.spots.push(SpotLightView {
             entity,
             position,
             direction: rotation * Vec3::NEG_Z,
             light,
             settings,
+            resolution: resolution.max(1),
             shadow: None,
         });
     }
@@ -188,16 +190,16 @@ pub fn update_frame_lights(
                 bounds: Some((position, light.range)),
             });
         }
-        let resolution = settings.map_or(budget.point_resolution, |s| s.resolution);
+        let resolution = settings.map_or(budget.point_resolution, |s| s.map.resolution);
         let mut settings = sanitized_settings(settings, diagnostics);
         warn_mode(diagnostics, "point light", entity, &settings, false);
-        settings.mode = settings.mode.effective(false);
-        settings.resolution = resolution.max(1);
+        settings.filter.mode = settings.filter.mode.effective(false);
         lights.points.push(PointLightView {
             entity,
             position,
             light,
             settings,
+            resolution: resolution.max(1),
             shadow: None,
         });
     }
@@ -228,24 +230,37 @@ pub fn update_frame_lights(
         .shadowed
         .iter()
         .filter_map(|&id| id.checked_sub(spots_end))
-        .map(|p| lights.points[p].settings.resolution)
+        .map(|p| lights.points[p].resolution)
         .max()
         .unwrap_or(0);
     for &id in &scratch.choice.shadowed {
         if let Some(sun) = lights.suns.get_mut(id) {
-            if let Some((camera, _)) = &view.camera {
+            let Some((camera, _)) = &view.camera else {
+                continue;
+            };
+            if let SunLayout::Clipmap { levels, level0_extent } = sun.settings.map.layout {
+                let clipmap = compute_clipmap(&ClipmapInput {
+                    camera_position: camera.position(),
+                    light_direction: sun.direction,
+                    levels,
+                    level0_extent,
+                    resolution: sun.resolution,
+                    casters: instances.caster_bounds,
+                });
+                sun.cascades = clipmap_cascades(&clipmap, sun.light.angular_diameter);
+            } else {
                 sun.cascades = compute_cascades(&CascadeInput {
                     camera: *camera,
                     light_direction: sun.direction,
                     scene_bounds: instances.caster_bounds,
                     receiver_bounds: instances.receiver_bounds,
-                    count: sun.settings.cascade_count as usize,
-                    split_lambda: sun.settings.split_lambda,
-                    max_distance: sun.settings.max_distance,
-                    resolution: sun.settings.resolution,
-                    fit: sun.settings.fit,
+                    count: sun.settings.map.cascades.count as usize,
+                    split_lambda: sun.settings.map.cascades.split_lambda,
+                    max_distance: sun.settings.map.max_distance,
+                    resolution: sun.resolution,
+                    fit: sun.settings.map.cascades.fit,
                     angular_diameter: sun.light.angular_diameter,
-                    blend_width: sun.settings.blend_width,
+                    blend_width: sun.settings.map.cascades.blend_width,
                     seen: seen.relative_to(origin.0),
                 });
             }
@@ -253,7 +268,7 @@ pub fn update_frame_lights(
         }
         if id >= spots_end {
             let point = &mut lights.points[id - spots_end];
-            point.settings.resolution = point_side;
+            point.resolution = point_side;
             point.shadow = point_view(point.position, POINT_NEAR, point.light.range, point_side);
             if point.shadow.is_none() {
                 diagnostics.warn_about(

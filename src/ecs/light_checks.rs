@@ -32,14 +32,14 @@ pub fn warn_mode(
     settings: &ShadowSettings,
     sun: bool,
 ) {
-    let effective = settings.mode.effective(sun);
-    if effective != settings.mode {
+    let effective = settings.filter.mode.effective(sun);
+    if effective != settings.filter.mode {
         let kinds = if sun { "spot and point lights" } else { "suns" };
         diagnostics.warn_about(
             &entity.to_string(),
             format!(
                 "{what} {entity} asks for {:?}, which only {kinds} have; it is filtered with {effective:?}",
-                settings.mode
+                settings.filter.mode
             ),
         );
     }

@@ -26,6 +26,10 @@ pub struct SunView {
     pub light: DirectionalLight,
     /// Sanitized shadow settings (the entity's [`ShadowSettings`], else the defaults).
     pub settings: ShadowSettings,
+    /// Side of its maps this frame, texels: what it asks for (its settings' resolution, or
+    /// for a positional light without settings the budget's), lowered by the shadow-memory
+    /// budget; point lights share the largest cube face any shadowed one gets.
+    pub resolution: u32,
     /// Cascades; `count == 0` when the light casts no shadows this frame.
     pub cascades: CascadeSet,
 }
@@ -44,6 +48,10 @@ pub struct SpotLightView {
     /// Sanitized shadow settings (filter, bias, normal offset, and `resolution`: the side of
     /// its map; the cascade fields are unused).
     pub settings: ShadowSettings,
+    /// Side of its maps this frame, texels: what it asks for (its settings' resolution, or
+    /// for a positional light without settings the budget's), lowered by the shadow-memory
+    /// budget; point lights share the largest cube face any shadowed one gets.
+    pub resolution: u32,
     /// The shadow view, relative to the render origin, when the light casts a shadow this
     /// frame.
     pub shadow: Option<SpotView>,
@@ -60,7 +68,7 @@ impl SpotLightView {
             outer_angle: self.light.outer_angle,
             range: self.light.range,
             near: SPOT_NEAR,
-            resolution: self.settings.resolution,
+            resolution: self.resolution,
         }
     }
 }
@@ -78,6 +86,10 @@ pub struct PointLightView {
     /// each cube face — shared by every shadowed point light, the largest any asks for; the
     /// cascade fields are unused).
     pub settings: ShadowSettings,
+    /// Side of its maps this frame, texels: what it asks for (its settings' resolution, or
+    /// for a positional light without settings the budget's), lowered by the shadow-memory
+    /// budget; point lights share the largest cube face any shadowed one gets.
+    pub resolution: u32,
     /// The six face views, relative to the render origin, when the light casts a shadow this
     /// frame.
     pub shadow: Option<PointView>,

@@ -13,10 +13,10 @@ use crate::ecs::light_views::FrameLights;
 use crate::ecs::view::ActiveView;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
+use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunks::CHUNK;
 use crate::math::frustum::{Frustum, slice_corners};
 use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers};
-use crate::settings::MAX_CASCADES;
 use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 
 /// A chunk whose sphere is larger than this fraction of the largest slice's half extent is
@@ -35,11 +35,16 @@ pub const FILTER_REACH_TEXELS: f32 = crate::math::cascades::FILTER_REACH_TEXELS 
 pub struct ShadowCulling {
     /// Shrink cascade cull boxes to the visible receivers (default on).
     pub receivers: bool,
-    /// Also list each sun's casters once with the cascades they touch
+    /// Asks for each sun's casters listed once with the cascades they touch
     /// ([`ShadowViews::single_pass`](crate::ecs::view_list::ShadowViews::single_pass)),
-    /// for rendering all cascades in one multiview pass. The render plugin sets it when the
-    /// renderer draws cascades that way (default off).
+    /// for rendering all its cascades in one multiview pass (default off; the render plugin
+    /// sets it from [`RenderOptions::single_pass_cascades`](crate::render::RenderOptions)).
+    /// Whether a frame does is [`single_pass_cascades`](crate::ecs::single_pass::single_pass_cascades)'s
+    /// decision.
     pub single_pass: bool,
+    /// Most views the device renders in one multiview pass (the render plugin sets the
+    /// renderer's; without one, [`MAX_CASCADES`](crate::settings::MAX_CASCADES)).
+    pub multiview_views: u32,
 }
 
 impl Default for ShadowCulling {
@@ -47,6 +52,7 @@ impl Default for ShadowCulling {
         Self {
             receivers: true,
             single_pass: false,
+            multiview_views: crate::settings::MAX_CASCADES as u32,
         }
     }
 }
@@ -95,8 +101,9 @@ impl ReceiverCache {
                 continue;
             }
             let mut set = sun.cascades;
-            if let (true, Some(camera)) = (culling.receivers, camera) {
-                let count = set.count.min(MAX_CASCADES);
+            // NOTE: clipmap levels are not view-depth slices: they keep their whole windows.
+            if let (true, Some(camera)) = (culling.receivers && !set.clipmap, camera) {
+                let count = set.count.min(MAX_SUN_VIEWS);
                 self.slices.clear();
                 for c in 0..count {
                     // NOTE: from the previous cascade's start, so the blend band that also

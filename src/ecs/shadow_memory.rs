@@ -152,14 +152,16 @@ pub struct MemoryScratch {
 
 /// What a light's settings make its moments.
 fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> MomentUse {
-    match (kind, s.mode) {
+    match (kind, s.filter.mode) {
         (LightKind::Directional, ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm) => MomentUse::Sun {
-            msm: s.mode == ShadowMode::Msm,
-            fp32: s.moment_precision.resolve(fp32_filterable) == MomentPrecision::Fp32,
-            blur: !s.moment_contact_hardening && s.moment_blur > 0.0,
-            hardening: s.moment_contact_hardening,
+            msm: s.filter.mode == ShadowMode::Msm,
+            fp32: s.filter.moments.precision.resolve(fp32_filterable) == MomentPrecision::Fp32,
+            blur: !s.filter.moments.contact_hardening && s.filter.moments.blur > 0.0,
+            hardening: s.filter.moments.contact_hardening,
         },
-        (LightKind::Spot | LightKind::Point, ShadowMode::Vsm) => MomentUse::Vsm { blur: s.vsm_blur > 0 },
+        (LightKind::Spot | LightKind::Point, ShadowMode::Vsm) => MomentUse::Vsm {
+            blur: s.filter.vsm.blur > 0,
+        },
         _ => MomentUse::None,
     }
 }
@@ -167,22 +169,36 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
 /// The request of shadowed light `id` (the renderer's light order) and its entity.
 fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -> (LightRequest, Entity) {
     let spots_end = lights.suns.len() + lights.spots.len();
-    let (kind, settings, views, bounds, entity) = if let Some(sun) = lights.suns.get(id) {
-        let views = sun.settings.cascade_count;
-        (LightKind::Directional, &sun.settings, views, None, sun.entity)
+    let (kind, settings, resolution, views, bounds, entity) = if let Some(sun) = lights.suns.get(id) {
+        let views = sun.settings.map.sun_views();
+        (
+            LightKind::Directional,
+            &sun.settings,
+            sun.resolution,
+            views,
+            None,
+            sun.entity,
+        )
     } else if id < spots_end {
         let spot = &lights.spots[id - lights.suns.len()];
         let bounds = Some((spot.position, spot.light.range));
-        (LightKind::Spot, &spot.settings, 1, bounds, spot.entity)
+        (LightKind::Spot, &spot.settings, spot.resolution, 1, bounds, spot.entity)
     } else {
         let point = &lights.points[id - spots_end];
         let bounds = Some((point.position, point.light.range));
-        (LightKind::Point, &point.settings, 6, bounds, point.entity)
+        (
+            LightKind::Point,
+            &point.settings,
+            point.resolution,
+            6,
+            bounds,
+            point.entity,
+        )
     };
     let coverage = bounds.map_or(f32::INFINITY, |(centre, range)| screen_coverage(ranking, centre, range));
     let request = LightRequest {
         kind,
-        resolution: settings.resolution,
+        resolution,
         views,
         moments: moment_use(kind, settings, fp32),
         coverage,
@@ -235,14 +251,14 @@ pub fn apply_memory_budget(
     });
     let spots_end = lights.suns.len() + lights.spots.len();
     for (&id, &granted) in shadowed.iter().zip(&scratch.fit.resolutions) {
-        let settings = if let Some(sun) = lights.suns.get_mut(id) {
-            &mut sun.settings
+        let resolution = if let Some(sun) = lights.suns.get_mut(id) {
+            &mut sun.resolution
         } else if id < spots_end {
-            &mut lights.spots[id - lights.suns.len()].settings
+            &mut lights.spots[id - lights.suns.len()].resolution
         } else {
-            &mut lights.points[id - spots_end].settings
+            &mut lights.points[id - spots_end].resolution
         };
-        settings.resolution = granted.max(1);
+        *resolution = granted.max(1);
     }
     if !scratch.fit.dropped.is_empty() {
         let mut k = 0;

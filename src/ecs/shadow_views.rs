@@ -20,7 +20,7 @@ use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
-use crate::ecs::single_pass::MAX_PACKED_INSTANCES;
+use crate::ecs::single_pass::single_pass_cascades;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::ViewInput;
@@ -66,7 +66,7 @@ pub fn update_shadow_views(
                 entity: sun.entity,
                 light_kind: LightKind::Directional,
                 light: lights.light_index(LightKind::Directional, i) as u32,
-                kind: ShadowViewKind::Cascade(c as u32),
+                kind: ShadowViewKind::cascade(c as u32),
                 clip_from_world: cascade.clip_from_world,
                 cull: CullVolume::LightBox {
                     light_rotation: set.light_rotation,
@@ -74,7 +74,7 @@ pub fn update_shadow_views(
                     max: cull.light_max,
                 },
                 slot: cascade_slot,
-                resolution: sun.settings.resolution,
+                resolution: sun.resolution,
                 footprint: TileMask::EMPTY,
                 version: 0,
             });
@@ -89,11 +89,11 @@ pub fn update_shadow_views(
             entity: spot.entity,
             light_kind: LightKind::Spot,
             light: lights.light_index(LightKind::Spot, i) as u32,
-            kind: ShadowViewKind::Spot,
+            kind: ShadowViewKind::SPOT,
             clip_from_world: shadow.clip_from_world,
             cull: CullVolume::Frustum(shadow.frustum),
             slot: spot_slot,
-            resolution: spot.settings.resolution,
+            resolution: spot.resolution,
             footprint: TileMask::EMPTY,
             version: 0,
         });
@@ -108,11 +108,11 @@ pub fn update_shadow_views(
                 entity: point.entity,
                 light_kind: LightKind::Point,
                 light: lights.light_index(LightKind::Point, i) as u32,
-                kind: ShadowViewKind::PointFace(face as u32),
+                kind: ShadowViewKind::point_face(face as u32),
                 clip_from_world: shadow.faces[face],
                 cull: CullVolume::Frustum(shadow.frusta[face]),
                 slot: point_slot,
-                resolution: point.settings.resolution,
+                resolution: point.resolution,
                 footprint: TileMask::EMPTY,
                 version: 0,
             });
@@ -125,7 +125,7 @@ pub fn update_shadow_views(
         kind: v.kind,
         clip_from_world: v.clip_from_world,
         resolution: v.resolution,
-        settings,
+        key: settings.map_key(),
         cull: &v.cull,
     });
     scratch
@@ -134,7 +134,7 @@ pub fn update_shadow_views(
     for (view, &version) in out.views.iter_mut().zip(&scratch.versions) {
         view.version = version;
     }
-    let single_pass = culling.single_pass && instances.keys.len() <= MAX_PACKED_INSTANCES;
+    let single_pass = single_pass_cascades(culling.single_pass, culling.multiview_views, instances.keys.len());
     let toggled = single_pass != scratch.single_pass;
     scratch.single_pass = single_pass;
     let no_lods = ShadowLods::default();

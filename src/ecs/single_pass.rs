@@ -12,6 +12,15 @@ pub use crate::shader::contract::CASCADE_MASK_SHIFT;
 /// and renders each cascade in its own pass.
 pub const MAX_PACKED_INSTANCES: usize = 1 << CASCADE_MASK_SHIFT;
 
+/// Whether a frame renders each sun's cascades in one multiview pass: it was asked for
+/// (`asked`), the device renders at least two views per pass (`multiview_views`), and every
+/// one of the `instances` can be packed into an entry. The one place this is decided: culling
+/// makes the single-pass lists exactly when it holds, and the depth pass draws a run of
+/// cascades in one pass exactly where a list exists.
+pub fn single_pass_cascades(asked: bool, multiview_views: u32, instances: usize) -> bool {
+    asked && multiview_views >= 2 && instances <= MAX_PACKED_INSTANCES
+}
+
 /// The entry of `instance` drawn into the cascades of `mask` (bit `c`: cascade `c`).
 pub fn pack_entry(instance: u32, mask: u8) -> u32 {
     debug_assert!((instance as usize) < MAX_PACKED_INSTANCES);

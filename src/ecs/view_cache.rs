@@ -1,5 +1,6 @@
 //! Which shadow views must be drawn again. A view keeps a content `version`; it gets a new
-//! one when its matrix, resolution or light settings change, or when a caster changed inside
+//! one when its matrix, resolution or what its light's map is drawn from
+//! ([`ShadowSettings::map_key`](crate::settings::ShadowSettings::map_key): not the filter) change, or when a caster changed inside
 //! its cull volume ([`CasterChanges`]). The renderer skips a view whose layer already holds
 //! that version. A view whose matrix is unchanged and whose instance list was not rebuilt is
 //! not even culled again: its draw group from the last frame is reused.
@@ -12,7 +13,7 @@ use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::view_list::{CullVolume, ShadowViewKind};
 use crate::math::aabb::Aabb;
 use crate::math::footprint::TileMask;
-use crate::settings::ShadowSettings;
+use crate::settings::MapKey;
 
 /// What one view held when it was last culled.
 #[derive(Debug)]
@@ -25,7 +26,7 @@ pub struct CachedView {
     /// What its casters were culled against (a cascade's box follows its receivers).
     volume: CullVolume,
     resolution: u32,
-    settings: ShadowSettings,
+    key: MapKey,
     /// The instance generation `list` indexes.
     generation: u64,
     /// Content version (unique across views).
@@ -69,8 +70,8 @@ pub struct ViewInput<'a> {
     pub clip_from_world: Mat4,
     /// Side of its map.
     pub resolution: u32,
-    /// The light's settings.
-    pub settings: &'a ShadowSettings,
+    /// What the light's maps are drawn from.
+    pub key: MapKey,
     /// Its cull volume.
     pub cull: &'a CullVolume,
 }
@@ -141,7 +142,7 @@ impl ViewCache {
                     clip_from_world: Mat4::NAN,
                     volume: *view.cull,
                     resolution: 0,
-                    settings: *view.settings,
+                    key: view.key,
                     generation: u64::MAX,
                     version: 0,
                     list: Vec::new(),
@@ -154,7 +155,7 @@ impl ViewCache {
             };
             let drawn_alike = entry.clip_from_world == view.clip_from_world
                 && entry.resolution == view.resolution
-                && entry.settings == *view.settings;
+                && entry.key == view.key;
             let same = drawn_alike && entry.volume == *view.cull;
             let rebuilt = entry.generation != generation;
             // NOTE: the changes describe only the rebuild to `generation`; a view last culled
@@ -171,7 +172,7 @@ impl ViewCache {
             entry.clip_from_world = view.clip_from_world;
             entry.volume = *view.cull;
             entry.resolution = view.resolution;
-            entry.settings = *view.settings;
+            entry.key = view.key;
             entry.generation = generation;
             versions.push(entry.version);
             self.entries.push(entry);
@@ -187,6 +188,7 @@ impl ViewCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::{PcssQuality, ShadowMode, ShadowSettings};
     use glam::{Mat3, Vec3};
 
     fn unit_box() -> Aabb {
@@ -221,10 +223,10 @@ mod tests {
     fn input<'a>(e: u32, m: Mat4, settings: &'a ShadowSettings, cull: &'a CullVolume) -> ViewInput<'a> {
         ViewInput {
             entity: Entity::from_raw_u32(e).unwrap(),
-            kind: ShadowViewKind::Cascade(0),
+            kind: ShadowViewKind::cascade(0),
             clip_from_world: m,
             resolution: 1024,
-            settings,
+            key: settings.map_key(),
             cull,
         }
     }
@@ -270,9 +272,10 @@ mod tests {
         assert_ne!(v[1], before[1]);
         // Its settings change.
         let before = v.clone();
-        let other = ShadowSettings {
-            slope_bias: 3.0,
-            ..settings
+        let other = {
+            let mut s = settings;
+            s.bias.slope_bias = 3.0;
+            s
         };
         cache.plan(
             [
@@ -286,5 +289,28 @@ mod tests {
         );
         assert_ne!(v[0], before[0]);
         assert_eq!(v[1], before[1]);
+        // Only how it is sampled changes (the filter, the normal offset): no new version.
+        let before = v.clone();
+        let sampled = {
+            let mut s = other;
+            s.filter.mode = ShadowMode::Pcss;
+            s.filter.pcf_radius = 4;
+            s.filter.pcss_quality = PcssQuality::High;
+            s.filter.moments.blur = 0.2;
+            s.bias.normal_offset = 2.5;
+            s
+        };
+        cache.plan(
+            [
+                input(1, m, &sampled, &near),
+                input(2, Mat4::from_translation(Vec3::X), &settings, &far),
+            ]
+            .into_iter(),
+            2,
+            &changes,
+            &mut v,
+        );
+        assert_eq!(v, before);
+        assert!(cache.entries.iter().all(|e| !e.cull));
     }
 }

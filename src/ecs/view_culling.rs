@@ -16,11 +16,13 @@ use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
-use crate::ecs::view_list::{CullVolume, ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::view_list::{CullVolume, ShadowView, ShadowViews};
+use crate::layout::ShadowStorage;
 use crate::math::cascades::Cascade;
+use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked, cull_spheres_sphere_chunked};
 use crate::math::footprint::{ClipProjector, TileMask};
-use crate::settings::{MAX_CASCADES, ShadowSettings};
+use crate::settings::ShadowSettings;
 
 /// Reused buffers of [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views), and what each view held last frame.
 #[derive(Default)]
@@ -39,7 +41,7 @@ pub struct ViewScratch {
     /// Single-pass lists were made last frame.
     pub(crate) single_pass: bool,
     /// Per mesh handle, the mesh each cascade of the sun being culled draws.
-    pub(crate) lods: Vec<[MeshHandle; MAX_CASCADES]>,
+    pub(crate) lods: Vec<[MeshHandle; MAX_SUN_VIEWS]>,
     /// The casters within reach of one point light (the candidates of its faces), and the
     /// light they belong to this frame.
     pub(crate) point_candidates: Vec<u32>,
@@ -53,10 +55,13 @@ pub(crate) fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, o
     out.single_pass.resize_with(suns, SinglePassGroup::default);
     let mut first_view = 0;
     for (i, ((_, sun), pass)) in scratch.suns.iter().zip(out.single_pass.iter_mut()).enumerate() {
+        let set = scratch.receivers.set(i);
         pass.first_view = first_view;
-        pass.views = scratch.receivers.set(i).count as u32;
+        // NOTE: a clipmap's levels are drawn one pass each (their masks need more bits than
+        // an entry packs); an empty run is never drawn as one.
+        pass.views = if set.clipmap { 0 } else { set.count as u32 };
         pass.group.append_copy(&sun.group, &sun.list, &mut out.indices);
-        first_view += pass.views;
+        first_view += set.count as u32;
     }
 }
 
@@ -81,11 +86,12 @@ pub(crate) fn cull_views(
         // NOTE: a sun's single-pass list is made when its views are culled; one missing (just
         // turned on, or the sun at this index changed) has its views culled again.
         let (owner, list) = &mut scratch.suns[i];
-        let stale = scratch.single_pass && *owner != Some(sun.entity);
+        let single_pass = scratch.single_pass && !set.clipmap;
+        let stale = single_pass && *owner != Some(sun.entity);
         if set.count == 0 || !(stale || entries[range.clone()].iter().any(|e| e.cull)) {
             continue;
         }
-        debug_assert!(set.count <= MAX_CASCADES);
+        debug_assert!(set.count <= MAX_SUN_VIEWS);
         culled = true;
         for entry in &mut entries[range.clone()] {
             start_cull(entry);
@@ -103,7 +109,7 @@ pub(crate) fn cull_views(
         );
         // NOTE: most casters of a large scene are in no cascade; a run of them is skipped
         // with one test per culling chunk.
-        let mut projectors = [ClipProjector::new(&glam::Mat4::IDENTITY); MAX_CASCADES];
+        let mut projectors = [ClipProjector::new(&glam::Mat4::IDENTITY); MAX_SUN_VIEWS];
         for (projector, view) in projectors.iter_mut().zip(&views[range.clone()]) {
             *projector = ClipProjector::new(&view.clip_from_world);
         }
@@ -143,7 +149,7 @@ pub(crate) fn cull_views(
         for entry in &mut entries[range.clone()] {
             end_cull(entry);
         }
-        if scratch.single_pass {
+        if single_pass {
             list.build(&instances.casters, &scratch.masks, &instances.keys);
             *owner = Some(sun.entity);
         } else {
@@ -161,10 +167,10 @@ pub(crate) fn cull_views(
         culled = true;
         start_cull(entry);
         let (centers, radii) = (&instances.caster_centers, &instances.caster_radii);
-        match (view.kind, lights.point_at(view.light)) {
+        match (view.kind.storage, lights.point_at(view.light)) {
             // NOTE: a point light's faces are culled from the casters within its reach, found
             // once for the six of them.
-            (ShadowViewKind::PointFace(_), Some(point)) => {
+            (ShadowStorage::Points, Some(point)) => {
                 if scratch.candidates_of != Some(view.light) {
                     let (center, range) = (point.position, point.light.range);
                     let candidates = &mut scratch.point_candidates;
@@ -214,7 +220,7 @@ fn lod_table(
     lods: &ShadowLods,
     instances: &RenderInstances,
     cascades: &[Cascade],
-    table: &mut Vec<[MeshHandle; MAX_CASCADES]>,
+    table: &mut Vec<[MeshHandle; MAX_SUN_VIEWS]>,
 ) {
     table.clear();
     if lods.is_empty() {
@@ -222,7 +228,7 @@ fn lod_table(
     }
     for (m, &radius) in instances.mesh_caster_radius.iter().enumerate() {
         let mesh = MeshHandle(m as u32);
-        let mut row = [mesh; MAX_CASCADES];
+        let mut row = [mesh; MAX_SUN_VIEWS];
         for (slot, cascade) in row.iter_mut().zip(cascades) {
             *slot = lods.pick(mesh, radius, cascade.texel_world_size);
         }
@@ -231,7 +237,7 @@ fn lod_table(
 }
 
 /// `key` with the mesh cascade `c` draws (from [`lod_table`]'s table).
-fn lod_key(table: &[[MeshHandle; MAX_CASCADES]], key: DrawKey, c: usize) -> DrawKey {
+fn lod_key(table: &[[MeshHandle; MAX_SUN_VIEWS]], key: DrawKey, c: usize) -> DrawKey {
     match table.get(key.mesh.0 as usize) {
         Some(row) => DrawKey { mesh: row[c], ..key },
         None => key,

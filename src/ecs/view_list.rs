@@ -49,25 +49,51 @@ pub const SPOT_NEAR: f32 = 0.05;
 /// Near plane of a point light's cube faces, metres (along each face's axis).
 pub const POINT_NEAR: f32 = 0.05;
 
-/// What a shadow view renders.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShadowViewKind {
-    /// Cascade `i` of a directional light (into the cascades' depth array).
-    Cascade(u32),
-    /// A spot light's perspective view (into the spot lights' depth array).
-    Spot,
-    /// Face `f` (cube-map layer order: +X, −X, +Y, −Y, +Z, −Z) of a point light's cube (into
-    /// the point lights' depth array).
-    PointFace(u32),
+/// What a shadow view renders: view `index` of its light in `storage` (a cascade's number;
+/// a cube face, in layer order +X, −X, +Y, −Y, +Z, −Z; 0 for a spot light's one view).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShadowViewKind {
+    /// The storage it renders into.
+    pub storage: ShadowStorage,
+    /// Its place among its light's views in that storage.
+    pub index: u32,
 }
 
 impl ShadowViewKind {
+    /// Cascade `c` of a directional light.
+    pub const fn cascade(c: u32) -> Self {
+        Self {
+            storage: ShadowStorage::Cascades,
+            index: c,
+        }
+    }
+
+    /// A spot light's perspective view.
+    pub const SPOT: Self = Self {
+        storage: ShadowStorage::Spots,
+        index: 0,
+    };
+
+    /// Face `f` of a point light's cube.
+    pub const fn point_face(f: u32) -> Self {
+        Self {
+            storage: ShadowStorage::Points,
+            index: f,
+        }
+    }
+
     /// The storage a view of this kind renders into.
     pub fn storage(self) -> ShadowStorage {
-        match self {
-            ShadowViewKind::Cascade(_) => ShadowStorage::Cascades,
-            ShadowViewKind::Spot => ShadowStorage::Spots,
-            ShadowViewKind::PointFace(_) => ShadowStorage::Points,
+        self.storage
+    }
+
+    /// Its bit in a single-pass caster entry's view mask (0 for a storage not drawn in one
+    /// pass per light).
+    pub fn single_pass_bit(self) -> u32 {
+        if self.storage.desc().single_pass {
+            1 << self.index
+        } else {
+            0
         }
     }
 }

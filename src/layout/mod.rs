@@ -36,6 +36,9 @@ pub struct StorageDesc {
     pub cube: bool,
     /// Its views can be rendered in one multiview pass per light (a sun's cascades).
     pub single_pass: bool,
+    /// What one of a light's views in it is called in pass labels (`cascade 2`, `face 5`), or
+    /// empty for a storage with one view per light.
+    pub view_word: &'static str,
 }
 
 impl ShadowStorage {
@@ -63,6 +66,7 @@ impl ShadowStorage {
 const CASCADES: StorageDesc = StorageDesc {
     label: "cascade shadow maps",
     moments_label: "cascade shadow moments",
+    view_word: "cascade",
     maps_binding: "cascade_maps",
     moments_binding: "cascade_moments",
     doc: "Every cascade of every shadowed sun, one layer each; its moments (EVSM2, EVSM4 or MSM) a layer per cascade.",
@@ -73,6 +77,7 @@ const CASCADES: StorageDesc = StorageDesc {
 const SPOTS: StorageDesc = StorageDesc {
     label: "spot shadow maps",
     moments_label: "spot shadow moments",
+    view_word: "",
     maps_binding: "spot_maps",
     moments_binding: "spot_moments",
     doc: "Every shadowed spot light, one layer each; its VSM moments (z, z²) beside it.",
@@ -83,6 +88,7 @@ const SPOTS: StorageDesc = StorageDesc {
 const POINTS: StorageDesc = StorageDesc {
     label: "point shadow cubes",
     moments_label: "point shadow moments",
+    view_word: "face",
     maps_binding: "point_maps",
     moments_binding: "point_moments",
     doc: "Every shadowed point light's six faces, sampled as a cube (index: first layer / 6); its VSM moments beside it.",

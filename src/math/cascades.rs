@@ -16,6 +16,10 @@ use crate::math::splits::wide_view_splits;
 
 pub use crate::math::splits::MAX_CASCADES;
 
+/// The most views a sun's set holds: [`MAX_CASCADES`] cascades, or up to this many clipmap
+/// levels ([`crate::math::clipmap::MAX_CLIPMAP_LEVELS`]).
+pub const MAX_SUN_VIEWS: usize = 8;
+
 /// How each cascade's orthographic box is fitted to its slice of the view frustum.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum CascadeFit {
@@ -126,10 +130,11 @@ pub struct Cascade {
 /// The cascades of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CascadeSet {
-    /// Number of valid cascades, `1..=MAX_CASCADES` (0 only for `Default`).
+    /// Number of valid cascades, `1..=MAX_CASCADES` (clipmap levels: up to
+    /// [`MAX_SUN_VIEWS`]; 0 only for `Default`).
     pub count: usize,
     /// The cascades; entries from `count` on are `Cascade::default()`.
-    pub cascades: [Cascade; MAX_CASCADES],
+    pub cascades: [Cascade; MAX_SUN_VIEWS],
     /// Split view depths: cascade `i` covers `[splits[i], splits[i + 1]]`; entries after
     /// `count` repeat the last.
     pub splits: [f32; MAX_CASCADES + 1],
@@ -139,12 +144,15 @@ pub struct CascadeSet {
     pub end: f32,
     /// The light rotation (`light_from_world`, rotation only) shared by every cascade.
     pub light_rotation: Mat3,
+    /// The views are clipmap levels ([`crate::math::clipmap`]): a receiver picks one by its
+    /// light-frame position, not by its view depth, and `splits` are unused.
+    pub clipmap: bool,
 }
 
 impl CascadeSet {
     /// The valid cascades.
     pub fn active(&self) -> &[Cascade] {
-        &self.cascades[..self.count.min(MAX_CASCADES)]
+        &self.cascades[..self.count.min(MAX_SUN_VIEWS)]
     }
 
     /// The far split of each cascade (`splits[1..=4]`), the layout a shader selecting a
@@ -208,7 +216,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
         resolution: f64::from(input.resolution.max(2)),
     };
 
-    let mut cascades = [Cascade::default(); MAX_CASCADES];
+    let mut cascades = [Cascade::default(); MAX_SUN_VIEWS];
     for (i, cascade) in cascades.iter_mut().enumerate().take(count) {
         let (near, far) = (splits[i], splits[i + 1]);
         // NOTE: the previous cascade blends into this one over the last `blend_width` of its
@@ -246,6 +254,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
         splits,
         end: plain[count],
         light_rotation,
+        clipmap: false,
     }
 }
 

@@ -9,7 +9,7 @@ use glam::Vec3;
 
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
-use crate::math::cascades::MAX_CASCADES;
+use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
 
@@ -81,7 +81,7 @@ fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], center: Vec3, r
     // Generous padding: chunk decisions must never be stricter than the member test.
     let r = radius + 4.0 * CULL_PADDING * (p[0].abs() + p[1].abs() + p[2].abs() + radius);
     let (mut overlap, mut inside) = (0u8, 0u8);
-    for k in 0..MAX_CASCADES {
+    for k in 0..MAX_SUN_VIEWS {
         let [min_x, min_y, min_z] = boxes.min[k];
         let [max_x, max_y] = boxes.max[k];
         let dx = (min_x - p[0]).max(p[0] - max_x).max(0.0);

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::math::cascades::CascadeSet;
-use crate::math::cascades::MAX_CASCADES;
+use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::frustum::Frustum;
 
 /// Relative padding added to each caster's radius in [`cull_casters`], times the L1 norm of
@@ -13,7 +13,7 @@ use crate::math::frustum::Frustum;
 pub const CULL_PADDING: f32 = 1.0 / (1 << 20) as f32;
 
 // NOTE: one mask bit per cascade.
-const _: () = assert!(MAX_CASCADES <= 8, "cascade masks are u8");
+const _: () = assert!(MAX_SUN_VIEWS <= 8, "cascade masks are u8");
 
 /// Casters per culling batch: the per-lane loops below are written so the compiler keeps
 /// a batch in SIMD registers (two SSE or one AVX register per quantity).
@@ -23,9 +23,9 @@ const LANES: usize = 8;
 /// `max = −∞`), which no sphere reaches.
 pub(crate) struct CascadeBoxes {
     /// Per-cascade `light_min` (x, y, z).
-    pub(crate) min: [[f32; 3]; MAX_CASCADES],
+    pub(crate) min: [[f32; 3]; MAX_SUN_VIEWS],
     /// Per-cascade `light_max` (x, y; z, the near side, is never tested).
-    pub(crate) max: [[f32; 2]; MAX_CASCADES],
+    pub(crate) max: [[f32; 2]; MAX_SUN_VIEWS],
     /// Bits of the active cascades.
     pub(crate) active: u8,
 }
@@ -33,9 +33,9 @@ pub(crate) struct CascadeBoxes {
 impl CascadeBoxes {
     /// Gathers the boxes of `set`.
     pub(crate) fn new(set: &CascadeSet) -> Self {
-        let count = set.count.min(MAX_CASCADES);
-        let mut min = [[f32::INFINITY; 3]; MAX_CASCADES];
-        let mut max = [[f32::NEG_INFINITY; 2]; MAX_CASCADES];
+        let count = set.count.min(MAX_SUN_VIEWS);
+        let mut min = [[f32::INFINITY; 3]; MAX_SUN_VIEWS];
+        let mut max = [[f32::NEG_INFINITY; 2]; MAX_SUN_VIEWS];
         for (k, c) in set.cascades.iter().enumerate().take(count) {
             min[k] = c.light_min.to_array();
             max[k] = [c.light_max.x, c.light_max.y];
@@ -81,7 +81,7 @@ fn cull_batch(
         valid[j] = if finite & radii[j].is_finite() { boxes.active } else { 0 };
     }
     let mut masks = [0u8; LANES];
-    for k in 0..MAX_CASCADES {
+    for k in 0..MAX_SUN_VIEWS {
         let [min_x, min_y, min_z] = boxes.min[k];
         let [max_x, max_y] = boxes.max[k];
         for j in 0..LANES {

@@ -12,6 +12,7 @@ pub mod aabb;
 pub mod cascades;
 pub mod chunks;
 pub mod clip;
+pub mod clipmap;
 pub mod culling;
 pub mod evsm;
 pub mod footprint;

@@ -72,11 +72,9 @@ fn create_pipeline(
 
 /// Whether a shadowed sun of the frame fits its cascades to the depths seen.
 pub fn wants_depth_bounds(inputs: &FrameInputs<'_>) -> bool {
-    inputs
-        .lights
-        .suns
-        .iter()
-        .any(|sun| sun.settings.fit == CascadeFit::DepthBounds && sun.cascades.count > 0)
+    inputs.lights.suns.iter().any(|sun| {
+        sun.settings.map.cascades.fit == CascadeFit::DepthBounds && sun.cascades.count > 0 && !sun.cascades.clipmap
+    })
 }
 
 impl RenderNode for DepthBoundsPass {

@@ -1,12 +1,15 @@
 //! [`RenderPlugin`]: renders every frame, after the shadow systems, with the [`Renderer`]
 //! resource the application inserted (headless or windowed).
 
-use bevy_app::{App, Last, Plugin};
+use bevy_app::{App, Last, Plugin, PostUpdate};
 use bevy_ecs::change_detection::Mut;
+use bevy_ecs::schedule::IntoScheduleConfigs;
 use bevy_ecs::system::Local;
+use bevy_ecs::system::{Res, ResMut};
 use bevy_ecs::world::World;
 
 use crate::ecs::components::ViewportSize;
+use crate::ecs::plugin::ShadowSystems;
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::view::SeenByCamera;
 use crate::render::frame_inputs::FrameInputs;
@@ -21,7 +24,26 @@ pub struct RenderPlugin;
 impl Plugin for RenderPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<RenderOptions>();
+        app.add_systems(PostUpdate, sync_culling.before(ShadowSystems::Cull));
         app.add_systems(Last, render_frame);
+    }
+}
+
+/// Hands culling what the renderer can do and was asked ([`ShadowCulling::single_pass`],
+/// [`ShadowCulling::multiview_views`]) before this frame's lists are made.
+pub fn sync_culling(
+    options: Option<Res<RenderOptions>>,
+    renderer: Option<Res<Renderer>>,
+    culling: Option<ResMut<ShadowCulling>>,
+) {
+    let (Some(renderer), Some(mut culling)) = (renderer, culling) else {
+        return;
+    };
+    let asked = options.is_some_and(|o| o.single_pass_cascades);
+    let views = renderer.gpu.multiview_views;
+    if (culling.single_pass, culling.multiview_views) != (asked, views) {
+        culling.single_pass = asked;
+        culling.multiview_views = views;
     }
 }
 
@@ -35,15 +57,6 @@ pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
         let (width, height) = renderer.size();
         if *world.resource::<ViewportSize>() != (ViewportSize { width, height }) {
             world.insert_resource(ViewportSize { width, height });
-        }
-        // NOTE: the single-pass lists are made by culling from the next frame on; until
-        // then the cascades are drawn one pass each.
-        let options = world.get_resource::<RenderOptions>().copied().unwrap_or_default();
-        let single_pass = options.single_pass_cascades && renderer.gpu.multiview_views >= 2;
-        if let Some(mut culling) = world.get_resource_mut::<ShadowCulling>()
-            && culling.single_pass != single_pass
-        {
-            culling.single_pass = single_pass;
         }
         renderer.render(&FrameInputs::from_world(world, *frame_index));
         publish_seen_depths(world, &renderer);

@@ -468,8 +468,8 @@ mod tests {
             "test.ron",
         )
         .unwrap_or_else(|e| panic!("{e}"));
-        desc.settings_mut().for_each(|s| s.mode = ShadowMode::Vsm);
-        let modes: Vec<ShadowMode> = desc.settings_mut().map(|s| s.mode).collect();
+        desc.settings_mut().for_each(|s| s.filter.mode = ShadowMode::Vsm);
+        let modes: Vec<ShadowMode> = desc.settings_mut().map(|s| s.filter.mode).collect();
         // The scene's settings and the two lights that have their own; the third light
         // takes the scene's.
         assert_eq!(modes, [ShadowMode::Vsm; 3]);

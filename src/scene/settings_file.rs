@@ -44,7 +44,8 @@ pub fn settings_from_str(text: &str, origin: &str) -> Result<ShadowSettings, Sce
     let mut problems: Vec<Problem> = found
         .into_iter()
         .map(|p| {
-            let pos = tree.find(&[Seg::Field(p.field)]);
+            let path: Vec<Seg> = p.field.split('.').map(Seg::Field).collect();
+            let pos = tree.find(&path);
             Problem {
                 line: pos.line,
                 column: pos.column,
@@ -91,11 +92,12 @@ mod tests {
 
     #[test]
     fn saved_settings_read_back_equal() {
-        let settings = ShadowSettings {
-            mode: ShadowMode::Pcss,
-            cascade_count: 3,
-            split_lambda: 0.25,
-            ..ShadowSettings::default()
+        let settings = {
+            let mut s = ShadowSettings::default();
+            s.filter.mode = ShadowMode::Pcss;
+            s.map.cascades.count = 3;
+            s.map.cascades.split_lambda = 0.25;
+            s
         };
         let text = settings_to_ron(&settings);
         assert_eq!(settings_from_str(&text, "s.ron").unwrap(), settings);
@@ -104,8 +106,8 @@ mod tests {
     #[test]
     fn fields_are_optional() {
         let s = settings_from_str("ShadowSettings(cascade_count: 2)", "s.ron").unwrap();
-        assert_eq!(s.cascade_count, 2);
-        assert_eq!(s.resolution, ShadowSettings::default().resolution);
+        assert_eq!(s.map.cascades.count, 2);
+        assert_eq!(s.map.resolution, ShadowSettings::default().map.resolution);
         assert_eq!(settings_from_str("()", "s.ron").unwrap(), ShadowSettings::default());
     }
 

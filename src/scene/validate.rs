@@ -54,7 +54,7 @@ pub(crate) fn validate(scene: &SceneDesc, text: &str, base_dir: Option<&Path>, l
         c.add(root.field("ambient"), expected, scene.ambient.shown());
     }
     for p in scene.shadows.problems() {
-        c.add(root.field("shadows").field(p.field), p.expected, p.found);
+        c.add(root.field("shadows").fields(p.field), p.expected, p.found);
     }
     let materials = root.field("materials");
     for (i, m) in scene.materials.iter().enumerate() {
@@ -104,6 +104,11 @@ impl FieldPath {
     fn field(&self, name: &'static str) -> FieldPath {
         let dot = if self.text.is_empty() { "" } else { "." };
         self.then(Seg::Field(name), &format!("{dot}{name}"))
+    }
+
+    /// The path of a dotted `path` of fields below this one (`layout.levels`).
+    fn fields(&self, path: &'static str) -> FieldPath {
+        path.split('.').fold(self.clone(), |at, name| at.field(name))
     }
 
     fn item(&self, i: usize) -> FieldPath {
@@ -207,7 +212,7 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
                 at,
             );
             for p in shadows.iter().flat_map(ShadowSettings::problems) {
-                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+                c.add(at.field("shadows").fields(p.field), p.expected, p.found);
             }
             return;
         }
@@ -225,7 +230,7 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
         } => {
             check_positional(c, (*position, *range, *radius), *shadows_enabled, SPOT_NEAR, at);
             for p in shadows.iter().flat_map(ShadowSettings::problems) {
-                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+                c.add(at.field("shadows").fields(p.field), p.expected, p.found);
             }
             if !is_direction(*direction) {
                 add_direction(c, at.field("direction"), "a finite, non-zero direction", *direction);
@@ -255,7 +260,7 @@ fn check_light(c: &mut Checks, light: &LightDesc, at: &FieldPath) {
         } => {
             check_positional(c, (*position, *range, *radius), *shadows_enabled, POINT_NEAR, at);
             for p in shadows.iter().flat_map(ShadowSettings::problems) {
-                c.add(at.field("shadows").field(p.field), p.expected, p.found);
+                c.add(at.field("shadows").fields(p.field), p.expected, p.found);
             }
             (color, intensity, "intensity")
         }

@@ -4,13 +4,15 @@
 use std::fmt;
 
 use crate::settings::{
-    MAX_CASCADES, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION, ShadowSettings,
+    MAX_CASCADES, MAX_CLIPMAP_LEVELS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION,
+    ShadowSettings, SunLayout,
 };
 
 /// One out-of-range value found in a [`ShadowSettings`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SettingsProblem {
-    /// Field name, as written in a scene file.
+    /// Field name, as written in a scene file (a dotted path for a field inside another:
+    /// `layout.levels`).
     pub field: &'static str,
     /// The value that was given, formatted.
     pub found: String,
@@ -78,15 +80,34 @@ impl ShadowSettings {
         check_u32(
             &mut p,
             "cascade_count",
-            &mut s.cascade_count,
+            &mut s.map.cascades.count,
             1,
             MAX_CASCADES as u32,
             "an integer from 1 to 4",
         );
+        if let SunLayout::Clipmap { levels, level0_extent } = &mut s.map.layout {
+            check_u32(
+                &mut p,
+                "layout.levels",
+                levels,
+                1,
+                MAX_CLIPMAP_LEVELS,
+                "an integer from 1 to 8",
+            );
+            check_f32(
+                &mut p,
+                "layout.level0_extent",
+                level0_extent,
+                0.5,
+                1.0e5,
+                32.0,
+                "metres from 0.5 to 1e5",
+            );
+        }
         check_u32(
             &mut p,
             "resolution",
-            &mut s.resolution,
+            &mut s.map.resolution,
             MIN_RESOLUTION,
             MAX_RESOLUTION,
             "texels per side from 256 to 4096",
@@ -94,52 +115,52 @@ impl ShadowSettings {
         check_f32(
             &mut p,
             "split_lambda",
-            &mut s.split_lambda,
+            &mut s.map.cascades.split_lambda,
             0.0,
             1.0,
-            d.split_lambda,
+            d.map.cascades.split_lambda,
             "a number from 0 (linear) to 1 (logarithmic)",
         );
         check_f32(
             &mut p,
             "max_distance",
-            &mut s.max_distance,
+            &mut s.map.max_distance,
             0.1,
             1.0e6,
-            d.max_distance,
+            d.map.max_distance,
             "metres from 0.1 to 1e6",
         );
         check_f32(
             &mut p,
             "slope_bias",
-            &mut s.slope_bias,
+            &mut s.bias.slope_bias,
             0.0,
             10.0,
-            d.slope_bias,
+            d.bias.slope_bias,
             "a number from 0 to 10",
         );
         check_f32(
             &mut p,
             "bias_clamp",
-            &mut s.bias_clamp,
+            &mut s.bias.bias_clamp,
             0.0,
             0.05,
-            d.bias_clamp,
+            d.bias.bias_clamp,
             "a number from 0 to 0.05",
         );
         check_f32(
             &mut p,
             "normal_offset",
-            &mut s.normal_offset,
+            &mut s.bias.normal_offset,
             0.0,
             5.0,
-            d.normal_offset,
+            d.bias.normal_offset,
             "shadow texels from 0 to 5",
         );
         check_u32(
             &mut p,
             "pcf_radius",
-            &mut s.pcf_radius,
+            &mut s.filter.pcf_radius,
             0,
             MAX_PCF_RADIUS,
             "an integer from 0 to 5",
@@ -147,25 +168,25 @@ impl ShadowSettings {
         check_f32(
             &mut p,
             "blend_width",
-            &mut s.blend_width,
+            &mut s.map.cascades.blend_width,
             0.0,
             0.5,
-            d.blend_width,
+            d.map.cascades.blend_width,
             "a fraction from 0 to 0.5",
         );
         check_f32(
             &mut p,
             "distance_fade_width",
-            &mut s.distance_fade_width,
+            &mut s.filter.distance_fade_width,
             0.0,
             0.5,
-            d.distance_fade_width,
+            d.filter.distance_fade_width,
             "a fraction from 0 to 0.5",
         );
         check_u32(
             &mut p,
             "vsm_blur",
-            &mut s.vsm_blur,
+            &mut s.filter.vsm.blur,
             0,
             MAX_VSM_BLUR,
             "texels from 0 to 8",
@@ -173,55 +194,55 @@ impl ShadowSettings {
         check_f32(
             &mut p,
             "vsm_bleed_reduction",
-            &mut s.vsm_bleed_reduction,
+            &mut s.filter.vsm.bleed_reduction,
             0.0,
             0.95,
-            d.vsm_bleed_reduction,
+            d.filter.vsm.bleed_reduction,
             "a fraction from 0 to 0.95",
         );
         check_f32(
             &mut p,
             "vsm_min_variance",
-            &mut s.vsm_min_variance,
+            &mut s.filter.vsm.min_variance,
             0.0,
             0.01,
-            d.vsm_min_variance,
+            d.filter.vsm.min_variance,
             "a fraction of the range squared from 0 to 0.01",
         );
         check_f32(
             &mut p,
             "evsm_exponent",
-            &mut s.evsm_exponent,
+            &mut s.filter.moments.evsm_exponent,
             0.0,
             MAX_EVSM_EXPONENT,
-            d.evsm_exponent,
+            d.filter.moments.evsm_exponent,
             "a number from 0 (the format's largest) to 42",
         );
         check_f32(
             &mut p,
             "moment_blur",
-            &mut s.moment_blur,
+            &mut s.filter.moments.blur,
             0.0,
             1.0,
-            d.moment_blur,
+            d.filter.moments.blur,
             "metres from 0 to 1",
         );
         check_f32(
             &mut p,
             "moment_bleed_reduction",
-            &mut s.moment_bleed_reduction,
+            &mut s.filter.moments.bleed_reduction,
             0.0,
             0.95,
-            d.moment_bleed_reduction,
+            d.filter.moments.bleed_reduction,
             "a fraction from 0 to 0.95",
         );
         check_f32(
             &mut p,
             "moment_min_variance",
-            &mut s.moment_min_variance,
+            &mut s.filter.moments.min_variance,
             0.0,
             0.01,
-            d.moment_min_variance,
+            d.filter.moments.min_variance,
             "square metres from 0 to 0.01",
         );
         (s, p)

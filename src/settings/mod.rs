@@ -143,29 +143,109 @@ pub enum ShadowDebugView {
     Cascades,
 }
 
-/// Every tunable parameter of a light's shadows. Attach it to the entity that holds the
-/// [`DirectionalLight`](crate::ecs::DirectionalLight), [`SpotLight`](crate::ecs::SpotLight) or
-/// [`PointLight`](crate::ecs::PointLight); lights without it use the defaults (positional
-/// lights at the [`ShadowLightBudget`](crate::ecs::ShadowLightBudget)'s resolution). The
-/// cascade and `moment_*` fields only apply to suns, the `vsm_*` fields only to spot and point
-/// lights.
+/// Every tunable parameter of a light's shadows, in three parts: the maps themselves
+/// ([`map`](Self::map): size, cascades, depth range), the depth bias they are drawn and
+/// sampled with ([`bias`](Self::bias)), and how receivers filter them
+/// ([`filter`](Self::filter)). Changing the map or the depth bias redraws the light's
+/// shadow maps; changing the filter (or the normal offset) redraws none. Attach it to the
+/// entity that holds the [`DirectionalLight`](crate::ecs::DirectionalLight),
+/// [`SpotLight`](crate::ecs::SpotLight) or [`PointLight`](crate::ecs::PointLight); lights
+/// without it use the defaults (positional lights at the
+/// [`ShadowLightBudget`](crate::ecs::ShadowLightBudget)'s resolution). Scene files write it
+/// flat ([`ShadowSettingsFile`]).
 #[derive(Component, Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(from = "ShadowSettingsFile", into = "ShadowSettingsFile")]
 pub struct ShadowSettings {
-    /// Filtering mode.
-    pub mode: ShadowMode,
-    /// Number of cascades, 1–4.
-    pub cascade_count: u32,
-    /// Shadow-map resolution per cascade (or spot map, or point-light cube face) in texels,
-    /// 256–4096.
+    /// The shadow maps: what changes them redraws them.
+    pub map: ShadowMapSettings,
+    /// Depth bias.
+    pub bias: ShadowBias,
+    /// How receivers sample the maps.
+    pub filter: ShadowFilterSettings,
+}
+
+/// What a light's shadow maps are. A change redraws them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowMapSettings {
+    /// Side of each map (cascade, spot map or point-light cube face) in texels, 256–4096: what
+    /// the light asks for; the shadow-memory budget may grant less (the views carry what was
+    /// granted).
     pub resolution: u32,
+    /// How a sun's shadow is divided into maps: cascades (`cascades`) or a clipmap.
+    pub layout: SunLayout,
+    /// A sun's cascades (with [`SunLayout::Cascades`]).
+    pub cascades: CascadeSettings,
+    /// Distance from the camera (view depth, metres) where a sun's shadows end.
+    pub max_distance: f32,
+    /// Clamp casters in front of the near plane to it instead of clipping them, where the
+    /// adapter supports unclipped depth.
+    pub depth_clamp: bool,
+}
+
+/// How a sun's shadow is divided into maps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum SunLayout {
+    /// Cascaded shadow maps ([`ShadowMapSettings::cascades`]): the view frustum cut by view
+    /// depth, each slice fitted with its own map.
+    #[default]
+    Cascades,
+    /// A clipmap ([`crate::math::clipmap`]): `levels` (1–8) concentric squares in the
+    /// light's frame centred on the camera, level `i` covering `level0_extent · 2^i` metres
+    /// (0.5–100 000 for level 0) with the same texels, snapped to whole texels; a receiver
+    /// samples the finest level that holds it and blends into the next across a band of
+    /// `blend_width` of the level's half side; shadows fade out over the last level's edge.
+    /// Turning the camera changes no level.
+    Clipmap {
+        /// Number of levels, 1–8 (6 when a file leaves it out).
+        #[serde(default = "default_levels")]
+        levels: u32,
+        /// Side of the finest level, metres (32 when a file leaves it out).
+        #[serde(default = "default_level0_extent")]
+        level0_extent: f32,
+    },
+}
+
+fn default_levels() -> u32 {
+    6
+}
+
+fn default_level0_extent() -> f32 {
+    32.0
+}
+
+/// The most clipmap levels a sun can have.
+pub const MAX_CLIPMAP_LEVELS: u32 = crate::math::clipmap::MAX_CLIPMAP_LEVELS as u32;
+
+impl ShadowMapSettings {
+    /// How many maps a sun with these settings renders: its cascades or its clipmap levels.
+    pub fn sun_views(&self) -> u32 {
+        match self.layout {
+            SunLayout::Cascades => self.cascades.count,
+            SunLayout::Clipmap { levels, .. } => levels,
+        }
+    }
+}
+
+/// How a sun's view is cut into cascades.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CascadeSettings {
+    /// Number of cascades, 1–4.
+    pub count: u32,
     /// PSSM split blend: 0 is linear, 1 is logarithmic. Views wider than 120° pull the splits
     /// in towards the logarithmic ones ([`crate::math::splits::wide_view_splits`]).
     pub split_lambda: f32,
-    /// Distance from the camera (view depth, metres) where shadows end.
-    pub max_distance: f32,
     /// How cascades are fitted to the view frustum.
     pub fit: CascadeFit,
+    /// Fraction (0–0.5) of each cascade's depth range blended into the next cascade (the
+    /// next one starts that much earlier).
+    pub blend_width: f32,
+}
+
+/// Depth bias: the hardware's, applied when the maps are drawn (a change redraws them), and
+/// the normal offset, applied when they are sampled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowBias {
     /// Hardware slope-scaled depth bias factor, 0–10.
     pub slope_bias: f32,
     /// Largest depth bias the hardware may apply, in reverse-Z NDC depth, 0–0.05.
@@ -174,6 +254,14 @@ pub struct ShadowSettings {
     /// in full at grazing angles and scaled by `1 − n·l` (a tenth of it where the surface faces
     /// the light), and never more than 2 cm.
     pub normal_offset: f32,
+}
+
+/// How receivers sample a light's shadow maps. A change redraws no map (moments are baked
+/// again where their parameters changed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowFilterSettings {
+    /// Filtering mode.
+    pub mode: ShadowMode,
     /// PCF kernel radius, 0 (a single hardware comparison) to 5 (11×11); taps are one texel
     /// apart, or 1 cm where a texel is larger.
     pub pcf_radius: u32,
@@ -185,89 +273,131 @@ pub struct ShadowSettings {
     pub receiver_plane_bias: bool,
     /// PCSS: rotate the Poisson pattern per pixel and per frame.
     pub temporal_rotation: bool,
-    /// Fraction (0–0.5) of each cascade's depth range blended into the next cascade.
-    pub blend_width: f32,
     /// Fraction (0–0.5) of `max_distance` over which shadows fade out at the far end.
     pub distance_fade_width: f32,
-    /// Clamp casters in front of the near plane to it instead of clipping them, where the
-    /// adapter supports unclipped depth.
-    pub depth_clamp: bool,
     /// Debug visualisation.
     pub debug_view: ShadowDebugView,
-    /// VSM: radius in texels (0–8) of the separable Gaussian pre-blur of the moments; 0
-    /// keeps only the hardware bilinear filter. Cube faces are blurred across their edges.
-    pub vsm_blur: u32,
-    /// VSM: light-bleed reduction, 0–0.95: the bound's low tail up to this value is clipped
-    /// to black and the rest stretched (`clamp((p − amount)/(1 − amount), 0, 1)`).
-    pub vsm_bleed_reduction: f32,
-    /// VSM: smallest variance, as a fraction of the light's range squared, 0–0.01; hides the
+    /// Variance shadow maps (spot and point lights).
+    pub vsm: VsmSettings,
+    /// A sun's moment techniques (EVSM2, EVSM4, MSM).
+    pub moments: MomentSettings,
+}
+
+/// Variance shadow maps (spot and point lights).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VsmSettings {
+    /// Radius in texels (0–8) of the separable Gaussian pre-blur of the moments; 0 keeps only
+    /// the hardware bilinear filter. Cube faces are blurred across their edges.
+    pub blur: u32,
+    /// Light-bleed reduction, 0–0.95: the bound's low tail up to this value is clipped to
+    /// black and the rest stretched (`clamp((p − amount)/(1 − amount), 0, 1)`).
+    pub bleed_reduction: f32,
+    /// Smallest variance, as a fraction of the light's range squared, 0–0.01; hides the
     /// moments' quantisation on flat receivers.
-    pub vsm_min_variance: f32,
-    /// EVSM, MSM: how the moments are stored.
-    pub moment_precision: MomentFormat,
+    pub min_variance: f32,
+}
+
+/// A sun's moment techniques (EVSM2, EVSM4, MSM); `contact_hardening` also applies to VSM.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MomentSettings {
+    /// How the moments are stored.
+    pub precision: MomentFormat,
     /// EVSM: the warp exponent over the deepest cascade's receivers, 0–42; 0 takes the largest
     /// the format holds (5.2 for 16 bits, 42 for 32). Larger values are cut to the format's
     /// limit; shallower cascades scale it by the depth their receivers span, so the warp is
     /// the same in metres.
     pub evsm_exponent: f32,
-    /// EVSM, MSM without contact hardening: radius in metres (0–1) of the separable Gaussian
-    /// pre-blur of the moments, the same in every cascade (at most 8 of a cascade's texels);
-    /// 0 keeps only the bilinear filter. Every pixel then gets this softness, whatever the
-    /// sun's size.
-    pub moment_blur: f32,
-    /// EVSM, MSM: light-bleed reduction, 0–0.95 (as `vsm_bleed_reduction`).
-    pub moment_bleed_reduction: f32,
-    /// EVSM, MSM, VSM: contact hardening (on by default). PCSS's blocker search over the
+    /// Without contact hardening: radius in metres (0–1) of the separable Gaussian pre-blur
+    /// of the moments, the same in every cascade (at most 8 of a cascade's texels); 0 keeps
+    /// only the bilinear filter. Every pixel then gets this softness, whatever the sun's size.
+    pub blur: f32,
+    /// Light-bleed reduction, 0–0.95 (as [`VsmSettings::bleed_reduction`]).
+    pub bleed_reduction: f32,
+    /// Contact hardening (on by default; EVSM, MSM and VSM). PCSS's blocker search over the
     /// depth map gives each pixel's penumbra from the light's size (a sun's angular diameter,
     /// a spot or point light's radius); a sun's moments (unblurred, with a mip chain) are
-    /// filtered over it in four fetches, a spot or point light's (pre-blurred by `vsm_blur`)
-    /// averaged over 16; a pixel whose penumbra is under a texel (a caster's foot) compares
-    /// the depth itself. Soft shadows that follow the light's size and harden where casters
-    /// touch. Off: every pixel filters `moment_blur` (suns) or `vsm_blur` (spot, point).
-    pub moment_contact_hardening: bool,
+    /// filtered over it in four fetches, a spot or point light's (pre-blurred by the VSM
+    /// blur) averaged over 16; a pixel whose penumbra is under a texel (a caster's foot)
+    /// compares the depth itself. Soft shadows that follow the light's size and harden where
+    /// casters touch. Off: every pixel filters `blur` (suns) or the VSM blur (spot, point).
+    pub contact_hardening: bool,
     /// EVSM: smallest variance of the occluders' depth, square metres, 0–0.01 (scaled by the
     /// warp's slope; the receiver plane's slope across a texel adds to it when
     /// `receiver_plane_bias` is on, which removes most acne without a fixed bias).
-    pub moment_min_variance: f32,
+    pub min_variance: f32,
 }
 
-impl Default for ShadowSettings {
-    fn default() -> Self {
-        Self {
-            mode: ShadowMode::Pcf,
-            cascade_count: 4,
-            resolution: 2048,
-            split_lambda: 0.6,
-            max_distance: 120.0,
-            fit: CascadeFit::Tight,
-            slope_bias: 4.0,
-            bias_clamp: 0.005,
-            normal_offset: 1.0,
-            pcf_radius: 1,
-            pcss_quality: PcssQuality::Medium,
-            blocker_early_out: true,
-            receiver_plane_bias: true,
-            temporal_rotation: true,
-            blend_width: 0.1,
-            distance_fade_width: 0.1,
-            depth_clamp: true,
-            debug_view: ShadowDebugView::None,
-            vsm_blur: 2,
-            vsm_bleed_reduction: 0.3,
-            vsm_min_variance: 1e-6,
-            moment_precision: MomentFormat::Auto,
-            evsm_exponent: 0.0,
-            moment_blur: 0.03,
-            moment_bleed_reduction: 0.15,
-            moment_contact_hardening: true,
-            moment_min_variance: 1e-5,
+impl ShadowSettings {
+    /// The defaults with maps of `resolution` texels per side.
+    pub fn with_resolution(resolution: u32) -> Self {
+        let mut settings = ShadowSettings::default();
+        settings.map.resolution = resolution;
+        settings
+    }
+
+    /// What the shadow maps are drawn from (the map settings and the hardware depth bias):
+    /// a view's cached map stays valid while this is unchanged.
+    pub fn map_key(&self) -> MapKey {
+        MapKey {
+            map: self.map,
+            slope_bias: self.bias.slope_bias,
+            bias_clamp: self.bias.bias_clamp,
         }
     }
 }
 
+impl Default for ShadowMapSettings {
+    fn default() -> Self {
+        ShadowSettings::default().map
+    }
+}
+
+impl Default for CascadeSettings {
+    fn default() -> Self {
+        ShadowSettings::default().map.cascades
+    }
+}
+
+impl Default for ShadowBias {
+    fn default() -> Self {
+        ShadowSettings::default().bias
+    }
+}
+
+impl Default for ShadowFilterSettings {
+    fn default() -> Self {
+        ShadowSettings::default().filter
+    }
+}
+
+impl Default for VsmSettings {
+    fn default() -> Self {
+        ShadowSettings::default().filter.vsm
+    }
+}
+
+impl Default for MomentSettings {
+    fn default() -> Self {
+        ShadowSettings::default().filter.moments
+    }
+}
+
+/// The part of [`ShadowSettings`] a shadow map is drawn from ([`ShadowSettings::map_key`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapKey {
+    /// The map settings.
+    pub map: ShadowMapSettings,
+    /// Hardware slope-scaled bias.
+    pub slope_bias: f32,
+    /// Hardware bias clamp.
+    pub bias_clamp: f32,
+}
+
 mod checks;
+mod file;
 
 pub use checks::SettingsProblem;
+pub use file::ShadowSettingsFile;
 
 #[cfg(test)]
 mod tests {
@@ -280,20 +410,24 @@ mod tests {
 
     #[test]
     fn bad_values_are_clamped_and_reported() {
-        let bad = ShadowSettings {
-            cascade_count: 0,
-            resolution: 100_000,
-            split_lambda: f32::NAN,
-            pcf_radius: 9,
-            ..ShadowSettings::default()
+        let bad = {
+            let mut s = ShadowSettings::default();
+            s.map.cascades.count = 0;
+            s.map.resolution = 100_000;
+            s.map.cascades.split_lambda = f32::NAN;
+            s.filter.pcf_radius = 9;
+            s
         };
         let (fixed, problems) = bad.sanitized();
         let fields: Vec<_> = problems.iter().map(|p| p.field).collect();
         assert_eq!(fields, ["cascade_count", "resolution", "split_lambda", "pcf_radius"]);
-        assert_eq!(fixed.cascade_count, 1);
-        assert_eq!(fixed.resolution, MAX_RESOLUTION);
-        assert_eq!(fixed.split_lambda, ShadowSettings::default().split_lambda);
-        assert_eq!(fixed.pcf_radius, MAX_PCF_RADIUS);
+        assert_eq!(fixed.map.cascades.count, 1);
+        assert_eq!(fixed.map.resolution, MAX_RESOLUTION);
+        assert_eq!(
+            fixed.map.cascades.split_lambda,
+            ShadowSettings::default().map.cascades.split_lambda
+        );
+        assert_eq!(fixed.filter.pcf_radius, MAX_PCF_RADIUS);
         assert!(fixed.problems().is_empty());
         assert_eq!(
             problems[0].to_string(),

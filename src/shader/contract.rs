@@ -38,6 +38,8 @@ pub const SHADOW_FLAG_RECEIVER_PLANE: u32 = 4;
 pub const SHADOW_FLAG_TEMPORAL: u32 = 8;
 /// `Light::flags`: contact hardening of a sun's moment shadows (mipmapped moments).
 pub const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16;
+/// `Light::flags`: the sun's views are clipmap levels (chosen by light-frame position).
+pub const SHADOW_FLAG_CLIPMAP: u32 = 32;
 /// `Light::resolve_layer` of a light filtered in the lighting pass (no resolved layer).
 pub const RESOLVE_NONE: u32 = u32::MAX;
 /// `Instance::flags`: the instance receives shadows.
@@ -61,7 +63,7 @@ pub enum Value {
 }
 
 /// Every shared constant: its name (the same in Rust and WGSL) and value.
-pub const CONSTANTS: [(&str, Value); 20] = [
+pub const CONSTANTS: [(&str, Value); 21] = [
     ("MAX_LIGHTS", Value::U32(MAX_LIGHTS)),
     ("MAX_SHADOW_VIEWS", Value::U32(MAX_SHADOW_VIEWS)),
     ("LIGHT_DIRECTIONAL", Value::U32(LIGHT_DIRECTIONAL)),
@@ -80,6 +82,7 @@ pub const CONSTANTS: [(&str, Value); 20] = [
     ("SHADOW_FLAG_RECEIVER_PLANE", Value::U32(SHADOW_FLAG_RECEIVER_PLANE)),
     ("SHADOW_FLAG_TEMPORAL", Value::U32(SHADOW_FLAG_TEMPORAL)),
     ("SHADOW_FLAG_MOMENT_HARDENING", Value::U32(SHADOW_FLAG_MOMENT_HARDENING)),
+    ("SHADOW_FLAG_CLIPMAP", Value::U32(SHADOW_FLAG_CLIPMAP)),
     ("RESOLVE_NONE", Value::U32(RESOLVE_NONE)),
     (
         "INSTANCE_FLAG_RECEIVE_SHADOWS",

@@ -49,7 +49,7 @@ const BINDINGS: (&str, fn() -> String) = ("shadows/bindings.wgsl (generated)", g
 const BEFORE_BINDINGS: usize = 3;
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 13] = [
+const MODULES: [ModuleSource; 14] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -77,6 +77,10 @@ const MODULES: [ModuleSource; 13] = [
     ModuleSource {
         file: "shadows/filters.wgsl",
         source: include_str!("../../shaders/shadows/filters.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/clipmap.wgsl",
+        source: include_str!("../../shaders/shadows/clipmap.wgsl"),
     },
     ModuleSource {
         file: "shadows/cascades.wgsl",

@@ -4,17 +4,17 @@ use std::collections::HashMap;
 
 use naga_oil::compose::ShaderDefValue;
 
-use crate::settings::{PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings};
+use crate::settings::{ShadowDebugView, ShadowMode, ShadowSettings};
 
-/// Which shadow filters a forward shader compiles in: PCF always, PCSS (with the sample
-/// counts of a quality level) when a light needs it.
+/// Which shadow filters a forward shader compiles in: PCF always, PCSS when a light needs it
+/// (each light samples the taps its own quality asks for, `Light::pcss_samples`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShadowFilter {
     /// PCF only (a `(2R+1)²` grid for cascades, a rotated Poisson disc for spot lights; the
     /// radius is per light).
     Pcf,
-    /// PCF and PCSS, with the sample counts of a quality level.
-    Pcss(PcssQuality),
+    /// PCF and PCSS.
+    Pcss,
 }
 
 /// One forward-shader variant.
@@ -57,16 +57,16 @@ pub struct ForwardVariant {
 impl ForwardVariant {
     /// The variant the given settings need for opaque or masked materials.
     pub fn for_settings(settings: &ShadowSettings, alpha_mask: bool) -> Self {
-        let filter = match settings.mode {
-            ShadowMode::Pcss => ShadowFilter::Pcss(settings.pcss_quality),
+        let filter = match settings.filter.mode {
+            ShadowMode::Pcss => ShadowFilter::Pcss,
             _ => ShadowFilter::Pcf,
         };
         Self {
             filter,
             spot_shadows: false,
             point_shadows: false,
-            sun_moments: settings.mode.effective(true).is_sun_moments(),
-            debug_cascades: settings.debug_view == ShadowDebugView::Cascades,
+            sun_moments: settings.filter.mode.effective(true).is_sun_moments(),
+            debug_cascades: settings.filter.debug_view == ShadowDebugView::Cascades,
             transmission: false,
             alpha_mask,
             alpha_to_coverage: false,
@@ -104,12 +104,7 @@ impl ForwardVariant {
 
     /// Every variant the renderer can ask for (alpha-to-coverage only with the alpha mask).
     pub fn all() -> Vec<ForwardVariant> {
-        let filters = [
-            ShadowFilter::Pcf,
-            ShadowFilter::Pcss(PcssQuality::Low),
-            ShadowFilter::Pcss(PcssQuality::Medium),
-            ShadowFilter::Pcss(PcssQuality::High),
-        ];
+        let filters = [ShadowFilter::Pcf, ShadowFilter::Pcss];
         let mut all = Vec::new();
         for filter in filters {
             for (spot_shadows, point_shadows) in [(false, false), (true, false), (false, true), (true, true)] {
@@ -141,16 +136,8 @@ impl ForwardVariant {
 
     /// The naga_oil shader defs of this variant.
     pub fn shader_defs(&self) -> HashMap<String, ShaderDefValue> {
-        let (blocker, filter) = match self.filter {
-            ShadowFilter::Pcf => (16, 16),
-            ShadowFilter::Pcss(q) => (q.blocker_samples(), q.filter_samples()),
-        };
         let mut defs = HashMap::new();
-        // NOTE: the sample counts are always defined, so `#if` lines inside inactive blocks
-        // still evaluate.
-        defs.insert("PCSS_BLOCKER_SAMPLES".to_string(), ShaderDefValue::UInt(blocker));
-        defs.insert("PCSS_FILTER_SAMPLES".to_string(), ShaderDefValue::UInt(filter));
-        if matches!(self.filter, ShadowFilter::Pcss(_)) {
+        if self.filter == ShadowFilter::Pcss {
             defs.insert("SHADOW_FILTER_PCSS".to_string(), ShaderDefValue::Bool(true));
         }
         if self.spot_shadows {
@@ -184,11 +171,11 @@ impl ForwardVariant {
         defs
     }
 
-    /// A short label for pipeline names and logs, e.g. `pcss-high+mask`.
+    /// A short label for pipeline names and logs, e.g. `pcss+mask`.
     pub fn label(&self) -> String {
         let mut s = match self.filter {
             ShadowFilter::Pcf => "pcf".to_string(),
-            ShadowFilter::Pcss(q) => format!("pcss-{}", format!("{q:?}").to_lowercase()),
+            ShadowFilter::Pcss => "pcss".to_string(),
         };
         if self.spot_shadows {
             s.push_str("+spot");
@@ -228,7 +215,7 @@ mod tests {
     #[test]
     fn a_lighting_pass_reading_resolved_shadows_leaves_the_filters_out() {
         let full = ForwardVariant {
-            filter: ShadowFilter::Pcss(PcssQuality::High),
+            filter: ShadowFilter::Pcss,
             spot_shadows: true,
             point_shadows: true,
             sun_moments: true,

@@ -217,9 +217,9 @@ impl Viewer {
                 let mut q = world.query::<&mut ShadowSettings>();
                 for mut s in q.iter_mut(world) {
                     self.start_settings.get_or_insert(*s);
-                    s.mode = ShadowMode::Pcss;
-                    s.cascade_count = 2;
-                    s.resolution = 1024;
+                    s.filter.mode = ShadowMode::Pcss;
+                    s.map.cascades.count = 2;
+                    s.map.resolution = 1024;
                 }
             }
             ExerciseStep::ResetSettings => {

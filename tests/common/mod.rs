@@ -28,7 +28,7 @@ pub fn still_scene(renderer: Renderer, scene: &str) -> App {
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
-        s.temporal_rotation = false;
+        s.filter.temporal_rotation = false;
     }
     app
 }
@@ -87,7 +87,7 @@ pub fn still_frame(
     options: RenderOptions,
     analysis: bool,
 ) -> HeadlessFrame {
-    let tweak = |s: &mut ShadowSettings| s.temporal_rotation = false;
+    let tweak = |s: &mut ShadowSettings| s.filter.temporal_rotation = false;
     render_scene_with(
         desc,
         &RenderRequest {

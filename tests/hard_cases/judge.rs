@@ -110,7 +110,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
     let mut session = None;
     for mode in [ShadowMode::Pcf, ShadowMode::Pcss] {
         let mut desc = desc.clone();
-        desc.shadows.mode = mode;
+        desc.shadows.filter.mode = mode;
         let mut s = SceneSession::new(&desc, width, height).unwrap_or_else(|e| panic!("{name}: {e}"));
         let mut renderer = Renderer::headless_with_analysis(width, height).unwrap_or_else(|e| panic!("{e}"));
         s.update();
@@ -146,7 +146,7 @@ pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
     // NOTE: pixels in the distance-fade band (and past max_distance) are meant to lose their
     // shadow; only pixels where the technique promises full-strength shadows are scored.
     let fade_start = session.lights().sun().map_or(0.0, |s| {
-        s.settings.max_distance.min(desc.camera.far) * (1.0 - s.settings.distance_fade_width)
+        s.settings.map.max_distance.min(desc.camera.far) * (1.0 - s.settings.filter.distance_fade_width)
     });
     let Points {
         pixels,

@@ -291,13 +291,13 @@ fn cascade_count_and_resolution_change_between_frames() {
     let mut session = SceneSession::new(&desc, 64, 48).unwrap();
     let mut renderer = Renderer::headless_with_analysis(64, 48).unwrap_or_else(|e| panic!("{e}"));
     let changes: [fn(&mut ShadowSettings); 4] = [
-        |s| s.cascade_count = 1,
+        |s| s.map.cascades.count = 1,
         |s| {
-            s.cascade_count = 4;
-            s.resolution = 512;
+            s.map.cascades.count = 4;
+            s.map.resolution = 512;
         },
-        |s| s.resolution = 2048,
-        |s| s.cascade_count = 3,
+        |s| s.map.resolution = 2048,
+        |s| s.map.cascades.count = 3,
     ];
     // The cascades' array is recreated for a new resolution or more cascades, never for
     // fewer: (side, layers) allocated so far.
@@ -310,11 +310,11 @@ fn cascade_count_and_resolution_change_between_frames() {
             .clone();
         let a = renderer.read_analysis().unwrap();
         assert!(a.shadow.iter().all(|v| v.is_finite()), "frame {frame}: NaN");
-        let count = session.lights().sun().unwrap().settings.cascade_count as u8;
+        let count = session.lights().sun().unwrap().settings.map.cascades.count as u8;
         let shaded = a.cascade.iter().filter(|&&c| c < count).count();
         assert!(a.cascade.iter().all(|&c| c == 255 || c < count), "frame {frame}");
         assert!(shaded >= 1000, "frame {frame}: {shaded} pixels sampled a cascade");
-        let resolution = session.lights().sun().unwrap().settings.resolution as u64;
+        let resolution = session.lights().sun().unwrap().settings.map.resolution as u64;
         if allocated.0 != resolution || allocated.1 < u64::from(count) {
             allocated = (resolution, u64::from(count));
         }
@@ -326,8 +326,8 @@ fn cascade_count_and_resolution_change_between_frames() {
 #[test]
 fn sub_texel_camera_translation_does_not_shimmer() {
     let mut desc = Case::sun(SUN).desc();
-    desc.shadows.blend_width = 0.0;
-    desc.shadows.distance_fade_width = 0.0;
+    desc.shadows.map.cascades.blend_width = 0.0;
+    desc.shadows.filter.distance_fade_width = 0.0;
     let (w, h) = (96, 64);
     let mut session = SceneSession::new(&desc, w, h).unwrap();
     let mut renderer = Renderer::headless_with_analysis(w, h).unwrap_or_else(|e| panic!("{e}"));

@@ -12,7 +12,6 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::ecs::view_list::ShadowViewKind;
 use crate::layout::ShadowStorage;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
@@ -314,9 +313,10 @@ impl CascadeMomentsPass {
         }
         let fp32 = ctx.gpu.filters_fp32();
         for view in &ctx.shadow_views.views {
-            let ShadowViewKind::Cascade(c) = view.kind else {
+            if view.kind.storage != ShadowStorage::Cascades {
                 continue;
-            };
+            }
+            let c = view.kind.index;
             let Some(sun) = ctx.lights.sun_at(view.light) else {
                 continue;
             };

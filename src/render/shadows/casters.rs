@@ -33,9 +33,9 @@ impl CasterKey {
     pub fn new(settings: &ShadowSettings, masked: bool, unclipped_supported: bool) -> Self {
         Self {
             masked,
-            slope_bias: settings.slope_bias.to_bits(),
-            bias_clamp: settings.bias_clamp.to_bits(),
-            unclipped: settings.depth_clamp && unclipped_supported,
+            slope_bias: settings.bias.slope_bias.to_bits(),
+            bias_clamp: settings.bias.bias_clamp.to_bits(),
+            unclipped: settings.map.depth_clamp && unclipped_supported,
             views: 0,
         }
     }

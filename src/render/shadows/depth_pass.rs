@@ -22,9 +22,11 @@ use std::num::NonZeroU32;
 
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::light_views::FrameLights;
-use crate::ecs::view_list::{ShadowView, ShadowViewKind};
+use crate::ecs::view_list::ShadowView;
 use crate::layout::ShadowStorage;
+use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::footprint::{TILES, TexelRect, TileMask};
+use crate::math::light_budget::LightKind;
 use crate::render::draw::draw_batches;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
@@ -45,12 +47,9 @@ pub struct DepthPass {
     clears: ClearPipelines,
     /// Per storage (cascades, spot lights, point lights): the allocation `held` refers to, and
     /// what each layer holds.
-    held: [(u64, Vec<Layer>); 3],
+    held: [(u64, Vec<Layer>); ShadowStorage::COUNT],
     /// Views whose layer holds them are skipped ([`RenderOptions::shadow_cache`](crate::render::RenderOptions)).
     cache: bool,
-    /// A sun's cascades are drawn in one multiview pass where the device allows
-    /// ([`RenderOptions::single_pass_cascades`](crate::render::RenderOptions)).
-    single_pass: bool,
     /// Views of consecutive cascade layers made for multiview passes: (storage id, first
     /// layer, layers, view).
     ranges: Vec<(u64, u32, u32, wgpu::TextureView)>,
@@ -68,12 +67,12 @@ struct Layer {
     written: Option<TileMask>,
 }
 
-/// Index of a view kind's storage in [`DepthPass::held`].
-fn storage_index(kind: ShadowViewKind) -> usize {
-    match kind.storage() {
-        ShadowStorage::Cascades => 0,
-        ShadowStorage::Spots => 1,
-        ShadowStorage::Points => 2,
+/// The word timing names give a light of `kind`.
+fn short_word(kind: LightKind) -> &'static str {
+    match kind {
+        LightKind::Directional => "sun",
+        LightKind::Spot => "spot",
+        LightKind::Point => "point",
     }
 }
 
@@ -82,17 +81,15 @@ fn storage_index(kind: ShadowViewKind) -> usize {
 /// `shadow spot k` for spot lights, `shadow point k face f` for point lights' cube faces.
 pub fn view_name(lights: &FrameLights, view: &ShadowView, name: &mut String) {
     name.clear();
-    let light = view.light as usize;
+    let kind = view.light_kind;
+    let light = view.light as usize - lights.light_index(kind, 0);
+    let word = view.kind.storage.desc().view_word;
     // NOTE: writing to a String cannot fail.
-    let _ = match view.kind {
-        ShadowViewKind::Cascade(c) if light == 0 => write!(name, "shadow cascade {c}"),
-        ShadowViewKind::Cascade(c) => write!(name, "shadow sun {light} cascade {c}"),
-        ShadowViewKind::Spot => write!(name, "shadow spot {}", light.saturating_sub(lights.suns.len())),
-        ShadowViewKind::PointFace(f) => write!(
-            name,
-            "shadow point {} face {f}",
-            light.saturating_sub(lights.suns.len() + lights.spots.len())
-        ),
+    let _ = match (kind, word.is_empty()) {
+        // NOTE: the first sun's views are named as before several suns existed.
+        (LightKind::Directional, false) if light == 0 => write!(name, "shadow {word} {}", view.kind.index),
+        (_, false) => write!(name, "shadow {} {light} {word} {}", short_word(kind), view.kind.index),
+        (_, true) => write!(name, "shadow {} {light}", short_word(kind)),
     };
 }
 
@@ -106,7 +103,6 @@ impl RenderNode for DepthPass {
     /// culled. Which views are drawn is decided while recording, when the storage is known.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
-        self.single_pass = inputs.options.single_pass_cascades;
         let views = &inputs.shadow_views.views;
         for storage in ShadowStorage::ALL {
             if views.iter().any(|v| v.kind.storage() == storage) {
@@ -123,14 +119,16 @@ impl RenderNode for DepthPass {
         if self.names.len() < views.views.len() {
             self.names.resize_with(views.views.len(), String::new);
         }
+        // NOTE: culling listed a sun's casters once exactly where its cascades are drawn in
+        // one pass (ecs::single_pass::single_pass_cascades); a run holds as many as the
+        // device draws at once.
         let most = (ctx.gpu.multiview_views as usize).min(MAX_CASCADES);
-        let single_pass = self.single_pass && most >= 2;
         let mut v = 0;
         while v < views.views.len() {
             let run_group = views
                 .single_pass
                 .iter()
-                .find(|g| single_pass && g.first_view as usize == v && g.views >= 2);
+                .find(|g| g.first_view as usize == v && g.views >= 2);
             let Some(run_group) = run_group else {
                 if self.claim(ctx, v) {
                     self.draw(ctx, encoder, v, 1, &views.groups[v]);
@@ -141,7 +139,7 @@ impl RenderNode for DepthPass {
             // NOTE: the cascades to draw are taken in runs of consecutive layers, each run one
             // multiview pass (a lone cascade gets its own pass and list).
             let count = run_group.views as usize;
-            let mut redraw = [false; MAX_CASCADES];
+            let mut redraw = [false; MAX_SUN_VIEWS];
             for (c, redraw) in redraw.iter_mut().enumerate().take(count) {
                 *redraw = self.claim(ctx, v + c);
             }
@@ -175,7 +173,7 @@ impl DepthPass {
         let view = &ctx.shadow_views.views[v];
         let storage = ctx.shadows.storage(view.kind);
         // NOTE: a new allocation holds nothing; every layer of it is drawn again.
-        let (id, layers) = &mut self.held[storage_index(view.kind)];
+        let (id, layers) = &mut self.held[view.kind.storage.index()];
         if *id != storage.id {
             *id = storage.id;
             layers.clear();
@@ -200,7 +198,7 @@ impl DepthPass {
     fn take_clear(&mut self, ctx: &FrameContext<'_>, first: usize, count: usize) -> Option<TileMask> {
         let mut clear = Some(TileMask::EMPTY);
         for view in &ctx.shadow_views.views[first..first + count] {
-            let layer = &mut self.held[storage_index(view.kind)].1[view.slot as usize];
+            let layer = &mut self.held[view.kind.storage.index()].1[view.slot as usize];
             clear = clear.zip(layer.written).map(|(c, w)| c.union(w));
             layer.written = Some(view.footprint);
         }
@@ -277,9 +275,10 @@ impl DepthPass {
             storage.layer_views[view.slot as usize].clone()
         };
         let name = &mut self.names[first];
-        match view.kind {
-            ShadowViewKind::Cascade(c) if count > 1 => run_name(view.light, c, count, name),
-            _ => view_name(ctx.lights, view, name),
+        if count > 1 {
+            run_name(view.light, view.kind.index, count, name);
+        } else {
+            view_name(ctx.lights, view, name);
         }
         let name = self.names[first].as_str();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

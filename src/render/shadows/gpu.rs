@@ -6,7 +6,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::ecs::light_views::FrameLights;
-use crate::ecs::view_list::{ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::view_list::{ShadowView, ShadowViews};
+use crate::layout::ShadowStorage;
 use crate::render::shadows::sun_moments::{
     MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised,
 };
@@ -15,7 +16,7 @@ use crate::settings::{ShadowMode, ShadowSettings};
 pub use crate::shader::contract::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4,
     SHADOW_FILTER_MSM, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
-    SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
+    SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
 };
 
 /// Lights in the uniform light list (WGSL `MAX_LIGHTS`); the rest go to a storage buffer that
@@ -58,8 +59,10 @@ pub struct LightGpu {
     pub pcf_radius: u32,
     /// Layer of the resolved visibility ([`RESOLVE_NONE`]: filtered in the lighting pass).
     pub resolve_layer: u32,
+    /// PCSS sample counts ([`pcss_samples`]).
+    pub pcss_samples: u32,
     /// Padding to the WGSL size.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// Mirror of WGSL `ShadowView`.
@@ -109,10 +112,17 @@ impl CasterViewGpu {
 /// Views one single-pass (multiview) caster binding covers: a sun's cascades.
 pub const SINGLE_PASS_VIEWS: usize = crate::settings::MAX_CASCADES;
 
+/// `Light::pcss_samples` of a light's settings: its PCSS quality's blocker-search taps in bits
+/// 0–7 and filter taps in bits 8–15, so each light samples as many as it asks for.
+pub fn pcss_samples(settings: &ShadowSettings) -> u32 {
+    let quality = settings.filter.pcss_quality;
+    quality.blocker_samples() | quality.filter_samples() << 8
+}
+
 /// The filter and flag bits a light's settings select, with the moment technique of its
 /// kind ([`ShadowMode::effective`]; `positional`: spot and point lights).
 fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
-    let filter = match settings.mode.effective(!positional) {
+    let filter = match settings.filter.mode.effective(!positional) {
         ShadowMode::Pcf => SHADOW_FILTER_PCF,
         ShadowMode::Pcss => SHADOW_FILTER_PCSS,
         ShadowMode::Vsm => SHADOW_FILTER_VSM,
@@ -121,16 +131,16 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
         ShadowMode::Msm => SHADOW_FILTER_MSM,
     };
     let mut flags = 0;
-    if settings.blocker_early_out {
+    if settings.filter.blocker_early_out {
         flags |= SHADOW_FLAG_BLOCKER_EARLY_OUT;
     }
-    if settings.receiver_plane_bias {
+    if settings.filter.receiver_plane_bias {
         flags |= SHADOW_FLAG_RECEIVER_PLANE;
     }
-    if settings.temporal_rotation {
+    if settings.filter.temporal_rotation {
         flags |= SHADOW_FLAG_TEMPORAL;
     }
-    if settings.moment_contact_hardening {
+    if settings.filter.moments.contact_hardening {
         flags |= SHADOW_FLAG_MOMENT_HARDENING;
     }
     (filter, flags)
@@ -142,9 +152,12 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
     out.clear();
     let moments_format = cascade_moment_format(lights, support).unwrap_or(wgpu::TextureFormat::Rgba16Float);
     for sun in &lights.suns {
-        let (filter, flags) = filter_and_flags(&sun.settings, false);
+        let (filter, mut flags) = filter_and_flags(&sun.settings, false);
         let s = &sun.settings;
         let set = &sun.cascades;
+        if set.clipmap {
+            flags |= SHADOW_FLAG_CLIPMAP;
+        }
         out.push(LightGpu {
             color: sun.light.color * sun.light.illuminance,
             kind: LIGHT_DIRECTIONAL,
@@ -153,13 +166,19 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
             cone: Vec4::new(
                 msm_bias(moments_format),
                 if msm_quantised(moments_format) { 1.0 } else { 0.0 },
-                s.moment_min_variance,
-                s.moment_bleed_reduction,
+                s.filter.moments.min_variance,
+                s.filter.moments.bleed_reduction,
             ),
-            shadow_params: Vec4::new(s.normal_offset, set.end, s.blend_width, s.distance_fade_width),
+            shadow_params: Vec4::new(
+                s.bias.normal_offset,
+                set.end,
+                s.map.cascades.blend_width,
+                s.filter.distance_fade_width,
+            ),
             shadow_filter: filter,
             flags,
-            pcf_radius: s.pcf_radius,
+            pcf_radius: s.filter.pcf_radius,
+            pcss_samples: pcss_samples(s),
             ..LightGpu::default()
         });
     }
@@ -177,13 +196,14 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
             cone: Vec4::new(
                 cos_outer,
                 1.0 / (cos_inner - cos_outer).max(1e-4),
-                spot.settings.vsm_min_variance,
-                spot.settings.vsm_bleed_reduction,
+                spot.settings.filter.vsm.min_variance,
+                spot.settings.filter.vsm.bleed_reduction,
             ),
-            shadow_params: Vec4::new(spot.settings.normal_offset, 0.0, 0.0, 0.0),
+            shadow_params: Vec4::new(spot.settings.bias.normal_offset, 0.0, 0.0, 0.0),
             shadow_filter: filter,
             flags,
-            pcf_radius: spot.settings.pcf_radius,
+            pcf_radius: spot.settings.filter.pcf_radius,
+            pcss_samples: pcss_samples(&spot.settings),
             ..LightGpu::default()
         });
     }
@@ -198,13 +218,14 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
             cone: Vec4::new(
                 0.0,
                 0.0,
-                point.settings.vsm_min_variance,
-                point.settings.vsm_bleed_reduction,
+                point.settings.filter.vsm.min_variance,
+                point.settings.filter.vsm.bleed_reduction,
             ),
-            shadow_params: Vec4::new(point.settings.normal_offset, 0.0, 0.0, 0.0),
+            shadow_params: Vec4::new(point.settings.bias.normal_offset, 0.0, 0.0, 0.0),
             shadow_filter: filter,
             flags,
-            pcf_radius: point.settings.pcf_radius,
+            pcf_radius: point.settings.filter.pcf_radius,
+            pcss_samples: pcss_samples(&point.settings),
             ..LightGpu::default()
         });
     }
@@ -247,8 +268,9 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
         texel_size: 1.0 / view.resolution.max(1) as f32,
         ..ShadowViewGpu::default()
     };
-    match view.kind {
-        ShadowViewKind::Cascade(c) => {
+    let c = view.kind.index;
+    match view.kind.storage {
+        ShadowStorage::Cascades => {
             let Some(sun) = lights.sun_at(view.light) else {
                 return gpu;
             };
@@ -262,12 +284,12 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
                 gpu.range.w = m.depth_start;
             }
         }
-        ShadowViewKind::Spot => {
+        ShadowStorage::Spots => {
             if let Some(v) = lights.spot_at(view.light).and_then(|s| s.shadow) {
                 gpu.params = Vec4::new(v.texel_per_metre, v.near, v.far, 0.0);
             }
         }
-        ShadowViewKind::PointFace(_) => {
+        ShadowStorage::Points => {
             if let Some(v) = lights.point_at(view.light).and_then(|p| p.shadow) {
                 gpu.params = Vec4::new(v.texel_per_metre, v.near, v.range, 0.0);
             }

@@ -91,8 +91,8 @@ pub(crate) fn vsm_use(lights: &FrameLights, views: &ShadowViews, storage: Shadow
         .iter()
         .filter(|v| v.kind.storage() == storage)
         .filter_map(|v| lights.view_settings(v))
-        .filter(|s| s.mode == ShadowMode::Vsm)
-        .fold((false, false), |(_, blur), s| (true, blur || s.vsm_blur > 0))
+        .filter(|s| s.filter.mode == ShadowMode::Vsm)
+        .fold((false, false), |(_, blur), s| (true, blur || s.filter.vsm.blur > 0))
 }
 
 /// Writes `data` to `buffer` unless it is what `last` says was written last; returns whether
@@ -313,12 +313,8 @@ impl ShadowResources {
         for view in &views.views {
             let side = self.storage(view.kind).side;
             self.view_data.push(pack_view(lights, view, side, support));
-            let view_bit = match view.kind {
-                ShadowViewKind::Cascade(c) => 1 << c,
-                ShadowViewKind::Spot | ShadowViewKind::PointFace(_) => 0,
-            };
             self.caster_data
-                .push(CasterViewGpu::new(view.clip_from_world, view_bit));
+                .push(CasterViewGpu::new(view.clip_from_world, view.kind.single_pass_bit()));
         }
         // NOTE: a single-pass binding starting at the last view still lies inside the buffer.
         let padded = self.caster_data.len() + SINGLE_PASS_VIEWS - 1;

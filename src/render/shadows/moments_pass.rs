@@ -12,7 +12,6 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::ecs::view_list::ShadowViewKind;
 use crate::layout::ShadowStorage;
 use crate::math::point::FACES;
 use crate::render::frame::FrameContext;
@@ -25,6 +24,10 @@ use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::vsm_use;
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
+
+/// What a layer's moments were made from: the depth's content version and the pre-blur
+/// radius.
+type MadeFrom = (u64, u32);
 
 /// The storages whose lights filter VSM moments, in the order of the pass's jobs.
 const VSM_STORAGES: [ShadowStorage; 2] = [ShadowStorage::Spots, ShadowStorage::Points];
@@ -77,8 +80,8 @@ pub struct MomentsPass {
     /// changes.
     groups: [Option<StorageGroups>; 2],
     /// Per storage (spot, point lights): the moments and depth allocations `versions` refer
-    /// to, and the content version of each layer's moments.
-    held: [(u64, u64, Vec<u64>); 2],
+    /// to, and what each layer's moments were made from.
+    held: [(u64, u64, Vec<MadeFrom>); 2],
     cache: bool,
     jobs: Vec<Job>,
     data: Vec<MomentsJobGpu>,
@@ -328,20 +331,21 @@ impl MomentsPass {
         let mut v = 0;
         while v < views.len() {
             let view = &views[v];
-            let (storage, layers) = match view.kind {
-                ShadowViewKind::Spot => (0, 1),
-                ShadowViewKind::PointFace(0) => (1, FACES),
-                _ => {
-                    v += 1;
-                    continue;
-                }
+            let Some(storage) = VSM_STORAGES.iter().position(|&s| s == view.kind.storage) else {
+                v += 1;
+                continue;
             };
+            if view.kind.index != 0 {
+                v += 1;
+                continue;
+            }
+            let layers = if view.kind.storage.desc().cube { FACES } else { 1 };
             let group = &views[v..(v + layers).min(views.len())];
             v += layers;
             let Some(settings) = ctx.lights.view_settings(view) else {
                 continue;
             };
-            if settings.mode != ShadowMode::Vsm {
+            if settings.filter.mode != ShadowMode::Vsm {
                 continue;
             }
             let (near, range) = match storage {
@@ -360,14 +364,15 @@ impl MomentsPass {
             let versions = &mut self.held[storage].2;
             let last = group.iter().map(|g| g.slot as usize + 1).max().unwrap_or(0);
             if versions.len() < last {
-                versions.resize(last, 0);
+                versions.resize(last, (0, 0));
             }
-            let fresh = group.iter().all(|g| versions[g.slot as usize] == g.version);
+            let blur = settings.filter.vsm.blur;
+            let fresh = group.iter().all(|g| versions[g.slot as usize] == (g.version, blur));
             if self.cache && fresh {
                 continue;
             }
             for g in group {
-                versions[g.slot as usize] = g.version;
+                versions[g.slot as usize] = (g.version, blur);
             }
             let first_of_kind = if storage == 0 {
                 ctx.lights.suns.len()
@@ -380,7 +385,7 @@ impl MomentsPass {
                 layers: group.len() as u32,
                 near,
                 range,
-                blur: settings.vsm_blur,
+                blur: settings.filter.vsm.blur,
                 light: (view.light as usize).saturating_sub(first_of_kind),
             });
         }

@@ -41,12 +41,12 @@ pub struct CascadeMoments {
 /// The precision of `sun`'s moments on a device that does (`fp32_filterable`) or does not
 /// filter 32-bit floats.
 pub fn sun_precision(sun: &SunView, fp32_filterable: bool) -> MomentPrecision {
-    sun.settings.moment_precision.resolve(fp32_filterable)
+    sun.settings.filter.moments.precision.resolve(fp32_filterable)
 }
 
 /// The technique code of a sun's settings, if it filters moments.
 fn technique(sun: &SunView) -> Option<u32> {
-    match sun.settings.mode.effective(true) {
+    match sun.settings.filter.mode.effective(true) {
         ShadowMode::Evsm => Some(SHADOW_FILTER_EVSM2),
         ShadowMode::Evsm4 => Some(SHADOW_FILTER_EVSM4),
         ShadowMode::Msm => Some(SHADOW_FILTER_MSM),
@@ -63,8 +63,8 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     let precision = sun_precision(sun, fp32_filterable);
     let s = &sun.settings;
     let format_max = precision.exponent();
-    let max_exponent = if s.evsm_exponent > 0.0 {
-        s.evsm_exponent.min(format_max)
+    let max_exponent = if s.filter.moments.evsm_exponent > 0.0 {
+        s.filter.moments.evsm_exponent.min(format_max)
     } else {
         format_max
     };
@@ -79,7 +79,7 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     let span = receiver_span(cascade);
     Some(CascadeMoments {
         technique,
-        c_positive: if s.moment_contact_hardening {
+        c_positive: if s.filter.moments.contact_hardening {
             // NOTE: contact hardening filters the moments over wide penumbrae from coarse mip
             // levels, where a near cascade's weak warp left half floats unable to tell the
             // occluders from the receiver (61-85 % of the field's near umbra lit under a 3°
@@ -94,13 +94,13 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
         // was almost linear and let a receiver that casts nothing light the rim of umbrae.
         c_negative: precision.negative_exponent().min(max_exponent),
         // NOTE: contact hardening filters the unblurred moments over each pixel's penumbra.
-        blur_texels: if s.moment_contact_hardening {
+        blur_texels: if s.filter.moments.contact_hardening {
             0.0
         } else {
-            cascade_blur_texels(s.moment_blur, cascade.texel_world_size, MAX_MOMENT_BLUR_TEXELS)
+            cascade_blur_texels(s.filter.moments.blur, cascade.texel_world_size, MAX_MOMENT_BLUR_TEXELS)
         },
         depth_start: cascade.receiver_start.clamp(0.0, MAX_DEPTH_START),
-        variance_down: precision == MomentPrecision::Fp16 && !s.moment_contact_hardening,
+        variance_down: precision == MomentPrecision::Fp16 && !s.filter.moments.contact_hardening,
     })
 }
 
@@ -118,8 +118,8 @@ pub fn sun_moment_blur(lights: &FrameLights) -> bool {
     lights.suns.iter().any(|s| {
         s.cascades.count > 0
             && technique(s).is_some()
-            && !s.settings.moment_contact_hardening
-            && s.settings.moment_blur > 0.0
+            && !s.settings.filter.moments.contact_hardening
+            && s.settings.filter.moments.blur > 0.0
     })
 }
 
@@ -137,7 +137,7 @@ pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
     let hardening = lights
         .suns
         .iter()
-        .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.moment_contact_hardening);
+        .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.filter.moments.contact_hardening);
     if hardening { hardening_mips(side) } else { 1 }
 }
 
@@ -196,12 +196,14 @@ mod tests {
             entity: Entity::PLACEHOLDER,
             direction: Vec3::NEG_Y,
             light: DirectionalLight::default(),
-            settings: ShadowSettings {
-                mode,
-                moment_precision: precision,
-                moment_blur: 0.05,
-                ..ShadowSettings::default()
+            settings: {
+                let mut s = ShadowSettings::default();
+                s.filter.mode = mode;
+                s.filter.moments.precision = precision;
+                s.filter.moments.blur = 0.05;
+                s
             },
+            resolution: 2048,
             cascades,
         }
     }
@@ -209,9 +211,9 @@ mod tests {
     #[test]
     fn the_positive_warp_and_the_blur_are_the_same_in_metres_over_every_receiver_span() {
         let mut s = sun(ShadowMode::Evsm, MomentFormat::Auto, &[20.0, 40.0, 100.0, 400.0]);
-        s.settings.moment_contact_hardening = false;
-        for (i, c) in s.cascades.cascades.iter_mut().enumerate() {
-            c.receiver_start = [0.5, 0.25, 0.0, 0.5][i];
+        s.settings.filter.moments.contact_hardening = false;
+        for (c, start) in s.cascades.cascades.iter_mut().zip([0.5, 0.25, 0.0, 0.5]) {
+            c.receiver_start = start;
         }
         // Receiver spans: 10, 30, 100 and 200 m.
         let spans = [10.0, 30.0, 100.0, 200.0];
@@ -230,9 +232,9 @@ mod tests {
         // Contact hardening filters unblurred moments; a fixed blur in 16 bits rounds the
         // variance down.
         assert!(m.iter().all(|c| !c.variance_down));
-        s.settings.moment_precision = MomentFormat::Fp16;
+        s.settings.filter.moments.precision = MomentFormat::Fp16;
         assert!(cascade_moments(&s, 0, true).unwrap().variance_down);
-        s.settings.moment_contact_hardening = true;
+        s.settings.filter.moments.contact_hardening = true;
         let hardened = cascade_moments(&s, 0, true).unwrap();
         assert_eq!((hardened.blur_texels, hardened.variance_down), (0.0, false));
         // A span that vanishes keeps a thousandth of its box.
@@ -270,7 +272,7 @@ mod tests {
         assert_eq!(format(&lights, half_only), Some(wgpu::TextureFormat::Rgba16Float));
         // An exponent override is cut to the format's limit.
         let mut o = sun(ShadowMode::Evsm4, MomentFormat::Fp16, &[100.0]);
-        o.settings.evsm_exponent = 30.0;
+        o.settings.filter.moments.evsm_exponent = 30.0;
         assert!((cascade_moments(&o, 0, true).unwrap().c_positive - 5.2).abs() < 0.05);
         assert_eq!(msm_bias(wgpu::TextureFormat::Rgba16Float), MSM_BIAS_16);
         assert_eq!(msm_bias(wgpu::TextureFormat::Rgba32Float), MSM_BIAS_32);

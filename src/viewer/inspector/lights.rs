@@ -172,10 +172,10 @@ fn emitter_ui(ui: &mut Ui, color: &mut Vec3, intensity: &mut f32, range: &mut f3
 /// A positional light's own shadow settings (filter with VSM, resolution, biases), inserted
 /// on first edit with `default_resolution`.
 fn positional_settings_ui(ui: &mut Ui, e: &mut bevy_ecs::world::EntityWorldMut<'_>, default_resolution: u32) {
-    let mut settings = e.get::<ShadowSettings>().copied().unwrap_or(ShadowSettings {
-        resolution: default_resolution,
-        ..Default::default()
-    });
+    let mut settings = e
+        .get::<ShadowSettings>()
+        .copied()
+        .unwrap_or(ShadowSettings::with_resolution(default_resolution));
     let before = settings;
     filter_ui(ui, &mut settings, false);
     resolution_ui(ui, &mut settings);
