@@ -50,6 +50,8 @@ pub fn summary_json(
         "draw_calls": report.draw_calls,
         "shadow_draw_calls": report.shadow_draw_calls,
         "shadow_texels_cleared": report.shadow_cleared_texels,
+        "shadow_texels_drawn": report.shadow_drawn_texels,
+        "shadow_views_scrolled": report.shadow_views_scrolled,
         "forward_fragments": report.forward_fragments,
         "shadow_views_drawn_per_frame": result.frames.iter().map(|f| f.shadow_views_drawn).collect::<Vec<_>>(),
         "cpu_ms": {

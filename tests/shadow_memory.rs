@@ -143,6 +143,7 @@ fn the_renderer_allocates_what_the_account_says() {
         "mode: Pcf, resolution: 1024",
         "mode: Msm, resolution: 1024",
         "mode: Evsm, resolution: 512, moment_contact_hardening: false, moment_blur: 0.1",
+        "mode: Pcss, resolution: 1024, layout: Clipmap(levels: 5, level0_extent: 8)",
     ] {
         let desc = scene(sun, &spots);
         for budget in [None, Some(64 * MIB), Some(40 * MIB)] {
@@ -168,7 +169,7 @@ fn the_renderer_allocates_what_the_account_says() {
             judged += 1;
         }
     }
-    assert_eq!(judged, 9);
+    assert_eq!(judged, 12);
 }
 
 #[test]

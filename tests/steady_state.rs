@@ -1,6 +1,7 @@
 //! A static scene costs no heap allocation per frame: once the instances are built and the
 //! draw-group vectors have grown, cascades and culling reuse their buffers, and so do the
-//! spot- and point-light shadow views (still or moving).
+//! spot- and point-light shadow views (still or moving) and a sun's clipmap moving with the
+//! camera.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -206,4 +207,52 @@ fn point_shadow_views_reuse_their_buffers_still_and_moving() {
             "point shadow views (moving: {moving}) allocate {per_frame} times per frame"
         );
     }
+}
+
+#[test]
+fn a_clipmap_moving_with_the_camera_does_not_allocate() {
+    use penumbra::ecs::ShadowViews;
+    use penumbra::settings::SunLayout;
+    let _serial = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+    let mut app = grid_app();
+    let mut settings = ShadowSettings::default();
+    settings.map.layout = SunLayout::Clipmap {
+        levels: 6,
+        level0_extent: 16.0,
+    };
+    app.world_mut().spawn((
+        DirectionalLight::default(),
+        Transform::default().looking_at(Vec3::new(0.3, -1.0, 0.2), Vec3::Y),
+        settings,
+    ));
+    let mut cameras = app
+        .world_mut()
+        .query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
+    let mut step = |app: &mut App, frame: u32| {
+        for mut t in cameras.iter_mut(app.world_mut()) {
+            t.translation += Vec3::new(0.37, 0.0, -0.51 * (frame % 3) as f32);
+            t.rotate_y(0.05);
+        }
+        app.update();
+    };
+    // NOTE: the first frames grow the lists to the largest strips the walk exposes.
+    for frame in 0..60 {
+        step(&mut app, frame);
+    }
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    for frame in 0..10 {
+        step(&mut app, frame);
+    }
+    let per_frame = (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / 10.0;
+    assert_eq!(
+        per_frame, 0.0,
+        "moving clipmap frames allocate {per_frame} times per frame"
+    );
+    let views = app.world().resource::<ShadowViews>();
+    let regions = views.regions.len();
+    assert!(
+        views.views.len() == 6 && regions > 0,
+        "{} views, {regions} regions",
+        views.views.len()
+    );
 }

@@ -222,6 +222,7 @@ mod tests {
             settings: ShadowSettings::default(),
             resolution: 2048,
             cascades: CascadeSet::default(),
+            clipmap: Default::default(),
         }
     }
 

@@ -29,7 +29,7 @@ use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, SeenByCamera};
 use crate::ecs::view_list::{POINT_NEAR, ShadowLightBudget};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
-use crate::math::clipmap::{ClipmapInput, clipmap_cascades, compute_clipmap};
+use crate::math::clipmap::{ClipmapInput, ClipmapSet, clipmap_cascades, compute_clipmap};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
 };
@@ -136,6 +136,7 @@ pub fn update_frame_lights(
             settings,
             resolution: settings.map.resolution,
             cascades: CascadeSet::default(),
+            clipmap: ClipmapSet::default(),
         });
     }
     for (entity, light, transform, settings) in &spots {
@@ -248,6 +249,7 @@ pub fn update_frame_lights(
                     casters: instances.caster_bounds,
                 });
                 sun.cascades = clipmap_cascades(&clipmap, sun.light.angular_diameter);
+                sun.clipmap = clipmap;
             } else {
                 sun.cascades = compute_cascades(&CascadeInput {
                     camera: *camera,

@@ -10,6 +10,7 @@ use crate::ecs::components::DirectionalLight;
 use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::view_list::{SPOT_NEAR, ShadowView};
 use crate::math::cascades::CascadeSet;
+use crate::math::clipmap::ClipmapSet;
 use crate::math::light_budget::LightKind;
 use crate::math::point::PointView;
 use crate::math::spot::{SpotInput, SpotView};
@@ -32,6 +33,8 @@ pub struct SunView {
     pub resolution: u32,
     /// Cascades; `count == 0` when the light casts no shadows this frame.
     pub cascades: CascadeSet,
+    /// Its clipmap's levels this frame (no level with the cascade layout).
+    pub clipmap: ClipmapSet,
 }
 
 /// A spot light this frame. Positions are relative to the [`RenderOrigin`](crate::ecs::origin::RenderOrigin).

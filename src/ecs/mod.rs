@@ -3,6 +3,7 @@
 
 pub mod assets;
 pub mod caster_changes;
+pub mod clipmap_scroll;
 pub mod components;
 pub mod culling;
 pub mod draw_groups;

@@ -20,7 +20,7 @@ use crate::math::shadow_memory::{
     BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
     fit_budget_into, storage_index,
 };
-use crate::settings::{ShadowMode, ShadowSettings};
+use crate::settings::{ShadowMode, ShadowSettings, SunLayout};
 use crate::text::format_bytes;
 
 /// Bytes in a mebibyte.
@@ -202,6 +202,7 @@ fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -
         views,
         moments: moment_use(kind, settings, fp32),
         coverage,
+        scrolls: kind == LightKind::Directional && matches!(settings.map.layout, SunLayout::Clipmap { .. }),
     };
     (request, entity)
 }

@@ -12,9 +12,11 @@
 use std::time::Instant;
 
 use bevy_ecs::system::{Local, Res, ResMut};
+use glam::Mat4;
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
+use crate::ecs::clipmap_scroll::plan_scrolls;
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
@@ -25,11 +27,21 @@ use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::ViewInput;
 use crate::ecs::view_culling::{ViewScratch, collect_single_pass, cull_views};
-use crate::ecs::view_list::{CullVolume, ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::view_list::{CullVolume, Scroll, ShadowView, ShadowViewKind, ShadowViews};
 pub use crate::layout::ShadowStorage;
 use crate::math::footprint::TileMask;
 use crate::math::light_budget::LightKind;
 use crate::math::point::FACES;
+
+/// A scrolling view's matrix with its window moved to the grid's origin: what its texels
+/// hold does not depend on where the window is (`math::clipmap`: the window only adds a
+/// whole number of texels to clip x and y).
+fn grid_matrix(clip_from_world: Mat4) -> Mat4 {
+    let mut m = clip_from_world;
+    m.w_axis.x = -1.0;
+    m.w_axis.y = -1.0;
+    m
+}
 
 /// Lists the shadow views of the shadowed lights, gives each its content version
 /// ([`ViewCache`](crate::ecs::view_cache::ViewCache)), and culls every caster into the draw group of each view it touches — only
@@ -77,6 +89,14 @@ pub fn update_shadow_views(
                 resolution: sun.resolution,
                 footprint: TileMask::EMPTY,
                 version: 0,
+                scroll: set.clipmap.then(|| {
+                    let window = sun.clipmap.levels[c].first_texel;
+                    Scroll {
+                        from: window,
+                        to: window,
+                        ..Scroll::default()
+                    }
+                }),
             });
             scratch.settings.push(sun.settings);
             cascade_slot += 1;
@@ -96,6 +116,7 @@ pub fn update_shadow_views(
             resolution: spot.resolution,
             footprint: TileMask::EMPTY,
             version: 0,
+            scroll: None,
         });
         scratch.settings.push(spot.settings);
         spot_slot += 1;
@@ -115,6 +136,7 @@ pub fn update_shadow_views(
                 resolution: point.resolution,
                 footprint: TileMask::EMPTY,
                 version: 0,
+                scroll: None,
             });
             scratch.settings.push(point.settings);
             point_slot += 1;
@@ -123,10 +145,14 @@ pub fn update_shadow_views(
     let inputs = out.views.iter().zip(&scratch.settings).map(|(v, settings)| ViewInput {
         entity: v.entity,
         kind: v.kind,
-        clip_from_world: v.clip_from_world,
+        clip_from_world: match v.scroll {
+            Some(_) => grid_matrix(v.clip_from_world),
+            None => v.clip_from_world,
+        },
         resolution: v.resolution,
         key: settings.map_key(),
         cull: &v.cull,
+        scrolls: v.scroll.is_some(),
     });
     scratch
         .cache
@@ -145,8 +171,17 @@ pub fn update_shadow_views(
         view.footprint = entry.footprint;
         view.version = entry.version;
     }
+    let regions = plan_scrolls(
+        &lights,
+        &instances,
+        &changes,
+        &mut out.views,
+        entries,
+        &mut scratch.scrolls,
+    );
     // NOTE: with every view reused in the same order, last frame's groups stand as they are.
-    if culled || toggled || scratch.cache.reordered || out.groups.len() != entries.len() {
+    let stale = regions > 0 || !out.regions.is_empty();
+    if culled || toggled || stale || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
         out.indices.clear();
         out.generation += 1;
@@ -154,6 +189,18 @@ pub fn update_shadow_views(
             group.append_copy(&entry.group, &entry.list, &mut out.indices);
         }
         collect_single_pass(&lights, scratch, out);
+        // NOTE: regions past this frame's count wait in the spare list with their
+        // allocations, so a walk whose strips come and go allocates nothing.
+        while out.regions.len() > regions {
+            scratch.spare_regions.extend(out.regions.pop());
+        }
+        while out.regions.len() < regions {
+            out.regions.push(scratch.spare_regions.pop().unwrap_or_default());
+        }
+        for (region, draw) in out.regions.iter_mut().zip(&scratch.scrolls.regions) {
+            region.rect = draw.rect;
+            region.group.append_copy(&draw.group, &draw.list, &mut out.indices);
+        }
     }
     stats.casters_per_view.clear();
     stats.draws_per_view.clear();

@@ -45,6 +45,9 @@ pub struct CachedView {
     pub footprint: TileMask,
     /// Must be culled this frame.
     pub cull: bool,
+    /// A scrolling view that keeps its version although a caster changed inside it: the
+    /// changed regions are drawn again ([`crate::ecs::clipmap_scroll`]).
+    pub touched: bool,
 }
 
 /// The views of the last frame, in order, and the version counter.
@@ -74,6 +77,10 @@ pub struct ViewInput<'a> {
     pub key: MapKey,
     /// Its cull volume.
     pub cull: &'a CullVolume,
+    /// A scrolling view (a clipmap level): its `clip_from_world` does not depend on where its
+    /// window is, and a caster change inside it is drawn by region where the change is
+    /// known, so neither gives it a new version.
+    pub scrolls: bool,
 }
 
 /// Whether a change in `region` can alter what `volume` renders. Conservative: a cascade is
@@ -151,6 +158,7 @@ impl ViewCache {
                     group: DrawGroup::default(),
                     footprint: TileMask::EMPTY,
                     cull: true,
+                    touched: false,
                 },
             };
             let drawn_alike = entry.clip_from_world == view.clip_from_world
@@ -164,8 +172,17 @@ impl ViewCache {
             let touched =
                 rebuilt && (!known || changes.everything || changes.regions.iter().any(|r| touches(view.cull, r)));
             entry.cull = !same || rebuilt;
-            entry.keep = (drawn_alike && !touched && entry.version != 0).then_some(entry.version);
-            if !same || touched {
+            // NOTE: a scrolling view's content follows its grid, not its window; changes
+            // drawn by region keep it too.
+            let by_region = view.scrolls && known && !changes.everything;
+            entry.touched = touched && by_region;
+            let renew = if view.scrolls {
+                !drawn_alike || (touched && !by_region)
+            } else {
+                !same || touched
+            };
+            entry.keep = (!view.scrolls && drawn_alike && !touched && entry.version != 0).then_some(entry.version);
+            if renew {
                 self.next_version += 1;
                 entry.version = self.next_version;
             }
@@ -228,6 +245,7 @@ mod tests {
             resolution: 1024,
             key: settings.map_key(),
             cull,
+            scrolls: false,
         }
     }
 

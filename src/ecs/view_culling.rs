@@ -7,6 +7,7 @@
 use bevy_ecs::entity::Entity;
 
 use crate::ecs::assets::MeshHandle;
+use crate::ecs::clipmap_scroll::ScrollScratch;
 use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::draw_groups::push_instance;
 use crate::ecs::footprints::add_chunk_footprint;
@@ -16,7 +17,7 @@ use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
-use crate::ecs::view_list::{CullVolume, ShadowView, ShadowViews};
+use crate::ecs::view_list::{CullVolume, Region, ShadowView, ShadowViews};
 use crate::layout::ShadowStorage;
 use crate::math::cascades::Cascade;
 use crate::math::cascades::MAX_SUN_VIEWS;
@@ -45,6 +46,10 @@ pub struct ViewScratch {
     /// The casters within reach of one point light (the candidates of its faces), and the
     /// light they belong to this frame.
     pub(crate) point_candidates: Vec<u32>,
+    /// Scrolling views' last windows and this frame's regions.
+    pub(crate) scrolls: ScrollScratch,
+    /// Regions no longer listed, kept with their allocations.
+    pub(crate) spare_regions: Vec<Region>,
     pub(crate) candidates_of: Option<u32>,
 }
 

@@ -6,12 +6,12 @@
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
-use glam::{Mat3, Mat4, Vec3};
+use glam::{I64Vec2, Mat3, Mat4, Vec3};
 
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::single_pass::SinglePassGroup;
 pub use crate::layout::ShadowStorage;
-use crate::math::footprint::TileMask;
+use crate::math::footprint::{TexelRect, TileMask};
 use crate::math::frustum::Frustum;
 use crate::math::light_budget::{LightKind, ShadowBudget};
 
@@ -140,6 +140,35 @@ pub struct ShadowView {
     /// resolution, light settings, or a caster in its cull volume); unique across views, so
     /// the renderer redraws a layer only when the version it holds differs.
     pub version: u64,
+    /// How a scrolling view's layer moves this frame (a clipmap level's; None for the
+    /// others). Its version then stays while the window moves: a layer that holds it and
+    /// last frame's window is moved by whole texels and only the regions listed are drawn.
+    pub scroll: Option<Scroll>,
+}
+
+/// How a clipmap level's layer moves this frame: its content is moved from the window it was
+/// drawn for last frame (`from`, the grid texel of the window's first texel) to this frame's
+/// (`to`), then the regions [`ShadowViews::regions`]`[first_region..][..region_count]` are
+/// drawn: the strips the window newly covers and where casters changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Scroll {
+    /// Last frame's window.
+    pub from: I64Vec2,
+    /// This frame's window.
+    pub to: I64Vec2,
+    /// First region in [`ShadowViews::regions`].
+    pub first_region: u32,
+    /// Number of regions.
+    pub region_count: u32,
+}
+
+/// Part of a scrolling view's layer to draw again, with the casters that reach it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Region {
+    /// The layer's texels, `[x0, x1) × [y0, y1)`.
+    pub rect: TexelRect,
+    /// The casters overlapping it (indexing [`ShadowViews::indices`]).
+    pub group: DrawGroup,
 }
 
 /// This frame's shadow views and their culled casters: `groups[i]` holds the draws of
@@ -159,6 +188,9 @@ pub struct ShadowViews {
     pub indices: Vec<u32>,
     /// Bumped whenever `groups` and `indices` are rebuilt (the renderer uploads them then).
     pub generation: u64,
+    /// The regions scrolling views draw this frame ([`Scroll`]); their entries follow the
+    /// others in `indices`.
+    pub regions: Vec<Region>,
 }
 
 impl ShadowViews {

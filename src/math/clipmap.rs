@@ -7,10 +7,9 @@
 //! relative) light frame, so a texel keeps its place in the world however the camera moves:
 //! turning the camera changes nothing, and moving it shifts each window by whole texels. The
 //! depth range of every level covers every caster of the scene (rounded out onto a coarse
-//! grid), so it does not change with the camera either. A level's texture is addressed
-//! toroidally (texel `k` of the grid lives at `k mod resolution`), so a window that moves
-//! keeps the texels it still covers and only the strips newly exposed are drawn
-//! ([`exposed_strips`], [`wrapped_pieces`]).
+//! grid), so it does not change with the camera either. A window that moves keeps the
+//! texels it still covers (the renderer moves them by the window's shift) and only the
+//! strips newly exposed are drawn ([`exposed_strips`]).
 //!
 //! A receiver samples the finest level whose window holds it with a margin for the filter
 //! ([`select_level`]) and blends into the next level across a band at the window's edge.
@@ -236,15 +235,16 @@ pub fn window(level: &ClipmapLevel, resolution: u32) -> GridRect {
     }
 }
 
-/// The parts of the window `new` that the window `old` (of the same level and texel grid)
-/// did not cover: at most two rectangles (a column strip and a row strip), empty ones left
-/// out. A move of a whole window or more exposes all of `new`.
-pub fn exposed_strips(old: &GridRect, new: &GridRect) -> Vec<GridRect> {
+/// Appends to `out` the parts of the window `new` that the window `old` (of the same level and
+/// texel grid) did not cover: at most two rectangles (a column strip and a row strip; up to
+/// four when `new` is larger), empty ones left out. A move of a whole window or more exposes
+/// all of `new`.
+pub fn exposed_strips(old: &GridRect, new: &GridRect, out: &mut Vec<GridRect>) {
     let overlap = old.intersect(new);
     if overlap.area() == 0 {
-        return vec![*new];
+        out.push(*new);
+        return;
     }
-    let mut out = Vec::with_capacity(2);
     // NOTE: the columns of `new` outside the overlap, full height; then the rows outside it
     // within the overlap's columns.
     for (x0, x1) in [(new.min.x, overlap.min.x), (overlap.max.x, new.max.x)] {
@@ -263,37 +263,6 @@ pub fn exposed_strips(old: &GridRect, new: &GridRect) -> Vec<GridRect> {
             });
         }
     }
-    out
-}
-
-/// Where the grid texels of `rect` (at most `resolution` on a side) lie in a toroidally
-/// addressed texture of `resolution` texels: up to four pieces, each the part of `rect` it
-/// holds and the texel of the texture its first texel lands on.
-pub fn wrapped_pieces(rect: &GridRect, resolution: u32) -> Vec<(GridRect, [u32; 2])> {
-    let n = i64::from(resolution.max(1));
-    let split = |lo: i64, hi: i64| {
-        let start = lo.rem_euclid(n);
-        let first = (hi - lo).min(n - start);
-        let mut parts = vec![(lo, lo + first, start)];
-        if hi - lo > first {
-            parts.push((lo + first, hi, 0));
-        }
-        parts
-    };
-    let mut out = Vec::with_capacity(4);
-    if rect.area() == 0 {
-        return out;
-    }
-    for (x0, x1, tx) in split(rect.min.x, rect.max.x) {
-        for &(y0, y1, ty) in &split(rect.min.y, rect.max.y) {
-            let piece = GridRect {
-                min: I64Vec2::new(x0, y0),
-                max: I64Vec2::new(x1, y1),
-            };
-            out.push((piece, [tx as u32, ty as u32]));
-        }
-    }
-    out
 }
 
 /// The clipmap as a [`CascadeSet`] the renderer draws and samples as it does cascades: one

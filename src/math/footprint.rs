@@ -20,7 +20,7 @@ pub struct ClipRect {
 }
 
 /// A rectangle of texels: columns `x0..x1`, rows `y0..y1` (row 0 at clip `y = 1`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TexelRect {
     /// First column.
     pub x0: u32,

@@ -121,6 +121,9 @@ pub struct LightRequest {
     /// Its share of the screen ([`screen_coverage`](crate::math::light_budget::screen_coverage);
     /// infinite for a sun): lights smallest on screen are lowered first.
     pub coverage: f32,
+    /// Its layers scroll (a sun's clipmap): the array then also holds one depth layer of its
+    /// side to move a layer through.
+    pub scrolls: bool,
 }
 
 /// The device's moment formats, which set the bytes of a moment texel.
@@ -145,12 +148,14 @@ pub struct StorageBytes {
     pub moments: u64,
     /// The blur's scratch (a 1×1 stand-in while no light of the array blurs its moments).
     pub scratch: u64,
+    /// The depth layer scrolling layers move through (0 while none scrolls).
+    pub shift: u64,
 }
 
 impl StorageBytes {
     /// All of it.
     pub fn total(&self) -> u64 {
-        self.depth + self.moments + self.scratch
+        self.depth + self.moments + self.scratch + self.shift
     }
 
     /// Bytes of one layer (depth and moments; the scratch is the array's).
@@ -187,12 +192,14 @@ pub fn storage_bytes(requests: &[LightRequest], resolutions: &[u32], costs: &Mem
     let mut out = [StorageBytes::default(); 3];
     let mut moments = [None::<(u64, u32)>; 3];
     let mut blur = [false; 3];
+    let mut scrolls = [false; 3];
     let mut hardening = false;
     let granted = || requests.iter().zip(resolutions).filter(|(_, res)| **res > 0);
     for (r, &res) in granted() {
         let i = storage_index(r.kind);
         out[i].side = out[i].side.max(res);
         out[i].layers += r.views;
+        scrolls[i] |= r.scrolls;
         match r.moments {
             MomentUse::None => {}
             MomentUse::Vsm { blur: b } => {
@@ -218,6 +225,7 @@ pub fn storage_bytes(requests: &[LightRequest], resolutions: &[u32], costs: &Mem
     for (i, s) in out.iter_mut().enumerate() {
         let layer = u64::from(s.side).pow(2);
         s.depth = layer * u64::from(s.layers) * DEPTH_TEXEL_BYTES;
+        s.shift = if scrolls[i] { layer * DEPTH_TEXEL_BYTES } else { 0 };
         if let Some((texel, mips)) = moments[i] {
             s.moments = mip_texels(s.side, mips) * u64::from(s.layers) * texel;
             let scratch_layers = if i == 2 { 6 } else { 1 };

@@ -23,6 +23,7 @@ fn spot(resolution: u32, coverage: f32) -> LightRequest {
         views: 1,
         moments: MomentUse::None,
         coverage,
+        scrolls: false,
     }
 }
 
@@ -33,6 +34,7 @@ fn point_vsm(resolution: u32, coverage: f32) -> LightRequest {
         views: 6,
         moments: MomentUse::Vsm { blur: true },
         coverage,
+        scrolls: false,
     }
 }
 
@@ -43,6 +45,7 @@ fn sun(resolution: u32, cascades: u32, moments: MomentUse) -> LightRequest {
         views: cascades,
         moments,
         coverage: f32::INFINITY,
+        scrolls: false,
     }
 }
 
@@ -218,6 +221,7 @@ fn request() -> impl Strategy<Value = LightRequest> {
             views,
             moments,
             coverage,
+            scrolls: false,
         }
     })
 }
@@ -244,4 +248,18 @@ proptest! {
             prop_assert!(fit.resolutions.iter().all(|&g| g <= MIN_BUDGET_RESOLUTION));
         }
     }
+}
+
+#[test]
+fn a_scrolling_sun_adds_one_depth_layer_to_move_through() {
+    let costs = MemoryCosts {
+        vsm_texel: 16,
+        support: MomentSupport::default(),
+    };
+    let plain = sun(1024, 6, MomentUse::None);
+    let scrolling = LightRequest { scrolls: true, ..plain };
+    let [a, ..] = storage_bytes(&[plain], &[1024], &costs);
+    let [b, ..] = storage_bytes(&[scrolling], &[1024], &costs);
+    assert_eq!(a.shift, 0);
+    assert_eq!(b.total() - a.total(), 1024 * 1024 * 4);
 }

@@ -46,6 +46,10 @@ pub struct FrameContext<'a> {
     pub shadow_draw_calls: u32,
     /// Shadow-map texels cleared so far this frame.
     pub shadow_cleared_texels: u64,
+    /// Clipmap levels moved by whole texels and drawn only where needed so far this frame.
+    pub shadow_views_scrolled: u32,
+    /// Shadow-map texels drawn so far this frame (a whole view's, or its regions').
+    pub shadow_drawn_texels: u64,
     /// GPU objects created so far.
     pub counters: &'a mut RenderCounters,
     /// The last pipeline build that failed (the previous pipeline was kept).

@@ -355,6 +355,8 @@ impl Renderer {
             shadow_views_drawn: 0,
             shadow_draw_calls: 0,
             shadow_cleared_texels: 0,
+            shadow_views_scrolled: 0,
+            shadow_drawn_texels: 0,
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
             seen: &mut self.seen,
@@ -368,6 +370,7 @@ impl Renderer {
             ctx.shadow_draw_calls,
             ctx.shadow_cleared_texels,
         );
+        let (shadow_views_scrolled, shadow_drawn_texels) = (ctx.shadow_views_scrolled, ctx.shadow_drawn_texels);
         overlay(&self.gpu, &mut encoder);
         self.timer.resolve(&mut encoder);
         if let Some(counter) = &self.fragments {
@@ -387,6 +390,8 @@ impl Renderer {
         report.shadow_views_drawn = shadow_views_drawn;
         report.shadow_draw_calls = shadow_draw_calls;
         report.shadow_cleared_texels = shadow_cleared_texels;
+        report.shadow_views_scrolled = shadow_views_scrolled;
+        report.shadow_drawn_texels = shadow_drawn_texels;
         report.shadow_memory = self.shadows.memory_bytes();
         report.resolved_memory = self.shadows.resolved_memory_bytes();
         report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));

@@ -21,6 +21,12 @@ pub struct FrameReport {
     /// Shadow-map texels cleared before drawing: a redrawn layer clears only the rectangle
     /// its last draw wrote (a whole layer when that is not known or most of it).
     pub shadow_cleared_texels: u64,
+    /// Clipmap levels whose layer was moved by whole texels with their window and drawn only
+    /// where the window newly reached or casters changed.
+    pub shadow_views_scrolled: u32,
+    /// Shadow-map texels drawn: every texel of a view drawn whole, the regions of a scrolled
+    /// one.
+    pub shadow_drawn_texels: u64,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
     /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).

@@ -131,6 +131,10 @@ const SHADOW_CLEAR: ModuleSource = ModuleSource {
     file: "shadow_clear.wgsl",
     source: include_str!("../../shaders/shadow_clear.wgsl"),
 };
+const SHADOW_SHIFT: ModuleSource = ModuleSource {
+    file: "shadow_shift.wgsl",
+    source: include_str!("../../shaders/shadow_shift.wgsl"),
+};
 const SHADOW_MOMENTS: ModuleSource = ModuleSource {
     file: "shadow_moments.wgsl",
     source: include_str!("../../shaders/shadow_moments.wgsl"),
@@ -286,6 +290,11 @@ impl ShaderLibrary {
     /// The partial shadow-layer clear (`vs_main`, no fragment stage).
     pub fn shadow_clear(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(SHADOW_CLEAR.file, SHADOW_CLEAR.source, HashMap::new())
+    }
+
+    /// The clipmap level shift (`vs_main`, `fs_main` writing depth).
+    pub fn shadow_shift(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(SHADOW_SHIFT.file, SHADOW_SHIFT.source, HashMap::new())
     }
 
     /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a

@@ -34,6 +34,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::clear::ClearPipelines;
 use crate::render::shadows::gpu::CasterViewGpu;
+use crate::render::shadows::shift::LevelShift;
 use crate::render::shadows::storage::DepthArray;
 use crate::settings::MAX_CASCADES;
 
@@ -55,6 +56,8 @@ pub struct DepthPass {
     ranges: Vec<(u64, u32, u32, wgpu::TextureView)>,
     /// The texel rectangles of this draw's partial clear.
     runs: Vec<TexelRect>,
+    /// Moves scrolling views' layers with their windows.
+    shift: LevelShift,
 }
 
 /// What a layer of a storage holds.
@@ -65,7 +68,12 @@ struct Layer {
     /// Tiles that may hold a caster's depth (the rest holds the far depth); `None`: not
     /// known, the whole layer.
     written: Option<TileMask>,
+    /// The window a scrolling view's content was drawn for (grid texel of its first texel).
+    window: Option<glam::I64Vec2>,
 }
+
+#[path = "depth_scroll.rs"]
+mod scroll;
 
 /// The word timing names give a light of `kind`.
 fn short_word(kind: LightKind) -> &'static str {
@@ -112,6 +120,7 @@ impl RenderNode for DepthPass {
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        self.shift.begin_frame();
         if ctx.scene.mesh_buffers().is_none() {
             return;
         }
@@ -130,7 +139,9 @@ impl RenderNode for DepthPass {
                 .iter()
                 .find(|g| g.first_view as usize == v && g.views >= 2);
             let Some(run_group) = run_group else {
-                if self.claim(ctx, v) {
+                if views.views[v].scroll.is_some() {
+                    self.scroll_or_draw(ctx, encoder, v);
+                } else if self.claim(ctx, v) {
                     self.draw(ctx, encoder, v, 1, &views.groups[v]);
                 }
                 v += 1;
@@ -269,6 +280,7 @@ impl DepthPass {
         let layer_texels = u64::from(storage.side).pow(2);
         let runs: u64 = self.runs.iter().map(|r| r.area()).sum();
         ctx.shadow_cleared_texels += clear.map_or(layer_texels, |_| runs) * count as u64;
+        ctx.shadow_drawn_texels += u64::from(view.resolution).pow(2) * count as u64;
         let target = if count > 1 {
             self.layer_range(storage, view.slot, count as u32)
         } else {

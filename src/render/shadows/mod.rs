@@ -15,6 +15,7 @@ pub mod gpu;
 pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
+pub mod shift;
 pub mod standalone;
 pub mod storage;
 pub mod sun_moments;
@@ -37,6 +38,7 @@ use crate::render::shadows::gpu::{
     pack_lights, pack_view,
 };
 use crate::render::shadows::moment_storage::MomentArray;
+use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur, sun_moment_mips};
 use crate::render::shadows::visibility::VisibilityTarget;
@@ -50,6 +52,9 @@ pub struct ShadowResources {
     /// EVSM or MSM (in [`cascade_moment_format`]) for the cascades; a stand-in while none of
     /// the storage's lights filters moments.
     moments: [MomentArray; ShadowStorage::COUNT],
+    /// The depth layer scrolling views move their layers through
+    /// ([`crate::render::shadows::shift`]), of the cascades' side, while a view scrolls.
+    pub shift_scratch: Option<ShiftScratch>,
     lights: wgpu::Buffer,
     more_lights: GrowBuffer,
     views: wgpu::Buffer,
@@ -209,6 +214,7 @@ impl ShadowResources {
             no_visibility,
             maps,
             moments,
+            shift_scratch: None,
             lights,
             more_lights,
             views,
@@ -237,7 +243,8 @@ impl ShadowResources {
     /// Bytes of shadow-map memory (depth and moments).
     pub fn memory_bytes(&self) -> u64 {
         let depth: u64 = self.maps.iter().map(DepthArray::memory_bytes).sum();
-        depth + self.moments.iter().map(MomentArray::memory_bytes).sum::<u64>()
+        let shift = self.shift_scratch.as_ref().map_or(0, ShiftScratch::memory_bytes);
+        depth + shift + self.moments.iter().map(MomentArray::memory_bytes).sum::<u64>()
     }
 
     /// The moments of `storage`: VSM for spot and point lights, EVSM or MSM for the cascades.
@@ -280,6 +287,13 @@ impl ShadowResources {
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
+        }
+        let scrolls = views.views.iter().any(|v| v.scroll.is_some());
+        let side = self.array(ShadowStorage::Cascades).side;
+        if !scrolls {
+            self.shift_scratch = None;
+        } else if self.shift_scratch.as_ref().is_none_or(|s| s.side != side) {
+            self.shift_scratch = Some(ShiftScratch::new(device, side));
         }
         for kind in [ShadowStorage::Spots, ShadowStorage::Points] {
             let (uses_vsm, blur) = vsm_use(lights, views, kind);

@@ -121,6 +121,7 @@ impl DepthArray {
 
 /// What shadow depth textures are used for: rendered into, sampled, copied back.
 pub(crate) const DEPTH_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
+    .union(wgpu::TextureUsages::COPY_DST)
     .union(wgpu::TextureUsages::TEXTURE_BINDING)
     .union(wgpu::TextureUsages::COPY_SRC);
 

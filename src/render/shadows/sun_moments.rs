@@ -205,6 +205,7 @@ mod tests {
             },
             resolution: 2048,
             cascades,
+            clipmap: Default::default(),
         }
     }
 

@@ -1,0 +1,210 @@
+//! Scrolling clipmap levels: what a level's layer must draw this frame when its window moved
+//! or casters changed inside it. A level keeps its content version while only its window
+//! moves ([`ViewCache`](crate::ecs::view_cache::ViewCache) with `scrolls`), so the renderer
+//! keeps the layer: it moves the layer's texels by the window's shift in whole texels and
+//! draws only the strips the window newly covers ([`exposed_strips`]) and the regions where
+//! casters moved, each with the casters that reach it. The renderer checks that its layer
+//! holds this version at last frame's window (`Scroll::from`) and draws the level whole
+//! otherwise.
+
+use bevy_ecs::entity::Entity;
+use glam::{I64Vec2, Vec2};
+
+use crate::ecs::caster_changes::CasterChanges;
+use crate::ecs::draw_groups::{DrawBatch, DrawGroup, DrawKey, push_run};
+use crate::ecs::instances::RenderInstances;
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::view_cache::CachedView;
+use crate::ecs::view_list::{Scroll, ShadowView};
+use crate::math::aabb::Aabb;
+use crate::math::clipmap::{ClipmapLevel, GridRect, exposed_strips, window};
+use crate::math::footprint::TexelRect;
+
+/// What a level's layer was last asked to hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Held {
+    entity: Entity,
+    level: u32,
+    version: u64,
+    window: I64Vec2,
+}
+
+/// A region one scrolling view draws, and the casters reaching it (its batches index `list`).
+#[derive(Debug, Default)]
+pub(crate) struct RegionDraw {
+    /// The view's index.
+    pub(crate) view: usize,
+    /// The layer's texels.
+    pub(crate) rect: TexelRect,
+    /// The casters, as draws over `list`.
+    pub(crate) group: DrawGroup,
+    /// Instance indices.
+    pub(crate) list: Vec<u32>,
+}
+
+/// What scroll planning keeps between frames.
+#[derive(Debug, Default)]
+pub(crate) struct ScrollScratch {
+    held: Vec<Held>,
+    next: Vec<Held>,
+    /// This frame's regions (the first `count` are valid; the rest keep their allocations).
+    pub(crate) regions: Vec<RegionDraw>,
+    /// Valid regions.
+    pub(crate) count: usize,
+    rects: Vec<GridRect>,
+    run: Vec<u32>,
+}
+
+/// Sets the [`Scroll`] of every scrolling view (the windows it moves between) and lists the
+/// regions each draws in `scratch.regions[..scratch.count]`; returns that count.
+pub(crate) fn plan_scrolls(
+    lights: &FrameLights,
+    instances: &RenderInstances,
+    changes: &CasterChanges,
+    views: &mut [ShadowView],
+    entries: &[CachedView],
+    scratch: &mut ScrollScratch,
+) -> usize {
+    scratch.count = 0;
+    scratch.next.clear();
+    for (v, (view, entry)) in views.iter_mut().zip(entries).enumerate() {
+        let Some(scroll) = &mut view.scroll else { continue };
+        let Some(sun) = lights.sun_at(view.light) else { continue };
+        let Some(level) = sun.clipmap.active().get(view.kind.index as usize) else {
+            continue;
+        };
+        let to = level.first_texel;
+        let here = window(level, view.resolution);
+        let held = scratch
+            .held
+            .iter()
+            .find(|h| h.entity == view.entity && h.level == view.kind.index)
+            .filter(|h| h.version == view.version);
+        scratch.next.push(Held {
+            entity: view.entity,
+            level: view.kind.index,
+            version: view.version,
+            window: to,
+        });
+        let Some(held) = held else {
+            *scroll = Scroll {
+                from: to,
+                to,
+                ..Scroll::default()
+            };
+            continue;
+        };
+        let from = held.window;
+        scratch.rects.clear();
+        if from != to {
+            let before = GridRect {
+                min: from,
+                max: from + (here.max - here.min),
+            };
+            exposed_strips(&before, &here, &mut scratch.rects);
+        }
+        if entry.touched {
+            for changed in &changes.regions {
+                let rect = grid_rect(sun.clipmap.light_rotation, level, changed).intersect(&here);
+                if rect.area() > 0 {
+                    scratch.rects.push(rect);
+                }
+            }
+        }
+        let first = scratch.count as u32;
+        for r in 0..scratch.rects.len() {
+            let rect = scratch.rects[r];
+            if scratch.regions.len() <= scratch.count {
+                scratch.regions.push(RegionDraw::default());
+            }
+            let region = &mut scratch.regions[scratch.count];
+            region.view = v;
+            region.rect = layer_rect(&rect, to, view.resolution);
+            let bounds = (rect.min.as_vec2() * level.texel, rect.max.as_vec2() * level.texel);
+            let rotation = sun.clipmap.light_rotation;
+            let reaches = |i: u32| {
+                let c = (rotation * instances.centers[i as usize]).truncate();
+                c.clamp(bounds.0, bounds.1).distance(c) <= instances.radii[i as usize]
+            };
+            region.group.clear();
+            region.list.clear();
+            for (batches, masked) in [(&entry.group.opaque, false), (&entry.group.masked, true)] {
+                for b in batches {
+                    scratch.run.clear();
+                    let members = &entry.list[b.first as usize..(b.first + b.count) as usize];
+                    scratch.run.extend(members.iter().copied().filter(|&i| reaches(i)));
+                    push_run(&mut region.group, &mut region.list, key(b, masked), &scratch.run);
+                }
+            }
+            scratch.count += 1;
+        }
+        *scroll = Scroll {
+            from,
+            to,
+            first_region: first,
+            region_count: scratch.count as u32 - first,
+        };
+    }
+    std::mem::swap(&mut scratch.held, &mut scratch.next);
+    scratch.count
+}
+
+/// The draw key of batch `b` (masked or not).
+fn key(b: &DrawBatch, masked: bool) -> DrawKey {
+    DrawKey {
+        masked,
+        double_sided: b.double_sided,
+        mesh: b.mesh,
+        material: b.material,
+    }
+}
+
+/// The grid texels of `level` a world box covers in the light's frame (rounded out).
+fn grid_rect(rotation: glam::Mat3, level: &ClipmapLevel, world: &Aabb) -> GridRect {
+    let (lo, hi) = world.corners().iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), &c| {
+        let p = (rotation * c).truncate();
+        (lo.min(p), hi.max(p))
+    });
+    let texel = level.texel;
+    GridRect {
+        min: (lo / texel).floor().as_i64vec2() - I64Vec2::ONE,
+        max: (hi / texel).ceil().as_i64vec2() + I64Vec2::ONE,
+    }
+}
+
+/// The layer texels of grid rectangle `rect` in the window starting at grid texel `to`
+/// (`resolution` texels; layer row 0 is the window's top, grid y grows upwards).
+fn layer_rect(rect: &GridRect, to: I64Vec2, resolution: u32) -> TexelRect {
+    let n = i64::from(resolution);
+    let (min, max) = (rect.min - to, rect.max - to);
+    let clamp = |v: i64| v.clamp(0, n) as u32;
+    TexelRect {
+        x0: clamp(min.x),
+        y0: clamp(n - max.y),
+        x1: clamp(max.x),
+        y1: clamp(n - min.y),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grid_rect_lands_in_the_layer_rows_counted_from_the_window_top() {
+        let to = I64Vec2::new(100, 200);
+        let rect = GridRect {
+            min: I64Vec2::new(100, 200),
+            max: I64Vec2::new(104, 202),
+        };
+        // The window's bottom-left grid texels are the layer's last rows, first columns.
+        let r = layer_rect(&rect, to, 16);
+        assert_eq!((r.x0, r.x1, r.y0, r.y1), (0, 4, 14, 16));
+        // Outside the window: empty after clamping.
+        let outside = GridRect {
+            min: I64Vec2::new(0, 0),
+            max: I64Vec2::new(10, 10),
+        };
+        assert_eq!(layer_rect(&outside, to, 16).area(), 0);
+    }
+}
