@@ -9,7 +9,7 @@ use clap::Args;
 use penumbra::export::{OutputKind, prepare_output};
 
 use super::cli_values::Fit;
-use super::{side, sun_degrees};
+use crate::render_command::{side, sun_degrees};
 
 /// Options of `penumbra bench`.
 #[derive(Args)]

@@ -81,6 +81,7 @@ fn a_headless_render_reports_the_timings_of_each_of_its_frames() {
         options: Default::default(),
         shadow_budget: None,
         count_fragments: false,
+        camera_motion: Default::default(),
     };
     let result = render_scene_with(&default_scene(), &request).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(result.frames.len(), 4);

@@ -8,10 +8,14 @@ mod spawn;
 pub use spawn::{PreparedScene, SceneEntity, SpawnError, despawn_scene, spawn_scene};
 
 use bevy_app::App;
+use bevy_ecs::query::With;
+use bevy_ecs::world::World;
+use bevy_transform::components::Transform;
+use glam::Vec3;
 use image::RgbaImage;
 use thiserror::Error;
 
-use crate::ecs::components::ViewportSize;
+use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
@@ -124,6 +128,7 @@ pub fn render_scene(
             options: RenderOptions::default(),
             shadow_budget: None,
             count_fragments: false,
+            camera_motion: CameraMotion::default(),
         },
     )
 }
@@ -148,6 +153,29 @@ pub struct RenderRequest<'a> {
     /// Count the lighting pass's fragment invocations (`FrameReport::forward_fragments`;
     /// each frame waits for the count). Ignored where the device cannot count them.
     pub count_fragments: bool,
+    /// How the camera moves between frames (still by default).
+    pub camera_motion: CameraMotion,
+}
+
+/// How a headless render moves its camera before each frame after the first: by `step`
+/// (metres, world axes) and turning by `turn_degrees` about the vertical. A measurement of
+/// moving frames: a translating camera moves cascades and clipmap windows, a turning one
+/// moves cascades only.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CameraMotion {
+    /// Translation per frame, metres.
+    pub step: Vec3,
+    /// Turn per frame about +Y, degrees.
+    pub turn_degrees: f32,
+}
+
+/// Moves every camera of `world` by `motion`.
+fn move_cameras(world: &mut World, motion: CameraMotion) {
+    let mut cameras = world.query_filtered::<&mut Transform, With<Camera3d>>();
+    for mut t in cameras.iter_mut(world) {
+        t.translation += motion.step;
+        t.rotate_y(motion.turn_degrees.to_radians());
+    }
 }
 
 /// Renders a scene as requested and returns the last frame.
@@ -186,7 +214,10 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     let mut warnings = prepared.warnings().to_vec();
     let instances = prepared.spawn(app.world_mut());
     let mut reports = Vec::new();
-    for _ in 0..frames.max(1) {
+    for frame in 0..frames.max(1) {
+        if frame > 0 && request.camera_motion != CameraMotion::default() {
+            move_cameras(app.world_mut(), request.camera_motion);
+        }
         app.update();
         // NOTE: the lights it names cast no shadow and nothing was allocated for them; a
         // headless render fails rather than write an image without them.

@@ -108,8 +108,14 @@ impl ShadowMemory {
     /// one line per shadowed light (what the command line and the inspector show).
     pub fn lines(&self) -> Vec<String> {
         let sum = |f: fn(&StorageBytes) -> u64| format_bytes(self.storages.iter().map(f).sum());
+        let shift: u64 = self.storages.iter().map(|s| s.shift).sum();
+        let shift = if shift > 0 {
+            format!(", clipmap shift {}", format_bytes(shift))
+        } else {
+            String::new()
+        };
         let mut lines = vec![format!(
-            "{} of a {} budget (depth {}, moments {}, blur scratch {})",
+            "{} of a {} budget (depth {}, moments {}, blur scratch {}{shift})",
             format_bytes(self.total()),
             format_bytes(self.budget),
             sum(|s| s.depth),

@@ -99,6 +99,7 @@ pub fn still_frame(
             options,
             shadow_budget: None,
             count_fragments: false,
+            camera_motion: Default::default(),
         },
     )
     .expect(INSTALL)

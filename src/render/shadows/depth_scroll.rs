@@ -12,6 +12,7 @@ use crate::render::draw::draw_batches;
 use crate::render::frame::FrameContext;
 use crate::render::shadows::casters::CasterKey;
 use crate::render::shadows::gpu::CasterViewGpu;
+use crate::render::shadows::shift::ShiftTarget;
 
 impl DepthPass {
     /// Draws scrolling view `v`: moved and drawn by region where its layer allows, else whole.
@@ -38,9 +39,18 @@ impl DepthPass {
                 // NOTE: target texel + offset = source texel; layer rows grow downwards.
                 let offset = IVec2::new(d.x as i32, -d.y as i32);
                 let (device, queue) = (&ctx.gpu.device, &ctx.gpu.queue);
+                let name = &mut self.names[v];
+                super::view_name(ctx.lights, &ctx.shadow_views.views[v], name);
+                name.push_str(" shift");
+                let timing = ctx.timer.pass(name);
                 ctx.shadows.shift_scratch.as_ref().is_some_and(|scratch| {
+                    let target = ShiftTarget {
+                        storage,
+                        scratch,
+                        layer: slot,
+                    };
                     self.shift
-                        .shift(device, queue, ctx.library, encoder, storage, scratch, slot, offset)
+                        .shift(device, queue, ctx.library, encoder, target, offset, timing)
                 })
             });
         if !shifted {
@@ -100,8 +110,11 @@ impl DepthPass {
         ctx.counters.caster_pipelines += built;
         let clear = self.clears.get(&ctx.gpu.device, ctx.library, 0).clone();
         let storage = ctx.shadows.storage(view.kind);
+        let name = &mut self.names[v];
+        super::view_name(ctx.lights, view, name);
+        name.push_str(" regions");
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow clipmap regions"),
+            label: Some(name.as_str()),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &storage.layer_views[view.slot as usize],
@@ -111,7 +124,7 @@ impl DepthPass {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: ctx.timer.pass("shadow clipmap regions"),
+            timestamp_writes: ctx.timer.pass(name),
             occlusion_query_set: None,
             multiview_mask: None,
         });

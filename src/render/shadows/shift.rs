@@ -59,6 +59,17 @@ impl ShiftScratch {
     }
 }
 
+/// The layer a shift moves and the scratch it moves it through.
+#[derive(Clone, Copy)]
+pub struct ShiftTarget<'a> {
+    /// The array.
+    pub storage: &'a DepthArray,
+    /// The scratch layer, of the array's side.
+    pub scratch: &'a ShiftScratch,
+    /// The layer.
+    pub layer: u32,
+}
+
 /// The shift pipeline and its uniforms, made on first use.
 #[derive(Default)]
 pub struct LevelShift {
@@ -75,9 +86,9 @@ impl LevelShift {
         self.used = 0;
     }
 
-    /// Records the shift of layer `layer` of `storage` by `offset` texels (target texel +
-    /// offset = source texel) through `scratch`; false when this frame already recorded as
-    /// many shifts as its uniforms hold, or `scratch` is not of the layer's side (the caller
+    /// Records the shift of `target`'s layer by `offset` texels (target texel + offset =
+    /// source texel), timed by `timing`; false when this frame already recorded as many
+    /// shifts as its uniforms hold, or the scratch is not of the layer's side (the caller
     /// then draws the level whole).
     #[allow(clippy::too_many_arguments)]
     pub fn shift(
@@ -86,11 +97,15 @@ impl LevelShift {
         queue: &wgpu::Queue,
         library: &mut ShaderLibrary,
         encoder: &mut wgpu::CommandEncoder,
-        storage: &DepthArray,
-        scratch: &ShiftScratch,
-        layer: u32,
+        target: ShiftTarget<'_>,
         offset: IVec2,
+        timing: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> bool {
+        let ShiftTarget {
+            storage,
+            scratch,
+            layer,
+        } = target;
         if self.used >= MAX_SHIFTS_PER_FRAME || scratch.side != storage.side {
             return false;
         }
@@ -139,7 +154,7 @@ impl LevelShift {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: None,
+                timestamp_writes: timing,
                 occlusion_query_set: None,
                 multiview_mask: None,
             });

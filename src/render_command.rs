@@ -1,0 +1,404 @@
+//! `penumbra render` (part of the `penumbra` binary): renders a scene file headless to a PNG,
+//! with the shadow settings the command line overrides, and prints the frame's GPU and CPU
+//! timings, the shadow account and the work the shadow passes did.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use clap::builder::TypedValueParser;
+
+use crate::cli_values::{Fit, Layout, Mode, Precision, Prepass, Quality};
+use crate::render_json;
+use penumbra::app::{CameraMotion, RenderError, RenderRequest, render_scene_with};
+use penumbra::ecs::shadow_memory::MIB;
+use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
+use penumbra::math::light_budget::LightKind;
+use penumbra::render::limits::MAX_TEXTURE_SIDE;
+use penumbra::render::timer::median_passes;
+use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
+use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
+use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings, SunLayout};
+use penumbra::text::format_bytes;
+
+/// Options of `penumbra render`.
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (RON).
+    scene: PathBuf,
+    /// Output PNG (checked, and its folder created, before rendering).
+    #[arg(long, default_value = "out/render.png")]
+    out: PathBuf,
+    /// Image width in pixels (at most the adapter's largest texture side).
+    #[arg(long, default_value_t = 1280, value_parser = side())]
+    width: u32,
+    /// Image height in pixels (at most the adapter's largest texture side).
+    #[arg(long, default_value_t = 720, value_parser = side())]
+    height: u32,
+    /// Shadow filter (default: the scene's).
+    #[arg(long)]
+    mode: Option<Mode>,
+    /// PCSS quality (default: the scene's).
+    #[arg(long)]
+    quality: Option<Quality>,
+    /// PCF radius 0-5 (default: the scene's).
+    #[arg(long)]
+    pcf_radius: Option<u32>,
+    /// Storage of a sun's EVSM or MSM moments (default: the scene's).
+    #[arg(long)]
+    moment_precision: Option<Precision>,
+    /// Contact hardening of a sun's EVSM or MSM moments, true or false (default: the scene's,
+    /// on unless it turns it off); false filters every pixel with `moment_blur`.
+    #[arg(long)]
+    moment_contact_hardening: Option<bool>,
+    /// The sun's angular diameter in degrees, 0-30 (default: the scene's).
+    #[arg(long, value_parser = sun_degrees)]
+    sun_diameter: Option<f32>,
+    /// How the sun's cascades are fitted (default: the scene's): tight, stable, or
+    /// depth-bounds (to the depths the camera saw, a frame or two late).
+    #[arg(long, value_enum)]
+    fit: Option<Fit>,
+    /// Texels per side of every light's shadow maps (cascades, clipmap levels, spot maps, cube
+    /// faces), 256-4096 (default: the scene's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
+    resolution: Option<u32>,
+    /// How the sun's shadow is divided into maps (default: the scene's): cascades, or a
+    /// clipmap of `--clipmap-levels` levels around the camera, the finest
+    /// `--clipmap-extent` metres wide.
+    #[arg(long, value_enum)]
+    layout: Option<Layout>,
+    /// Clipmap levels, 1-8 (with `--layout clipmap`; default: the scene's, else 6).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8))]
+    clipmap_levels: Option<u32>,
+    /// Side of the finest clipmap level in metres, 0.5-1e5 (with `--layout clipmap`;
+    /// default: the scene's, else 32).
+    #[arg(long, value_parser = clipmap_extent)]
+    clipmap_extent: Option<f32>,
+    /// Tint pixels by the cascade (or clipmap level) they sample.
+    #[arg(long)]
+    debug_cascades: bool,
+    /// Folder every file the scene names must stay inside (default: the nearest enclosing
+    /// folder named `assets`, else the scene's folder).
+    #[arg(long)]
+    asset_root: Option<PathBuf>,
+    /// Most instances the scene may place (grid copies and glTF primitives counted).
+    #[arg(long, default_value_t = DEFAULT_MAX_INSTANCES)]
+    max_instances: u64,
+    /// Frames to render; timings are the median over frames after the first.
+    #[arg(long, default_value_t = 5)]
+    frames: u32,
+    /// Also write the per-pixel sun shadow factor (the visibility the material multiplied in,
+    /// 1 where not evaluated), aligned with the colour image: a `.png` path gives 16-bit
+    /// greyscale, a `.pfm` path 32-bit float (Portable Float Map).
+    #[arg(long)]
+    shadow_out: Option<PathBuf>,
+    /// Depth prepass: auto (on while the view has fewer triangles than the image has
+    /// pixels), on, or off (the lighting pass then writes depth itself).
+    #[arg(long, value_enum, default_value_t = Prepass::Auto)]
+    depth_prepass: Prepass,
+    /// Draw every shadow map every frame, as when everything moves (by default a shadow map
+    /// whose view and casters did not change is kept).
+    #[arg(long)]
+    no_shadow_cache: bool,
+    /// Filter the shadows in the lighting pass itself instead of in a compute pass after the
+    /// depth prepass (by default they are resolved in compute whenever the prepass runs).
+    #[arg(long)]
+    no_visibility_resolve: bool,
+    /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
+    /// or one pass per cascade (`false`).
+    #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
+    single_pass_cascades: bool,
+    /// Move the camera by this many metres along world x, y, z before each frame after the
+    /// first (`--camera-step 0,0,-1`: a metre a frame towards −z): the cost of moving frames,
+    /// with the shadow cache on.
+    #[arg(long, value_parser = metres_xyz, allow_negative_numbers = true)]
+    camera_step: Option<glam::Vec3>,
+    /// Turn the camera by this many degrees about the vertical before each frame after the
+    /// first.
+    #[arg(long, allow_negative_numbers = true)]
+    camera_turn: Option<f32>,
+    /// Count the lighting pass's fragment-shader invocations (pipeline statistics) and print
+    /// them per pixel of the image.
+    #[arg(long)]
+    count_fragments: bool,
+    /// Samples per pixel of the image (MSAA): 1 (off), 2 or 4; falls back, with a warning,
+    /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
+    #[arg(long, default_value = "1")]
+    msaa: Msaa,
+    /// Most MiB of the scene's decoded images together, with their mip chains: an image that
+    /// would pass it is downscaled to fit, with a warning.
+    #[arg(long, value_parser = mebibytes(), default_value = "256")]
+    texture_budget: u64,
+    /// Most MiB of shadow maps, their moments and blur scratch (default: 2048 on a discrete
+    /// GPU, 512 on software Vulkan, 1024 otherwise): the lights smallest on screen are
+    /// lowered to fit, with a warning; a light that cannot fit even at 256² is an error.
+    #[arg(long, value_parser = mebibytes())]
+    shadow_budget: Option<u64>,
+    /// Print the summary (timings, counts, memory) as one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Image sides accepted on the command line: 1 to the largest texture side of any adapter;
+/// the adapter's own limit is checked when it is opened, before anything is rendered.
+pub fn side() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=MAX_TEXTURE_SIDE as i64)
+}
+
+/// A budget on the command line: whole MiB from 0 to 1,048,576 (1 TiB), returned in bytes.
+pub fn mebibytes() -> impl clap::builder::TypedValueParser<Value = u64> {
+    clap::value_parser!(u64).range(0..=1 << 20).map(|mib| mib * MIB)
+}
+
+/// A step on the command line: three finite numbers of metres, `x,y,z`.
+fn metres_xyz(text: &str) -> Result<glam::Vec3, String> {
+    let parts: Vec<f32> = text.split(',').filter_map(|p| p.trim().parse::<f32>().ok()).collect();
+    match parts[..] {
+        [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
+        _ => Err(format!("expected three numbers of metres `x,y,z`, found `{text}`")),
+    }
+}
+
+/// A sun's angular diameter on the command line: degrees from 0 to 30, as in scene files.
+pub fn sun_degrees(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(d) if (0.0..=30.0).contains(&d) => Ok(d),
+        _ => Err(format!("expected degrees from 0 to 30, found `{text}`")),
+    }
+}
+
+/// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
+fn clipmap_extent(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(m) if (0.5..=1.0e5).contains(&m) => Ok(m),
+        _ => Err(format!("expected metres from 0.5 to 1e5, found `{text}`")),
+    }
+}
+
+pub fn render(args: RenderArgs) -> Result<(), RenderError> {
+    let RenderArgs {
+        scene,
+        out,
+        width,
+        height,
+        mode,
+        quality,
+        pcf_radius,
+        moment_precision,
+        moment_contact_hardening,
+        sun_diameter,
+        fit,
+        resolution,
+        layout,
+        clipmap_levels,
+        clipmap_extent,
+        debug_cascades,
+        asset_root,
+        max_instances,
+        frames,
+        shadow_out,
+        depth_prepass,
+        no_shadow_cache,
+        no_visibility_resolve,
+        single_pass_cascades,
+        count_fragments,
+        camera_step,
+        camera_turn,
+        msaa,
+        texture_budget,
+        shadow_budget,
+        json,
+    } = args;
+    prepare_output(&out, OutputKind::ColorImage)?;
+    if let Some(path) = &shadow_out {
+        prepare_output(path, OutputKind::ScalarImage)?;
+    }
+    let limits = SceneLimits {
+        asset_root,
+        max_instances,
+        max_texture_bytes: texture_budget,
+    };
+    let mut desc = SceneDesc::load_with(&scene, &limits)?;
+    if let (Some(d), Some(sun)) = (sun_diameter, desc.sun.as_mut()) {
+        sun.angular_diameter = d;
+    }
+    let tweak = |s: &mut ShadowSettings| {
+        if let Some(m) = mode {
+            s.filter.mode = match m {
+                Mode::Pcf => ShadowMode::Pcf,
+                Mode::Pcss => ShadowMode::Pcss,
+                Mode::Vsm => ShadowMode::Vsm,
+                Mode::Evsm => ShadowMode::Evsm,
+                Mode::Evsm4 => ShadowMode::Evsm4,
+                Mode::Msm => ShadowMode::Msm,
+            };
+        }
+        if let Some(p) = moment_precision {
+            s.filter.moments.precision = match p {
+                Precision::Auto => MomentFormat::Auto,
+                Precision::Fp16 => MomentFormat::Fp16,
+                Precision::Fp32 => MomentFormat::Fp32,
+            };
+        }
+        if let Some(q) = quality {
+            s.filter.pcss_quality = match q {
+                Quality::Low => PcssQuality::Low,
+                Quality::Medium => PcssQuality::Medium,
+                Quality::High => PcssQuality::High,
+            };
+        }
+        if let Some(r) = pcf_radius {
+            s.filter.pcf_radius = r;
+        }
+        if let Some(on) = moment_contact_hardening {
+            s.filter.moments.contact_hardening = on;
+        }
+        if let Some(fit) = fit {
+            s.map.cascades.fit = fit.into();
+        }
+        if let Some(side) = resolution {
+            s.map.resolution = side;
+        }
+        let (levels, extent) = match s.map.layout {
+            SunLayout::Clipmap { levels, level0_extent } => (levels, level0_extent),
+            SunLayout::Cascades => (6, 32.0),
+        };
+        s.map.layout = match layout {
+            Some(Layout::Cascades) => SunLayout::Cascades,
+            Some(Layout::Clipmap) => SunLayout::Clipmap {
+                levels: clipmap_levels.unwrap_or(levels),
+                level0_extent: clipmap_extent.unwrap_or(extent),
+            },
+            None => s.map.layout,
+        };
+        if debug_cascades {
+            s.filter.debug_view = ShadowDebugView::Cascades;
+        }
+    };
+    let request = RenderRequest {
+        width,
+        height,
+        frames,
+        tweak: Some(&tweak),
+        analysis: shadow_out.is_some(),
+        options: RenderOptions {
+            depth_prepass: match depth_prepass {
+                Prepass::Auto => DepthPrepass::Auto,
+                Prepass::On => DepthPrepass::On,
+                Prepass::Off => DepthPrepass::Off,
+            },
+            shadow_cache: !no_shadow_cache,
+            visibility_resolve: !no_visibility_resolve,
+            single_pass_cascades,
+            msaa,
+        },
+        shadow_budget,
+        count_fragments,
+        camera_motion: CameraMotion {
+            step: camera_step.unwrap_or(glam::Vec3::ZERO),
+            turn_degrees: camera_turn.unwrap_or(0.0),
+        },
+    };
+    let result = render_scene_with(&desc, &request)?;
+    if let (Some(path), Some(analysis)) = (&shadow_out, &result.analysis) {
+        write_scalar_image(path, analysis.width, analysis.height, &analysis.shadow)?;
+    }
+    write_color_image(&out, &result.image)?;
+
+    // The settings the sun was rendered with: the scene's, with the command line's changes.
+    let mut s = desc.shadows;
+    tweak(&mut s);
+    if json {
+        let sun = desc.sun.is_some().then_some(&s);
+        let summary = render_json::summary_json(&scene, &out, (width, height, frames), sun, &result);
+        println!("{summary:#}");
+        return Ok(());
+    }
+    println!("scene      {}", scene.display());
+    println!("commit     {}", penumbra::BUILD_COMMIT);
+    println!("adapter    {}", result.adapter);
+    println!(
+        "image      {} ({}x{}, {} frames)",
+        out.display(),
+        width,
+        height,
+        frames.max(1)
+    );
+    println!(
+        "instances  {} ({} visible)",
+        result.instances, result.stats.visible_instances
+    );
+    // NOTE: the scene's `shadows` are the sun's; a scene without a sun (spot lights only)
+    // says nothing about cascades.
+    let sun_side = result.memory.lights.iter().find(|l| l.kind == LightKind::Directional);
+    let cascades = if desc.sun.is_some() {
+        format!(
+            ", sun {:?} with {}² texels per cascade",
+            s.filter.mode.effective(true),
+            sun_side.map_or(s.map.resolution, |l| l.granted)
+        )
+    } else {
+        String::new()
+    };
+    println!(
+        "shadows    {} shadow views{cascades}, {}",
+        result.stats.casters_per_view.len(),
+        format_bytes(result.report.shadow_memory)
+    );
+    for (i, line) in result.memory.lines().iter().enumerate() {
+        println!("{} {line}", if i == 0 { "memory    " } else { "          " });
+    }
+    let casters: Vec<String> = result.stats.casters_per_view.iter().map(|c| c.to_string()).collect();
+    let draws: Vec<String> = result.stats.draws_per_view.iter().map(|c| c.to_string()).collect();
+    println!(
+        "casters    per view [{}], draws per view [{}]",
+        casters.join(", "),
+        draws.join(", ")
+    );
+    let report = &result.report;
+    println!(
+        "draw calls {} ({} shadow), shadow texels cleared {:.2} M (last frame)",
+        report.draw_calls,
+        report.shadow_draw_calls,
+        report.shadow_cleared_texels as f64 / 1e6
+    );
+    if let Some(n) = result.report.forward_fragments {
+        let pixels = u64::from(width) * u64::from(height);
+        println!(
+            "fragments {n} lighting-pass invocations, {:.3} per pixel of the image",
+            n as f64 / pixels.max(1) as f64
+        );
+    }
+    let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
+    println!("shadow views drawn per frame [{}]", drawn.join(", "));
+    if result.frames.iter().any(|f| f.shadow_views_scrolled > 0) {
+        let texels: Vec<String> = (result.frames.iter())
+            .map(|f| format!("{} ({} scrolled)", f.shadow_drawn_texels, f.shadow_views_scrolled))
+            .collect();
+        println!("shadow texels drawn per frame [{}]", texels.join(", "));
+    }
+    println!(
+        "cpu        cascades {:.3} ms, culling {:.3} ms, view culling {:.3} ms (last frame)",
+        result.stats.cascades_cpu.as_secs_f64() * 1e3,
+        result.stats.culling_cpu.as_secs_f64() * 1e3,
+        result.stats.view_culling_cpu.as_secs_f64() * 1e3
+    );
+    let passes: Vec<Vec<_>> = result.frames.iter().map(|f| f.passes.clone()).collect();
+    let medians = median_passes(&passes);
+    if medians.is_empty() {
+        println!("gpu        (the adapter has no timestamp queries)");
+    }
+    for (name, ms) in &medians {
+        println!("gpu        {name:<17} {ms:8.3} ms");
+    }
+    if !medians.is_empty() {
+        println!(
+            "gpu        {:<17} {:8.3} ms",
+            "total",
+            medians.iter().map(|m| m.1).sum::<f64>()
+        );
+    }
+    for w in &result.warnings {
+        println!("warning    {w}");
+    }
+    Ok(())
+}
