@@ -11,11 +11,16 @@ use bevy_ecs::entity::Entity;
 use glam::{I64Vec2, Vec2};
 
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::draw_groups::{DrawBatch, DrawGroup, DrawKey, push_run};
+use crate::ecs::assets::MeshHandle;
+use crate::ecs::draw_groups::{DrawGroup, push_instance};
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_cache::CachedView;
+use crate::ecs::view_culling::{lod_key, lod_table};
 use crate::ecs::view_list::{Scroll, ShadowView};
+use crate::math::cascades::{CascadeSet, MAX_SUN_VIEWS};
+use crate::math::chunks::cull_casters_chunked;
 use crate::math::aabb::Aabb;
 use crate::math::clipmap::{ClipmapLevel, GridRect, exposed_strips, window};
 use crate::math::footprint::TexelRect;
@@ -52,7 +57,10 @@ pub(crate) struct ScrollScratch {
     /// Valid regions.
     pub(crate) count: usize,
     rects: Vec<GridRect>,
-    run: Vec<u32>,
+    /// Per caster, the regions of the batch being culled it reaches (a bit each).
+    masks: Vec<u8>,
+    /// The mesh each mesh draws in the level being planned (its shadow LOD).
+    lods: Vec<[MeshHandle; MAX_SUN_VIEWS]>,
 }
 
 /// Sets the [`Scroll`] of every scrolling view (the windows it moves between) and lists the
@@ -60,6 +68,7 @@ pub(crate) struct ScrollScratch {
 pub(crate) fn plan_scrolls(
     lights: &FrameLights,
     instances: &RenderInstances,
+    lods: &ShadowLods,
     changes: &CasterChanges,
     views: &mut [ShadowView],
     entries: &[CachedView],
@@ -112,31 +121,57 @@ pub(crate) fn plan_scrolls(
             }
         }
         let first = scratch.count as u32;
-        for r in 0..scratch.rects.len() {
-            let rect = scratch.rects[r];
-            if scratch.regions.len() <= scratch.count {
+        lod_table(lods, instances, sun.cascades.active(), &mut scratch.lods);
+        let mut done = 0;
+        while done < scratch.rects.len() {
+            let batch = (scratch.rects.len() - done).min(MAX_SUN_VIEWS);
+            // NOTE: the regions are culled as the boxes of a set of cascades, a chunk of
+            // casters at a time, so a strip costs what its casters cost, not its level's.
+            let mut set = CascadeSet {
+                count: batch,
+                light_rotation: sun.clipmap.light_rotation,
+                clipmap: true,
+                ..CascadeSet::default()
+            };
+            for (c, rect) in set.cascades.iter_mut().zip(&scratch.rects[done..done + batch]) {
+                let (lo, hi) = (rect.min.as_vec2() * level.texel, rect.max.as_vec2() * level.texel);
+                c.light_min = lo.extend(level.z_min);
+                c.light_max = hi.extend(level.z_min + level.depth);
+            }
+            scratch.masks.clear();
+            scratch.masks.resize(instances.casters.len(), 0);
+            cull_casters_chunked(
+                &set,
+                &instances.caster_centers,
+                &instances.caster_radii,
+                &instances.caster_chunks,
+                &mut scratch.masks,
+            );
+            while scratch.regions.len() < scratch.count + batch {
                 scratch.regions.push(RegionDraw::default());
             }
-            let region = &mut scratch.regions[scratch.count];
-            region.view = v;
-            region.rect = layer_rect(&rect, to, view.resolution);
-            let bounds = (rect.min.as_vec2() * level.texel, rect.max.as_vec2() * level.texel);
-            let rotation = sun.clipmap.light_rotation;
-            let reaches = |i: u32| {
-                let c = (rotation * instances.centers[i as usize]).truncate();
-                c.clamp(bounds.0, bounds.1).distance(c) <= instances.radii[i as usize]
-            };
-            region.group.clear();
-            region.list.clear();
-            for (batches, masked) in [(&entry.group.opaque, false), (&entry.group.masked, true)] {
-                for b in batches {
-                    scratch.run.clear();
-                    let members = &entry.list[b.first as usize..(b.first + b.count) as usize];
-                    scratch.run.extend(members.iter().copied().filter(|&i| reaches(i)));
-                    push_run(&mut region.group, &mut region.list, key(b, masked), &scratch.run);
+            for (r, rect) in scratch.rects[done..done + batch].iter().enumerate() {
+                let region = &mut scratch.regions[scratch.count + r];
+                region.view = v;
+                region.rect = layer_rect(rect, to, view.resolution);
+                region.group.clear();
+                region.list.clear();
+            }
+            let level_index = view.kind.index as usize;
+            for (&instance, &mask) in instances.casters.iter().zip(&scratch.masks) {
+                let mut bits = mask;
+                if bits == 0 {
+                    continue;
+                }
+                let key = lod_key(&scratch.lods, instances.keys[instance as usize], level_index);
+                while bits != 0 {
+                    let region = &mut scratch.regions[scratch.count + bits.trailing_zeros() as usize];
+                    push_instance(&mut region.group, &mut region.list, key, instance);
+                    bits &= bits - 1;
                 }
             }
-            scratch.count += 1;
+            scratch.count += batch;
+            done += batch;
         }
         *scroll = Scroll {
             from,
@@ -147,16 +182,6 @@ pub(crate) fn plan_scrolls(
     }
     std::mem::swap(&mut scratch.held, &mut scratch.next);
     scratch.count
-}
-
-/// The draw key of batch `b` (masked or not).
-fn key(b: &DrawBatch, masked: bool) -> DrawKey {
-    DrawKey {
-        masked,
-        double_sided: b.double_sided,
-        mesh: b.mesh,
-        material: b.material,
-    }
 }
 
 /// The grid texels of `level` a world box covers in the light's frame (rounded out).

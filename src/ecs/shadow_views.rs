@@ -174,6 +174,7 @@ pub fn update_shadow_views(
     let regions = plan_scrolls(
         &lights,
         &instances,
+        lods,
         &changes,
         &mut out.views,
         entries,

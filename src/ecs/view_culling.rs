@@ -221,7 +221,7 @@ pub(crate) fn cull_views(
 
 /// Fills `table` with the mesh each mesh is drawn with into each of `cascades` (its shadow
 /// LOD for the cascade's texel size and its largest caster); empty when no mesh has levels.
-fn lod_table(
+pub(crate) fn lod_table(
     lods: &ShadowLods,
     instances: &RenderInstances,
     cascades: &[Cascade],
@@ -242,7 +242,7 @@ fn lod_table(
 }
 
 /// `key` with the mesh cascade `c` draws (from [`lod_table`]'s table).
-fn lod_key(table: &[[MeshHandle; MAX_SUN_VIEWS]], key: DrawKey, c: usize) -> DrawKey {
+pub(crate) fn lod_key(table: &[[MeshHandle; MAX_SUN_VIEWS]], key: DrawKey, c: usize) -> DrawKey {
     match table.get(key.mesh.0 as usize) {
         Some(row) => DrawKey { mesh: row[c], ..key },
         None => key,
