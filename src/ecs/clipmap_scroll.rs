@@ -8,22 +8,39 @@
 //! otherwise.
 
 use bevy_ecs::entity::Entity;
+use bevy_ecs::resource::Resource;
 use glam::{I64Vec2, Vec2};
 
-use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::assets::MeshHandle;
+use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::draw_groups::{DrawGroup, push_instance};
 use crate::ecs::instances::RenderInstances;
-use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::light_views::FrameLights;
+use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::view_cache::CachedView;
 use crate::ecs::view_culling::{lod_key, lod_table};
 use crate::ecs::view_list::{Scroll, ShadowView};
-use crate::math::cascades::{CascadeSet, MAX_SUN_VIEWS};
-use crate::math::chunks::cull_casters_chunked;
 use crate::math::aabb::Aabb;
+use crate::math::cascades::{CascadeSet, MAX_SUN_VIEWS};
+use crate::math::chunks::visit_casters_chunked;
 use crate::math::clipmap::{ClipmapLevel, GridRect, exposed_strips, window};
 use crate::math::footprint::TexelRect;
+
+/// Scrolling views a renderer had to draw whole from a draw group of an earlier window
+/// ([`Scroll::fresh`] false): the render plugin lists them after a frame, and the next frame
+/// culls them again for their window.
+#[derive(Resource, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ScrollResync {
+    /// (light entity, level) of each.
+    pub views: Vec<(Entity, u32)>,
+}
+
+impl ScrollResync {
+    /// Whether the view of `entity`'s level `level` must be culled whole this frame.
+    pub fn wants(&self, entity: Entity, level: u32) -> bool {
+        self.views.contains(&(entity, level))
+    }
+}
 
 /// What a level's layer was last asked to hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,8 +74,6 @@ pub(crate) struct ScrollScratch {
     /// Valid regions.
     pub(crate) count: usize,
     rects: Vec<GridRect>,
-    /// Per caster, the regions of the batch being culled it reaches (a bit each).
-    masks: Vec<u8>,
     /// The mesh each mesh draws in the level being planned (its shadow LOD).
     lods: Vec<[MeshHandle; MAX_SUN_VIEWS]>,
 }
@@ -99,6 +114,7 @@ pub(crate) fn plan_scrolls(
             *scroll = Scroll {
                 from: to,
                 to,
+                fresh: entry.cull,
                 ..Scroll::default()
             };
             continue;
@@ -138,15 +154,6 @@ pub(crate) fn plan_scrolls(
                 c.light_min = lo.extend(level.z_min);
                 c.light_max = hi.extend(level.z_min + level.depth);
             }
-            scratch.masks.clear();
-            scratch.masks.resize(instances.casters.len(), 0);
-            cull_casters_chunked(
-                &set,
-                &instances.caster_centers,
-                &instances.caster_radii,
-                &instances.caster_chunks,
-                &mut scratch.masks,
-            );
             while scratch.regions.len() < scratch.count + batch {
                 scratch.regions.push(RegionDraw::default());
             }
@@ -158,18 +165,28 @@ pub(crate) fn plan_scrolls(
                 region.list.clear();
             }
             let level_index = view.kind.index as usize;
-            for (&instance, &mask) in instances.casters.iter().zip(&scratch.masks) {
-                let mut bits = mask;
-                if bits == 0 {
-                    continue;
-                }
-                let key = lod_key(&scratch.lods, instances.keys[instance as usize], level_index);
-                while bits != 0 {
-                    let region = &mut scratch.regions[scratch.count + bits.trailing_zeros() as usize];
-                    push_instance(&mut region.group, &mut region.list, key, instance);
-                    bits &= bits - 1;
-                }
-            }
+            let (regions, table, base) = (&mut scratch.regions, &scratch.lods, scratch.count);
+            let casters = &instances.casters;
+            visit_casters_chunked(
+                &set,
+                &instances.caster_centers,
+                &instances.caster_radii,
+                &instances.caster_chunks,
+                |start, masks| {
+                    for (&instance, &mask) in casters[start..].iter().zip(masks) {
+                        let mut bits = mask;
+                        if bits == 0 {
+                            continue;
+                        }
+                        let key = lod_key(table, instances.keys[instance as usize], level_index);
+                        while bits != 0 {
+                            let region = &mut regions[base + bits.trailing_zeros() as usize];
+                            push_instance(&mut region.group, &mut region.list, key, instance);
+                            bits &= bits - 1;
+                        }
+                    }
+                },
+            );
             scratch.count += batch;
             done += batch;
         }
@@ -178,6 +195,7 @@ pub(crate) fn plan_scrolls(
             to,
             first_region: first,
             region_count: scratch.count as u32 - first,
+            fresh: entry.cull,
         };
     }
     std::mem::swap(&mut scratch.held, &mut scratch.next);

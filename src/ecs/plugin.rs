@@ -9,6 +9,7 @@ use bevy_transform::{TransformPlugin, TransformSystems};
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::caster_changes::CasterChanges;
+use crate::ecs::clipmap_scroll::ScrollResync;
 use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::cull_view;
 use crate::ecs::draw_groups::ViewDrawGroups;
@@ -55,6 +56,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ViewportSize>()
             .init_resource::<RenderInstances>()
             .init_resource::<CasterChanges>()
+            .init_resource::<ScrollResync>()
             .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()
             .init_resource::<SeenByCamera>()

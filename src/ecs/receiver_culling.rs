@@ -45,6 +45,10 @@ pub struct ShadowCulling {
     /// Most views the device renders in one multiview pass (the render plugin sets the
     /// renderer's; without one, [`MAX_CASCADES`](crate::settings::MAX_CASCADES)).
     pub multiview_views: u32,
+    /// The renderer keeps shadow layers between frames (its shadow cache is on; the render
+    /// plugin sets it): a clipmap level's whole caster list is then made only when the
+    /// level must be drawn whole.
+    pub cached: bool,
 }
 
 impl Default for ShadowCulling {
@@ -53,6 +57,7 @@ impl Default for ShadowCulling {
             receivers: true,
             single_pass: false,
             multiview_views: crate::settings::MAX_CASCADES as u32,
+            cached: false,
         }
     }
 }

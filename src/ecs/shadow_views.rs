@@ -16,7 +16,7 @@ use glam::Mat4;
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::clipmap_scroll::plan_scrolls;
+use crate::ecs::clipmap_scroll::{ScrollResync, plan_scrolls};
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
@@ -58,6 +58,7 @@ pub fn update_shadow_views(
     meshes: Res<Meshes>,
     culling: Option<Res<ShadowCulling>>,
     lods: Option<Res<ShadowLods>>,
+    resync: Option<ResMut<ScrollResync>>,
     mut out: ResMut<ShadowViews>,
     mut stats: ResMut<ShadowStats>,
     mut scratch: Local<ViewScratch>,
@@ -66,6 +67,13 @@ pub fn update_shadow_views(
     let out = &mut *out;
     let scratch = &mut *scratch;
     let culling = culling.map_or_else(ShadowCulling::default, |c| *c);
+    // NOTE: the views the renderer asked for again are taken out, the list kept for its
+    // allocation.
+    let mut resync = resync;
+    let asked = resync.as_deref_mut().map(|r| std::mem::take(&mut r.views));
+    let resync = ScrollResync {
+        views: asked.unwrap_or_default(),
+    };
     scratch.receivers.update(&lights, &view, &instances, &meshes, culling);
     out.views.clear();
     scratch.settings.clear();
@@ -153,6 +161,7 @@ pub fn update_shadow_views(
         key: settings.map_key(),
         cull: &v.cull,
         scrolls: v.scroll.is_some(),
+        lazy: v.scroll.is_some() && culling.cached && !resync.wants(v.entity, v.kind.index),
     });
     scratch
         .cache
@@ -182,14 +191,21 @@ pub fn update_shadow_views(
     );
     // NOTE: with every view reused in the same order, last frame's groups stand as they are.
     let stale = regions > 0 || !out.regions.is_empty();
-    if culled || toggled || stale || scratch.cache.reordered || out.groups.len() != entries.len() {
+    if culled || toggled || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
         out.indices.clear();
-        out.generation += 1;
         for (entry, group) in entries.iter().zip(out.groups.iter_mut()) {
             group.append_copy(&entry.group, &entry.list, &mut out.indices);
         }
         collect_single_pass(&lights, scratch, out);
+        scratch.region_base = out.indices.len();
+        out.generation += 1;
+    }
+    if stale {
+        // NOTE: the regions' entries follow the groups'; only they are made again when the
+        // groups stand, so a level scrolling over a large field copies its strips' casters,
+        // not its whole list.
+        out.indices.truncate(scratch.region_base);
         // NOTE: regions past this frame's count wait in the spare list with their
         // allocations, so a walk whose strips come and go allocates nothing.
         while out.regions.len() > regions {
@@ -202,6 +218,7 @@ pub fn update_shadow_views(
             region.rect = draw.rect;
             region.group.append_copy(&draw.group, &draw.list, &mut out.indices);
         }
+        out.generation += 1;
     }
     stats.casters_per_view.clear();
     stats.draws_per_view.clear();

@@ -81,6 +81,11 @@ pub struct ViewInput<'a> {
     /// window is, and a caster change inside it is drawn by region where the change is
     /// known, so neither gives it a new version.
     pub scrolls: bool,
+    /// A scrolling view whose layer the renderer keeps (its cache is on and it did not ask
+    /// for the view again): its casters are culled again only when its version changes or
+    /// the instances are rebuilt, not every time its window moves (the strips it draws are
+    /// culled on their own).
+    pub lazy: bool,
 }
 
 /// Whether a change in `region` can alter what `volume` renders. Conservative: a cascade is
@@ -171,7 +176,11 @@ impl ViewCache {
             let known = changes.generation == generation && entry.generation.wrapping_add(1) == generation;
             let touched =
                 rebuilt && (!known || changes.everything || changes.regions.iter().any(|r| touches(view.cull, r)));
-            entry.cull = !same || rebuilt;
+            entry.cull = if view.lazy {
+                !drawn_alike || rebuilt
+            } else {
+                !same || rebuilt
+            };
             // NOTE: a scrolling view's content follows its grid, not its window; changes
             // drawn by region keep it too.
             let by_region = view.scrolls && known && !changes.everything;
@@ -246,6 +255,7 @@ mod tests {
             key: settings.map_key(),
             cull,
             scrolls: false,
+            lazy: false,
         }
     }
 

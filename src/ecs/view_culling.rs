@@ -50,6 +50,9 @@ pub struct ViewScratch {
     pub(crate) scrolls: ScrollScratch,
     /// Regions no longer listed, kept with their allocations.
     pub(crate) spare_regions: Vec<Region>,
+    /// Where the regions' entries start in the shadow views' index list (after the groups'
+    /// and the single-pass lists').
+    pub(crate) region_base: usize,
     pub(crate) candidates_of: Option<u32>,
 }
 

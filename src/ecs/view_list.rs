@@ -160,6 +160,10 @@ pub struct Scroll {
     pub first_region: u32,
     /// Number of regions.
     pub region_count: u32,
+    /// The view's draw group was culled this frame (for this window); otherwise it holds
+    /// the casters of an earlier window, and a renderer that must draw the view whole asks
+    /// for it again ([`ScrollResync`](crate::ecs::clipmap_scroll::ScrollResync)).
+    pub fresh: bool,
 }
 
 /// Part of a scrolling view's layer to draw again, with the casters that reach it.

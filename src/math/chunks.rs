@@ -129,6 +129,45 @@ pub fn cull_casters_chunked(
     }
 }
 
+/// [`cull_casters_chunked`] for a set of boxes that reaches few casters (a clipmap level's
+/// strips): `visit(start, masks)` is called only for the chunks some box reaches, with the
+/// cascade bits of the chunk's casters from `start` on, so the casters of the other chunks
+/// cost nothing past their chunk's test.
+pub fn visit_casters_chunked(
+    set: &CascadeSet,
+    centers: &[Vec3],
+    radii: &[f32],
+    chunks: &SphereChunks,
+    mut visit: impl FnMut(usize, &[u8]),
+) {
+    let n = centers.len().min(radii.len());
+    let boxes = CascadeBoxes::new(set);
+    let rows = set.light_rotation.transpose().to_cols_array_2d();
+    let mut masks = [0u8; CHUNK];
+    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
+        let start = k * CHUNK;
+        if start >= n {
+            break;
+        }
+        let end = (start + CHUNK).min(n);
+        let (overlap, inside) = if radius.is_finite() {
+            classify_cascades(&boxes, &rows, center, radius)
+        } else {
+            (boxes.active, 0)
+        };
+        if overlap == 0 {
+            continue;
+        }
+        let masks = &mut masks[..end - start];
+        if overlap == inside {
+            masks.fill(overlap);
+        } else {
+            cull_casters(set, &centers[start..end], &radii[start..end], masks);
+        }
+        visit(start, masks);
+    }
+}
+
 /// [`cull_spheres_frustum`] with chunk-level early decisions; `chunks` must be built from the
 /// same `centers`/`radii`. Fills `out` (cleared first) with visible indices in ascending order.
 pub fn cull_spheres_frustum_chunked(
@@ -308,6 +347,41 @@ mod tests {
         // member is inside too: no extra bits at all.
         assert_eq!(extra, 0);
         assert!(exact.iter().any(|&m| m != 0) && exact.contains(&0));
+    }
+
+    #[test]
+    fn visiting_the_reached_chunks_gives_the_chunked_masks() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        let set = compute_cascades(&CascadeInput {
+            camera: camera(),
+            light_direction: Vec3::new(0.3, -0.8, 0.2),
+            scene_bounds: Aabb::new(Vec3::splat(-210.0), Vec3::splat(210.0)),
+            receiver_bounds: Aabb::EMPTY,
+            count: 2,
+            split_lambda: 0.6,
+            max_distance: 40.0,
+            resolution: 2048,
+            fit: CascadeFit::Tight,
+            angular_diameter: 0.01,
+            blend_width: 0.0,
+            seen: None,
+        });
+        let mut chunked = vec![0u8; centers.len()];
+        cull_casters_chunked(&set, &centers, &radii, &chunks, &mut chunked);
+        let mut visited = vec![0u8; centers.len()];
+        let mut calls = 0;
+        visit_casters_chunked(&set, &centers, &radii, &chunks, |start, masks| {
+            visited[start..start + masks.len()].copy_from_slice(masks);
+            calls += 1;
+        });
+        assert_eq!(visited, chunked);
+        let reached = chunked.chunks(CHUNK).filter(|c| c.iter().any(|&m| m != 0)).count();
+        assert!(
+            calls >= reached && calls < chunks.centers.len(),
+            "{calls} of {} chunks visited",
+            chunks.centers.len()
+        );
     }
 
     #[test]

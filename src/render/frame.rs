@@ -1,6 +1,8 @@
 //! What one frame is rendered from: the ECS data ([`FrameInputs`]) and what a render-graph
 //! node sees while recording ([`FrameContext`]).
 
+use bevy_ecs::entity::Entity;
+
 use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::ShadowViews;
@@ -56,4 +58,7 @@ pub struct FrameContext<'a> {
     pub pipeline_error: &'a mut Option<String>,
     /// The depth-bounds reduction's readback ring.
     pub seen: &'a mut SeenReadback,
+    /// Scrolling views drawn whole from a draw group of an earlier window this frame
+    /// (light entity, level): culling is asked for them again.
+    pub scroll_resync: &'a mut Vec<(Entity, u32)>,
 }

@@ -8,6 +8,7 @@ use bevy_ecs::system::Local;
 use bevy_ecs::system::{Res, ResMut};
 use bevy_ecs::world::World;
 
+use crate::ecs::clipmap_scroll::ScrollResync;
 use crate::ecs::components::ViewportSize;
 use crate::ecs::plugin::ShadowSystems;
 use crate::ecs::receiver_culling::ShadowCulling;
@@ -30,7 +31,8 @@ impl Plugin for RenderPlugin {
 }
 
 /// Hands culling what the renderer can do and was asked ([`ShadowCulling::single_pass`],
-/// [`ShadowCulling::multiview_views`]) before this frame's lists are made.
+/// [`ShadowCulling::multiview_views`], [`ShadowCulling::cached`]) before this frame's lists
+/// are made.
 pub fn sync_culling(
     options: Option<Res<RenderOptions>>,
     renderer: Option<Res<Renderer>>,
@@ -39,11 +41,13 @@ pub fn sync_culling(
     let (Some(renderer), Some(mut culling)) = (renderer, culling) else {
         return;
     };
-    let asked = options.is_some_and(|o| o.single_pass_cascades);
+    let asked = options.as_ref().is_some_and(|o| o.single_pass_cascades);
+    let cached = options.as_ref().is_none_or(|o| o.shadow_cache);
     let views = renderer.gpu.multiview_views;
-    if (culling.single_pass, culling.multiview_views) != (asked, views) {
+    if (culling.single_pass, culling.multiview_views, culling.cached) != (asked, views, cached) {
         culling.single_pass = asked;
         culling.multiview_views = views;
+        culling.cached = cached;
     }
 }
 
@@ -59,6 +63,9 @@ pub fn render_frame(world: &mut World, mut frame_index: Local<u32>) {
             world.insert_resource(ViewportSize { width, height });
         }
         renderer.render(&FrameInputs::from_world(world, *frame_index));
+        if let Some(mut resync) = world.get_resource_mut::<ScrollResync>() {
+            resync.views.extend(renderer.take_scroll_resync());
+        }
         publish_seen_depths(world, &renderer);
     });
     *frame_index = frame_index.wrapping_add(1);

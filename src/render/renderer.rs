@@ -53,6 +53,8 @@ pub struct Renderer {
     msaa_warned: Option<(Msaa, wgpu::TextureFormat)>,
     /// The depth-bounds reduction's readback ring (the depths the camera saw).
     seen: SeenReadback,
+    /// The scrolling views the last frame drew whole from an earlier window's casters.
+    scroll_resync: Vec<(bevy_ecs::entity::Entity, u32)>,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -131,6 +133,7 @@ impl Renderer {
             problems: UploadProblems::default(),
             msaa_warned: None,
             seen: SeenReadback::default(),
+            scroll_resync: Vec::new(),
             last_report: FrameReport::default(),
         }
     }
@@ -144,6 +147,12 @@ impl Renderer {
     pub fn shadow_map_resolution(&self) -> Option<u32> {
         let maps = self.shadows.array(ShadowStorage::Cascades);
         (!maps.placeholder).then_some(maps.side)
+    }
+
+    /// The scrolling views (light entity, clipmap level) the last frame had to draw whole from
+    /// a caster list of an earlier window; taken, so the next frame's culling remakes them.
+    pub fn take_scroll_resync(&mut self) -> impl Iterator<Item = (bevy_ecs::entity::Entity, u32)> + '_ {
+        self.scroll_resync.drain(..)
     }
 
     /// Side of the spot lights' shadow maps (None until a spot light has cast a shadow).
@@ -340,6 +349,7 @@ impl Renderer {
             .gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        self.scroll_resync.clear();
         let mut ctx = FrameContext {
             gpu: &self.gpu,
             layouts: &self.layouts,
@@ -360,6 +370,7 @@ impl Renderer {
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
             seen: &mut self.seen,
+            scroll_resync: &mut self.scroll_resync,
         };
         if input.view.camera.is_some() && drawable {
             self.graph.execute(&mut ctx, &mut encoder);

@@ -54,6 +54,10 @@ impl DepthPass {
                 })
             });
         if !shifted {
+            if !scroll.fresh {
+                let view = &ctx.shadow_views.views[v];
+                ctx.scroll_resync.push((view.entity, view.kind.index));
+            }
             if self.claim(ctx, v) {
                 let group = &ctx.shadow_views.groups[v];
                 self.draw(ctx, encoder, v, 1, group);
