@@ -3,7 +3,8 @@
 # cascades"): the long field and the default scene at 1920×1080 with four 2048² cascades and a
 # 6-level clipmap of 1672² levels (the same texels), still, translating 1 m a frame, turning
 # 2° a frame, with every map drawn every frame, and with PCF, PCSS and EVSM2; the 100k field
-# translating; and the bench's errors for both layouts.
+# translating (five runs each, for the CPU's culling time); and the bench's errors for both
+# layouts.
 #
 #   bash docs/bench/clipmap.sh [PENUMBRA] [OUT]
 #
@@ -31,7 +32,9 @@ for scene in assets/bench/long_field.ron assets/scenes/default.ron; do
 done
 for layout in casc clip; do
   if [ $layout = casc ]; then L=$CASC; else L=$CLIP; fi
-  render assets/scenes/field.ron $L --camera-step 0,0,-1 > "$OUT/field-$layout-move.txt"
+  for i in 1 2 3 4 5; do
+    render assets/scenes/field.ron $L --camera-step 0,0,-1 > "$OUT/field-$layout-move-$i.txt"
+  done
 done
 S="assets/bench/long_field.ron assets/scenes/default.ron"
 "$BIN" bench --scenes $S --presets pcf2,pcss-medium,evsm-fp32 --resolution 2048 --out "$OUT/bench-casc"
