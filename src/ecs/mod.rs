@@ -13,6 +13,7 @@ pub mod instances;
 pub mod light_checks;
 pub mod light_views;
 pub mod lights;
+pub mod lod_table;
 pub mod origin;
 pub mod placement;
 pub mod plugin;

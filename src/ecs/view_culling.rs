@@ -8,18 +8,17 @@ use bevy_ecs::entity::Entity;
 
 use crate::ecs::assets::MeshHandle;
 use crate::ecs::clipmap_scroll::ScrollScratch;
-use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::draw_groups::push_instance;
 use crate::ecs::footprints::add_chunk_footprint;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
+use crate::ecs::lod_table::{lod_key, lod_table};
 use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
 use crate::ecs::view_list::{CullVolume, Region, ShadowView, ShadowViews};
 use crate::layout::ShadowStorage;
-use crate::math::cascades::Cascade;
 use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked, cull_spheres_sphere_chunked};
 use crate::math::footprint::{ClipProjector, TileMask};
@@ -220,36 +219,6 @@ pub(crate) fn cull_views(
         end_cull(entry);
     }
     culled
-}
-
-/// Fills `table` with the mesh each mesh is drawn with into each of `cascades` (its shadow
-/// LOD for the cascade's texel size and its largest caster); empty when no mesh has levels.
-pub(crate) fn lod_table(
-    lods: &ShadowLods,
-    instances: &RenderInstances,
-    cascades: &[Cascade],
-    table: &mut Vec<[MeshHandle; MAX_SUN_VIEWS]>,
-) {
-    table.clear();
-    if lods.is_empty() {
-        return;
-    }
-    for (m, &radius) in instances.mesh_caster_radius.iter().enumerate() {
-        let mesh = MeshHandle(m as u32);
-        let mut row = [mesh; MAX_SUN_VIEWS];
-        for (slot, cascade) in row.iter_mut().zip(cascades) {
-            *slot = lods.pick(mesh, radius, cascade.texel_world_size);
-        }
-        table.push(row);
-    }
-}
-
-/// `key` with the mesh cascade `c` draws (from [`lod_table`]'s table).
-pub(crate) fn lod_key(table: &[[MeshHandle; MAX_SUN_VIEWS]], key: DrawKey, c: usize) -> DrawKey {
-    match table.get(key.mesh.0 as usize) {
-        Some(row) => DrawKey { mesh: row[c], ..key },
-        None => key,
-    }
 }
 
 /// Empties a view's list and group for culling, keeping the last list to compare.
