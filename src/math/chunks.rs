@@ -316,24 +316,29 @@ mod tests {
         assert_eq!(SphereChunks::build(&bad, &radii).radii[1], f32::INFINITY);
     }
 
-    #[test]
-    fn chunked_cascade_culling_keeps_every_exact_hit() {
-        let (centers, radii) = grid();
-        let chunks = SphereChunks::build(&centers, &radii);
-        let set = compute_cascades(&CascadeInput {
+    /// `count` cascades to `max_distance` of the test camera over the grid.
+    fn cascades(count: usize, max_distance: f32) -> CascadeSet {
+        compute_cascades(&CascadeInput {
             camera: camera(),
             light_direction: Vec3::new(0.3, -0.8, 0.2),
             scene_bounds: Aabb::new(Vec3::splat(-210.0), Vec3::splat(210.0)),
             receiver_bounds: Aabb::EMPTY,
-            count: 4,
+            count,
             split_lambda: 0.6,
-            max_distance: 150.0,
+            max_distance,
             resolution: 2048,
             fit: CascadeFit::Tight,
             angular_diameter: 0.01,
             blend_width: 0.0,
             seen: None,
-        });
+        })
+    }
+
+    #[test]
+    fn chunked_cascade_culling_keeps_every_exact_hit() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        let set = cascades(4, 150.0);
         let mut exact = vec![0u8; centers.len()];
         let mut chunked = vec![0u8; centers.len()];
         cull_casters(&set, &centers, &radii, &mut exact);
@@ -353,20 +358,7 @@ mod tests {
     fn visiting_the_reached_chunks_gives_the_chunked_masks() {
         let (centers, radii) = grid();
         let chunks = SphereChunks::build(&centers, &radii);
-        let set = compute_cascades(&CascadeInput {
-            camera: camera(),
-            light_direction: Vec3::new(0.3, -0.8, 0.2),
-            scene_bounds: Aabb::new(Vec3::splat(-210.0), Vec3::splat(210.0)),
-            receiver_bounds: Aabb::EMPTY,
-            count: 2,
-            split_lambda: 0.6,
-            max_distance: 40.0,
-            resolution: 2048,
-            fit: CascadeFit::Tight,
-            angular_diameter: 0.01,
-            blend_width: 0.0,
-            seen: None,
-        });
+        let set = cascades(2, 40.0);
         let mut chunked = vec![0u8; centers.len()];
         cull_casters_chunked(&set, &centers, &radii, &chunks, &mut chunked);
         let mut visited = vec![0u8; centers.len()];

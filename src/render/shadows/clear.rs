@@ -11,6 +11,18 @@ use std::num::NonZeroU32;
 use crate::render::shadows::storage::SHADOW_FORMAT;
 use crate::shader::ShaderLibrary;
 
+/// The depth state of a pass that writes every texel it covers whatever it held (a clear, a
+/// clipmap level's shift): depth test `Always`, writes on, no bias.
+pub fn overwrite_depth() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: SHADOW_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Always),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
+    }
+}
+
 /// Built clear pipelines, by multiview view count.
 #[derive(Default)]
 pub struct ClearPipelines {
@@ -51,13 +63,7 @@ impl ClearPipelines {
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: SHADOW_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
+                depth_stencil: Some(overwrite_depth()),
                 multisample: wgpu::MultisampleState::default(),
                 fragment: None,
                 multiview_mask: NonZeroU32::new((1 << views) - 1),

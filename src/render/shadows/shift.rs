@@ -11,6 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::IVec2;
 
 use crate::render::layouts::entry;
+use crate::render::shadows::clear::overwrite_depth;
 use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
 use crate::render::target::texture_2d;
 use crate::shader::ShaderLibrary;
@@ -235,13 +236,7 @@ fn create(
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: SHADOW_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Always),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }),
+        depth_stencil: Some(overwrite_depth()),
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
             module: &shader,
