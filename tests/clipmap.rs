@@ -10,6 +10,7 @@ mod common;
 use common::rays::Aabb;
 use common::suns::{Device, GROUND, visibility};
 use glam::Vec3;
+use penumbra::settings::ShadowMode;
 
 /// The clipmap every test here uses: 4 levels, the finest 8 m wide (texels of 8 mm at the
 /// default 1024² of these tests).
@@ -120,6 +121,11 @@ fn every_filter_on_the_clipmap_puts_the_shadow_where_the_rays_do() {
 /// The long field with its sun on a 6-level clipmap of `resolution`² levels (the cache on
 /// or off), rendered once.
 fn long_field_with(resolution: u32, cache: bool) -> bevy_app::App {
+    long_field_filtered(resolution, cache, ShadowMode::Pcf)
+}
+
+/// [`long_field_with`], its sun filtered with `mode` (moments without contact hardening).
+fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> bevy_app::App {
     use penumbra::render::RenderOptions;
     use penumbra::settings::{ShadowSettings, SunLayout};
     let renderer = penumbra::render::Renderer::headless(160, 90)
@@ -133,6 +139,9 @@ fn long_field_with(resolution: u32, cache: bool) -> bevy_app::App {
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
         s.map.resolution = resolution;
+        s.filter.mode = mode;
+        // NOTE: every pixel then reads the moments (no depth comparison at casters' feet).
+        s.filter.moments.contact_hardening = false;
         s.map.layout = SunLayout::Clipmap {
             levels: 6,
             level0_extent: 32.0,
@@ -315,4 +324,39 @@ fn a_moving_caster_redraws_only_where_it_was_and_is() {
             "level {layer}: {differ} texels differ from a level drawn whole"
         );
     }
+}
+
+#[test]
+fn a_scrolled_evsm_clipmap_shades_as_one_drawn_whole() {
+    use penumbra::render::Renderer;
+    let mut apps = [
+        long_field_filtered(512, true, ShadowMode::Evsm),
+        long_field_filtered(512, false, ShadowMode::Evsm),
+    ];
+    for step in [
+        Vec3::new(0.4, 0.0, -1.3),
+        Vec3::new(-0.9, 0.0, -0.6),
+        Vec3::new(0.2, 0.0, -1.7),
+    ] {
+        for app in &mut apps {
+            walk(app, step, 0.0);
+            app.update();
+        }
+    }
+    let scrolled = apps[0].world().resource::<Renderer>();
+    assert!(scrolled.last_report.shadow_views_scrolled > 0, "no level scrolled");
+    let (a, b) = (
+        scrolled.read_image(),
+        apps[1].world().resource::<Renderer>().read_image(),
+    );
+    let differ = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(x, y)| x.0.iter().zip(y.0).any(|(p, q)| p.abs_diff(q) > 2))
+        .count();
+    println!("{differ} of {} pixels differ by more than 2 levels", a.len() / 4);
+    assert_eq!(
+        differ, 0,
+        "the scrolled levels' moments are not those of levels drawn whole"
+    );
 }

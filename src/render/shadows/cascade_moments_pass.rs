@@ -336,7 +336,10 @@ impl CascadeMomentsPass {
                 self.held.resize(slot + 1, (0, [0.0; 6]));
             }
             let made = (view.version, params);
-            if self.cache && self.held[slot] == made {
+            // NOTE: a scrolling clipmap level keeps its version while its texels move or its
+            // regions are drawn again; its moments follow the depth it holds this frame.
+            let redrawn = view.scroll.is_some_and(|s| s.from != s.to || s.region_count > 0);
+            if self.cache && self.held[slot] == made && !redrawn {
                 continue;
             }
             self.held[slot] = made;
