@@ -6,11 +6,16 @@
 //! moves is drawn again only where it was and is.
 
 mod common;
+// NOTE: this test draws only raw bits from the shared generator.
+#[allow(dead_code)]
+#[path = "common/xorshift.rs"]
+mod xorshift;
 
 use common::rays::Aabb;
 use common::suns::{Device, GROUND, visibility};
 use glam::Vec3;
 use penumbra::settings::ShadowMode;
+use xorshift::Xorshift;
 
 /// The clipmap every test here uses: 4 levels, the finest 8 m wide (texels of 8 mm at the
 /// default 1024² of these tests).
@@ -207,13 +212,8 @@ fn a_scrolled_clipmap_equals_one_drawn_whole_texel_for_texel() {
     let mut scrolled = long_field_with(resolution, true);
     let mut whole = long_field_with(resolution, false);
     let level_texels = u64::from(resolution).pow(2);
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut range = |lo: f32, hi: f32| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        lo + (hi - lo) * (seed >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+    let mut range = |lo: f32, hi: f32| lo + (hi - lo) * (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
     let (mut frames, mut moved) = (0, 0);
     for _ in 0..10 {
         let step = Vec3::new(range(-1.5, 1.5), 0.0, range(-2.0, 0.5));

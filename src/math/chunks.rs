@@ -107,26 +107,10 @@ pub fn cull_casters_chunked(
     chunks: &SphereChunks,
     masks: &mut [u8],
 ) {
-    let n = centers.len().min(radii.len()).min(masks.len());
-    let boxes = CascadeBoxes::new(set);
-    let rows = set.light_rotation.transpose().to_cols_array_2d();
-    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
-        let start = k * CHUNK;
-        if start >= n {
-            break;
-        }
-        let end = (start + CHUNK).min(n);
-        let (overlap, inside) = if radius.is_finite() {
-            classify_cascades(&boxes, &rows, center, radius)
-        } else {
-            (boxes.active, 0)
-        };
-        if overlap == 0 || overlap == inside {
-            masks[start..end].fill(overlap);
-        } else {
-            cull_casters(set, &centers[start..end], &radii[start..end], &mut masks[start..end]);
-        }
-    }
+    masks.fill(0);
+    visit_casters_chunked(set, centers, radii, chunks, |start, bits| {
+        masks[start..start + bits.len()].copy_from_slice(bits);
+    });
 }
 
 /// [`cull_casters_chunked`] for a set of boxes that reaches few casters (a clipmap level's

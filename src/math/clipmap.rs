@@ -140,28 +140,22 @@ pub fn compute_clipmap(input: &ClipmapInput) -> ClipmapSet {
             texel: texel as f32,
             z_min: z_min as f32,
             depth: depth as f32,
-            clip_from_world: level_clip_from_world(rotation, first_texel, resolution, texel, z_min, depth),
+            clip_from_world: region_clip_from_world(
+                rotation,
+                first_texel,
+                I64Vec2::splat(resolution),
+                texel,
+                z_min,
+                depth,
+            ),
         };
     }
     set
 }
 
-/// Light clip space from world of the window `[first, first + resolution)` texels of size
-/// `texel` and the depth range `[z_min, z_min + depth]`.
-fn level_clip_from_world(rotation: Mat3, first: I64Vec2, resolution: i64, texel: f64, z_min: f64, depth: f64) -> Mat4 {
-    region_clip_from_world(rotation, first, I64Vec2::splat(resolution), texel, z_min, depth)
-}
-
 /// Light clip space from world of the region of `size` texels starting at grid texel `first`
-/// (what one draw of part of a level renders into its viewport), depth as the level's.
-pub fn region_clip_from_world(
-    rotation: Mat3,
-    first: I64Vec2,
-    size: I64Vec2,
-    texel: f64,
-    z_min: f64,
-    depth: f64,
-) -> Mat4 {
+/// and the depth range `[z_min, z_min + depth]`.
+fn region_clip_from_world(rotation: Mat3, first: I64Vec2, size: I64Vec2, texel: f64, z_min: f64, depth: f64) -> Mat4 {
     let rot = rotation.as_dmat3();
     // NOTE: clip = 2·(x_l − first·texel)/(size·texel) − 1, formed from the integer indices.
     let width = size.as_dvec2() * texel;
