@@ -3,7 +3,8 @@
 //! near the camera and in coarser levels farther out; turning the camera changes no level and
 //! draws nothing; moving it moves each level's texels and draws only the strips newly
 //! covered, and after a walk the levels hold what levels drawn whole hold; a caster that
-//! moves is drawn again only where it was and is.
+//! moves is drawn again only where it was and is; a scrolled EVSM clipmap shades as one drawn
+//! whole; and a render request moves its camera between frames.
 
 mod common;
 // NOTE: this test draws only raw bits from the shared generator.
@@ -359,4 +360,44 @@ fn a_scrolled_evsm_clipmap_shades_as_one_drawn_whole() {
         differ, 0,
         "the scrolled levels' moments are not those of levels drawn whole"
     );
+}
+
+#[test]
+fn a_render_request_moves_its_camera_between_frames() {
+    use penumbra::app::{CameraMotion, RenderRequest, render_scene_with};
+    use penumbra::render::RenderOptions;
+    use penumbra::scene::SceneDesc;
+    use penumbra::settings::{ShadowSettings, SunLayout};
+    let desc = SceneDesc::load("assets/scenes/default.ron").expect("the default scene");
+    let clipmap = |s: &mut ShadowSettings| {
+        s.map.resolution = 512;
+        s.map.layout = SunLayout::Clipmap {
+            levels: 4,
+            level0_extent: 16.0,
+        };
+    };
+    let scrolled = |camera_motion| {
+        let frame = render_scene_with(
+            &desc,
+            &RenderRequest {
+                width: 64,
+                height: 36,
+                frames: 3,
+                tweak: Some(&clipmap),
+                analysis: false,
+                options: RenderOptions::default(),
+                shadow_budget: None,
+                count_fragments: false,
+                camera_motion,
+            },
+        )
+        .expect(common::INSTALL);
+        frame.frames.iter().map(|f| f.shadow_views_scrolled).collect::<Vec<_>>()
+    };
+    assert_eq!(scrolled(CameraMotion::default()), [0, 0, 0]);
+    let walked = scrolled(CameraMotion {
+        step: Vec3::new(0.0, 0.0, -1.0),
+        turn_degrees: 0.0,
+    });
+    assert_eq!(walked, [0, 4, 4], "levels scrolled per frame");
 }

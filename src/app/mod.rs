@@ -8,7 +8,7 @@ mod spawn;
 pub use spawn::{PreparedScene, SceneEntity, SpawnError, despawn_scene, spawn_scene};
 
 use bevy_app::App;
-use bevy_ecs::query::With;
+use bevy_ecs::query::{QueryState, With};
 use bevy_ecs::world::World;
 use bevy_transform::components::Transform;
 use glam::Vec3;
@@ -169,9 +169,8 @@ pub struct CameraMotion {
     pub turn_degrees: f32,
 }
 
-/// Moves every camera of `world` by `motion`.
-fn move_cameras(world: &mut World, motion: CameraMotion) {
-    let mut cameras = world.query_filtered::<&mut Transform, With<Camera3d>>();
+/// Moves every camera of `world` (found by `cameras`, made once per render) by `motion`.
+fn move_cameras(world: &mut World, cameras: &mut QueryState<&mut Transform, With<Camera3d>>, motion: CameraMotion) {
     for mut t in cameras.iter_mut(world) {
         t.translation += motion.step;
         t.rotate_y(motion.turn_degrees.to_radians());
@@ -214,9 +213,10 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     let mut warnings = prepared.warnings().to_vec();
     let instances = prepared.spawn(app.world_mut());
     let mut reports = Vec::new();
+    let mut cameras = app.world_mut().query_filtered::<&mut Transform, With<Camera3d>>();
     for frame in 0..frames.max(1) {
         if frame > 0 && request.camera_motion != CameraMotion::default() {
-            move_cameras(app.world_mut(), request.camera_motion);
+            move_cameras(app.world_mut(), &mut cameras, request.camera_motion);
         }
         app.update();
         // NOTE: the lights it names cast no shadow and nothing was allocated for them; a
