@@ -10,6 +10,7 @@ use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::ShadowViews;
 use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
+use penumbra::layout::ShadowStorage;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
 use penumbra::settings::{ShadowMode, ShadowSettings};
@@ -118,7 +119,7 @@ fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
     choose(&mut h, "resolution", "1024");
     assert_eq!(settings(&mut h).map.resolution, 1024);
     h.state_mut().app.update();
-    assert_eq!(renderer(&h).shadow_map_resolution(), Some(1024));
+    assert_eq!(renderer(&h).storage_resolution(ShadowStorage::Cascades), Some(1024));
     assert_eq!(renderer(&h).counters().shadow_maps, before.shadow_maps + 1);
 }
 
@@ -159,7 +160,7 @@ fn the_memory_budget_slider_lowers_the_maps_and_the_account_shows_it() {
     h.run();
     h.state_mut().app.update();
     h.run();
-    assert_eq!(renderer(&h).shadow_map_resolution(), Some(1024));
+    assert_eq!(renderer(&h).storage_resolution(ShadowStorage::Cascades), Some(1024));
     assert!(
         h.query_by_label("directional light sun: 4 × 1024² (asked 2048²), 16.0 MiB")
             .is_some()

@@ -2,7 +2,8 @@
 //! then settings / layout descriptions / text, the shader library and meshes, the ECS, the
 //! renderer, and the front ends (scenes, files, the viewer, the bench) on top. Edges are read
 //! from `crate::` paths in the source (comments and test modules left out), resolved to the
-//! longest module path that exists.
+//! longest module path that exists. Only the layout descriptions (`src/layout`) match on a
+//! shadow storage.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -169,4 +170,47 @@ fn the_modules_import_each_other_without_cycles() {
     planted.get_mut("math::aabb").unwrap().insert("math::frustum".into());
     planted.get_mut("math::frustum").unwrap().insert("math::aabb".into());
     assert_eq!(cycles(&planted).len(), 1, "a planted cycle is found");
+}
+
+/// The patterns of match arms on a shadow storage (`ShadowStorage::Spots =>`, and each of an
+/// or-pattern) in `text`, outside comments and `mod tests`.
+fn storage_arms(text: &str) -> usize {
+    let code = text.split("#[cfg(test)]\nmod tests").next().unwrap_or(text);
+    let mut arms = 0;
+    for line in code.lines().filter(|l| !l.trim_start().starts_with("//")) {
+        for (i, _) in line.match_indices("ShadowStorage::") {
+            let rest = line[i + 15..].trim_start_matches(|c: char| c.is_alphanumeric() || c == '_');
+            let rest = rest.trim_start();
+            arms += usize::from(rest.starts_with("=>") || rest.starts_with("| ShadowStorage::"));
+        }
+    }
+    arms
+}
+
+#[test]
+fn only_the_layout_descriptions_match_on_a_storage() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut outside = Vec::new();
+    let mut inside = 0;
+    for file in &files {
+        let arms = storage_arms(&std::fs::read_to_string(file).unwrap());
+        if module_of(&src, file).starts_with("layout") {
+            inside += arms;
+        } else if arms > 0 {
+            outside.push((module_of(&src, file), arms));
+        }
+    }
+    assert!(
+        outside.is_empty(),
+        "matches on ShadowStorage outside src/layout: {outside:?}"
+    );
+    assert!(
+        inside >= 3,
+        "{inside} storage arms read in src/layout (its description has one per storage)"
+    );
+    let planted =
+        "match s {\n    ShadowStorage::Spots => 1,\n    ShadowStorage::Points | ShadowStorage::Cascades => 2,\n}";
+    assert_eq!(storage_arms(planted), 3, "each pattern of a planted match is found");
 }

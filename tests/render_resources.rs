@@ -5,6 +5,7 @@
 use bevy_app::App;
 use image::RgbaImage;
 use penumbra::app::{headless_app, spawn_scene};
+use penumbra::layout::ShadowStorage;
 use penumbra::render::Renderer;
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
@@ -49,7 +50,7 @@ fn cascade_count_recreates_nothing_and_resolution_only_the_shadow_map() {
     app.update();
     let before = renderer(&app).counters();
     assert_eq!(before.shadow_maps, 1, "{before:?}");
-    assert_eq!(renderer(&app).shadow_map_resolution(), Some(2048));
+    assert_eq!(renderer(&app).storage_resolution(ShadowStorage::Cascades), Some(2048));
 
     settings(&mut app, |s| s.map.cascades.count = 2);
     app.update();
@@ -63,7 +64,7 @@ fn cascade_count_recreates_nothing_and_resolution_only_the_shadow_map() {
     settings(&mut app, |s| s.map.resolution = 1024);
     app.update();
     let after = renderer(&app).counters();
-    assert_eq!(renderer(&app).shadow_map_resolution(), Some(1024));
+    assert_eq!(renderer(&app).storage_resolution(ShadowStorage::Cascades), Some(1024));
     assert_eq!(after.shadow_maps, before.shadow_maps + 1);
     // Both shadow bind groups sample the maps: the resolve's and the lighting pass's (which
     // also binds the resolved visibility).

@@ -10,6 +10,7 @@ pub mod draw_groups;
 pub mod footprints;
 pub mod frame_lights;
 pub mod instances;
+pub mod layout_views;
 pub mod light_checks;
 pub mod light_views;
 pub mod lights;

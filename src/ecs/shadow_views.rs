@@ -1,6 +1,7 @@
 //! Shadow views: every view a shadow map is rendered from this frame — each cascade of each
-//! shadowed sun, each shadowed spot light, each cube face of each shadowed point light — in
-//! one list ([`ShadowViews`]), with the casters of
+//! shadowed sun, each shadowed spot light, each cube face of each shadowed point light, as
+//! their layouts make them ([`crate::ecs::layout_views`]) — in one list ([`ShadowViews`]),
+//! with the casters of
 //! each culled into its own draw group. Nothing here has a fixed count: the lists grow with
 //! the lights, keep their capacity between frames, and allocate nothing once the scene has
 //! been seen.
@@ -19,6 +20,7 @@ use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::clipmap_scroll::{ScrollResync, plan_scrolls};
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::layout_views::{ViewSink, push_views};
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
@@ -27,11 +29,8 @@ use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_cache::ViewInput;
 use crate::ecs::view_culling::{ViewScratch, collect_single_pass, cull_views};
-use crate::ecs::view_list::{CullVolume, Scroll, ShadowView, ShadowViewKind, ShadowViews};
+use crate::ecs::view_list::ShadowViews;
 pub use crate::layout::ShadowStorage;
-use crate::math::footprint::TileMask;
-use crate::math::light_budget::LightKind;
-use crate::math::point::FACES;
 
 /// A scrolling view's matrix with its window moved to the grid's origin: what its texels
 /// hold does not depend on where the window is (`math::clipmap`: the window only adds a
@@ -77,79 +76,11 @@ pub fn update_shadow_views(
     scratch.receivers.update(&lights, &view, &instances, &meshes, culling);
     out.views.clear();
     scratch.settings.clear();
-    let mut cascade_slot = 0;
-    for (i, sun) in lights.suns.iter().enumerate() {
-        let set = &sun.cascades;
-        let culled = scratch.receivers.set(i);
-        for (c, (cascade, cull)) in set.active().iter().zip(culled.active()).enumerate() {
-            out.views.push(ShadowView {
-                entity: sun.entity,
-                light_kind: LightKind::Directional,
-                light: lights.light_index(LightKind::Directional, i) as u32,
-                kind: ShadowViewKind::cascade(c as u32),
-                clip_from_world: cascade.clip_from_world,
-                cull: CullVolume::LightBox {
-                    light_rotation: set.light_rotation,
-                    min: cull.light_min,
-                    max: cull.light_max,
-                },
-                slot: cascade_slot,
-                resolution: sun.resolution,
-                footprint: TileMask::EMPTY,
-                version: 0,
-                scroll: set.clipmap.then(|| {
-                    let window = sun.clipmap.levels[c].first_texel;
-                    Scroll {
-                        from: window,
-                        to: window,
-                        ..Scroll::default()
-                    }
-                }),
-            });
-            scratch.settings.push(sun.settings);
-            cascade_slot += 1;
-        }
-    }
-    let mut spot_slot = 0;
-    for (i, spot) in lights.spots.iter().enumerate() {
-        let Some(shadow) = &spot.shadow else { continue };
-        out.views.push(ShadowView {
-            entity: spot.entity,
-            light_kind: LightKind::Spot,
-            light: lights.light_index(LightKind::Spot, i) as u32,
-            kind: ShadowViewKind::SPOT,
-            clip_from_world: shadow.clip_from_world,
-            cull: CullVolume::Frustum(shadow.frustum),
-            slot: spot_slot,
-            resolution: spot.resolution,
-            footprint: TileMask::EMPTY,
-            version: 0,
-            scroll: None,
-        });
-        scratch.settings.push(spot.settings);
-        spot_slot += 1;
-    }
-    let mut point_slot = 0;
-    for (i, point) in lights.points.iter().enumerate() {
-        let Some(shadow) = &point.shadow else { continue };
-        for face in 0..FACES {
-            out.views.push(ShadowView {
-                entity: point.entity,
-                light_kind: LightKind::Point,
-                light: lights.light_index(LightKind::Point, i) as u32,
-                kind: ShadowViewKind::point_face(face as u32),
-                clip_from_world: shadow.faces[face],
-                cull: CullVolume::Frustum(shadow.frusta[face]),
-                slot: point_slot,
-                resolution: point.resolution,
-                footprint: TileMask::EMPTY,
-                version: 0,
-                scroll: None,
-            });
-            scratch.settings.push(point.settings);
-            point_slot += 1;
-        }
-    }
+    let mut sink = ViewSink {
+        views: &mut out.views,
+        settings: &mut scratch.settings,
+    };
+    push_views(&lights, &scratch.receivers, &mut sink);
     let inputs = out.views.iter().zip(&scratch.settings).map(|(v, settings)| ViewInput {
         entity: v.entity,
         kind: v.kind,

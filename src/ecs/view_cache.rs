@@ -108,7 +108,7 @@ pub fn touches(volume: &CullVolume, region: &Aabb) -> bool {
             let overlap = |a0: f32, a1: f32, b0: f32, b1: f32| a0 <= b1 && b0 <= a1;
             overlap(light.min.x, light.max.x, min.x, max.x) && overlap(light.min.y, light.max.y, min.y, max.y)
         }
-        CullVolume::Frustum(frustum) => frustum.intersects_aabb(region),
+        CullVolume::Frustum(frustum) | CullVolume::CubeFace { frustum, .. } => frustum.intersects_aabb(region),
     }
 }
 

@@ -18,7 +18,6 @@ use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
 use crate::ecs::view_list::{CullVolume, Region, ShadowView, ShadowViews};
-use crate::layout::ShadowStorage;
 use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunks::{CHUNK, cull_casters_chunked, cull_spheres_frustum_chunked, cull_spheres_sphere_chunked};
 use crate::math::footprint::{ClipProjector, TileMask};
@@ -165,8 +164,14 @@ pub(crate) fn cull_views(
     }
     scratch.candidates_of = None;
     for (view, entry) in views.iter().zip(entries.iter_mut()).skip(first) {
-        let CullVolume::Frustum(frustum) = &view.cull else {
-            continue;
+        let (frustum, reach) = match view.cull {
+            CullVolume::Frustum(frustum) => (frustum, None),
+            CullVolume::CubeFace {
+                frustum,
+                center,
+                radius,
+            } => (frustum, Some((center, radius))),
+            CullVolume::LightBox { .. } => continue,
         };
         if !entry.cull {
             continue;
@@ -174,12 +179,11 @@ pub(crate) fn cull_views(
         culled = true;
         start_cull(entry);
         let (centers, radii) = (&instances.caster_centers, &instances.caster_radii);
-        match (view.kind.storage, lights.point_at(view.light)) {
-            // NOTE: a point light's faces are culled from the casters within its reach, found
-            // once for the six of them.
-            (ShadowStorage::Points, Some(point)) => {
+        match reach {
+            // NOTE: a cube face is culled from the casters within its light's reach, found
+            // once for the six faces of the light.
+            Some((center, range)) => {
                 if scratch.candidates_of != Some(view.light) {
-                    let (center, range) = (point.position, point.light.range);
                     let candidates = &mut scratch.point_candidates;
                     cull_spheres_sphere_chunked(center, range, centers, radii, &instances.caster_chunks, candidates);
                     scratch.candidates_of = Some(view.light);
@@ -188,8 +192,8 @@ pub(crate) fn cull_views(
                 let inside = |&&k: &&u32| frustum.intersects_sphere(centers[k as usize], radii[k as usize]);
                 scratch.visible.extend(scratch.point_candidates.iter().filter(inside));
             }
-            _ => cull_spheres_frustum_chunked(
-                frustum,
+            None => cull_spheres_frustum_chunked(
+                &frustum,
                 centers,
                 radii,
                 &instances.caster_chunks,

@@ -6,7 +6,7 @@
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
-use glam::{I64Vec2, Mat3, Mat4, Vec3};
+use glam::{I64Vec2, Mat3, Mat4, Vec3, Vec4};
 
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::single_pass::SinglePassGroup;
@@ -112,6 +112,34 @@ pub enum CullVolume {
     },
     /// A perspective view's frustum.
     Frustum(Frustum),
+    /// A cube face: the casters within `radius` of `center` (found once for the faces of
+    /// one light), then those of them in the face's frustum.
+    CubeFace {
+        /// The face's frustum.
+        frustum: Frustum,
+        /// The light's position, world space relative to the render origin.
+        center: Vec3,
+        /// The light's reach, metres.
+        radius: f32,
+    },
+}
+
+/// What a view's layout says about it to the shaders and the inspector, in the layout's own
+/// terms: the renderer copies it as it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ViewShading {
+    /// Depth range along the light, metres (a cascade's near and far view depths; a spot
+    /// light's near and far planes; a point light's near plane and reach).
+    pub near: f32,
+    /// See `near`.
+    pub far: f32,
+    /// World size of one texel, metres, where it is the same across the view (an
+    /// orthographic view); 0 where it grows with distance.
+    pub texel_world_size: f32,
+    /// The words the layout's WGSL module reads as `ShadowViewGpu::params`.
+    pub params: Vec4,
+    /// The words it reads as `ShadowViewGpu::range`.
+    pub range: Vec4,
 }
 
 /// One view a shadow map is rendered from.
@@ -133,6 +161,8 @@ pub struct ShadowView {
     pub slot: u32,
     /// Side of its shadow map, texels.
     pub resolution: u32,
+    /// What its layout tells the shaders about it.
+    pub shading: ViewShading,
     /// The tiles of its map its casters can write ([`crate::ecs::footprints`]): what a
     /// redraw of the layer must clear first.
     pub footprint: TileMask,

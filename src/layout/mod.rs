@@ -36,9 +36,21 @@ pub struct StorageDesc {
     pub cube: bool,
     /// Its views can be rendered in one multiview pass per light (a sun's cascades).
     pub single_pass: bool,
+    /// How its moments are made.
+    pub moments: StorageMoments,
     /// What one of a light's views in it is called in pass labels (`cascade 2`, `face 5`), or
     /// empty for a storage with one view per light.
     pub view_word: &'static str,
+}
+
+/// How a storage's moments are made from its depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StorageMoments {
+    /// VSM (z, z²) of each light that asks for it, blurred per light (the VSM moments pass).
+    Vsm,
+    /// EVSM2, EVSM4 or MSM of each redrawn view, filtered into mips (the cascade moments
+    /// pass).
+    Baked,
 }
 
 impl ShadowStorage {
@@ -51,6 +63,11 @@ impl ShadowStorage {
     /// Its position in [`ALL`](Self::ALL): the index of its arrays in the renderer's lists.
     pub fn index(self) -> usize {
         self as usize
+    }
+
+    /// The storages whose moments are made `how`, in [`ALL`](Self::ALL)'s order.
+    pub fn with_moments(how: StorageMoments) -> impl Iterator<Item = ShadowStorage> {
+        Self::ALL.into_iter().filter(move |s| s.desc().moments == how)
     }
 
     /// Its description.
@@ -72,6 +89,7 @@ const CASCADES: StorageDesc = StorageDesc {
     doc: "Every cascade of every shadowed sun, one layer each; its moments (EVSM2, EVSM4 or MSM) a layer per cascade.",
     cube: false,
     single_pass: true,
+    moments: StorageMoments::Baked,
 };
 
 const SPOTS: StorageDesc = StorageDesc {
@@ -83,6 +101,7 @@ const SPOTS: StorageDesc = StorageDesc {
     doc: "Every shadowed spot light, one layer each; its VSM moments (z, z²) beside it.",
     cube: false,
     single_pass: false,
+    moments: StorageMoments::Vsm,
 };
 
 const POINTS: StorageDesc = StorageDesc {
@@ -94,6 +113,7 @@ const POINTS: StorageDesc = StorageDesc {
     doc: "Every shadowed point light's six faces, sampled as a cube (index: first layer / 6); its VSM moments beside it.",
     cube: true,
     single_pass: false,
+    moments: StorageMoments::Vsm,
 };
 
 #[cfg(test)]

@@ -143,9 +143,9 @@ impl Renderer {
         self.counters
     }
 
-    /// Side of the cascades' shadow maps (None until a sun has cast a shadow).
-    pub fn shadow_map_resolution(&self) -> Option<u32> {
-        let maps = self.shadows.array(ShadowStorage::Cascades);
+    /// Side of the layers of `storage` (None until a light of it has cast a shadow).
+    pub fn storage_resolution(&self, storage: ShadowStorage) -> Option<u32> {
+        let maps = self.shadows.array(storage);
         (!maps.placeholder).then_some(maps.side)
     }
 
@@ -153,12 +153,6 @@ impl Renderer {
     /// a caster list of an earlier window; taken, so the next frame's culling remakes them.
     pub fn take_scroll_resync(&mut self) -> impl Iterator<Item = (bevy_ecs::entity::Entity, u32)> + '_ {
         self.scroll_resync.drain(..)
-    }
-
-    /// Side of the spot lights' shadow maps (None until a spot light has cast a shadow).
-    pub fn spot_map_resolution(&self) -> Option<u32> {
-        let maps = self.shadows.array(ShadowStorage::Spots);
-        (!maps.placeholder).then_some(maps.side)
     }
 
     /// Chooses the light (an index into the light list: suns, then spots, then points) whose
@@ -460,10 +454,14 @@ impl Renderer {
             size: (target.width, target.height),
             samples,
             analysis,
-            shadow_maps: ShadowStorage::ALL
-                .map(|s| graph.import_texture(s.desc().label, &self.shadows.array(s).array_view)),
-            shadow_moments: ShadowStorage::ALL
-                .map(|s| graph.import_texture(s.desc().moments_label, &self.shadows.moments(s).moments.sampled)),
+            shadow_maps: ShadowStorage::ALL.map(|s| {
+                let array = self.shadows.shared_array(s);
+                graph.import_object(s.desc().label, &array.array_view.clone(), array)
+            }),
+            shadow_moments: ShadowStorage::ALL.map(|s| {
+                let moments = self.shadows.shared_moments(s);
+                graph.import_object(s.desc().moments_label, &moments.moments.sampled.clone(), moments)
+            }),
             depth_prepass,
             depth: None,
             normals: None,

@@ -15,6 +15,9 @@ pub mod schedule;
 pub use declare::{BufferDesc, BufferId, PassBuilder, ResourceHandle, TextureDesc, TextureId};
 pub use pool::GraphResources;
 
+use std::any::Any;
+use std::sync::Arc;
+
 use thiserror::Error;
 
 use crate::layout::ShadowStorage;
@@ -129,6 +132,19 @@ impl RenderGraph {
     pub fn import_texture(&mut self, label: &'static str, view: &wgpu::TextureView) -> TextureId {
         let handle = self.decls.add(label, None);
         self.resources.set(handle.index, Physical::View(view.clone()));
+        TextureId(handle)
+    }
+
+    /// Imports `view` with the object that owns it (read back by the nodes with
+    /// [`GraphResources::object`]), for this frame.
+    pub fn import_object(
+        &mut self,
+        label: &'static str,
+        view: &wgpu::TextureView,
+        object: Arc<dyn Any + Send + Sync>,
+    ) -> TextureId {
+        let handle = self.decls.add(label, None);
+        self.resources.set(handle.index, Physical::Object(view.clone(), object));
         TextureId(handle)
     }
 

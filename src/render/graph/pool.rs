@@ -2,7 +2,9 @@
 //! frame to frame (a frame that declares what the last one did creates nothing), and the
 //! table that turns a handle into the texture view or buffer a node records with.
 
+use std::any::Any;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::render::graph::declare::{BufferId, PoolKey, TextureId};
 use crate::render::graph::schedule::Schedule;
@@ -19,6 +21,9 @@ pub enum Physical {
     Texture(wgpu::Texture, wgpu::TextureView),
     /// An imported texture view (the graph does not own the texture).
     View(wgpu::TextureView),
+    /// An imported texture view with the object that owns it (a shadow storage with its
+    /// layer views), for the nodes that render into its parts.
+    Object(wgpu::TextureView, Arc<dyn Any + Send + Sync>),
     /// A buffer.
     Buffer(wgpu::Buffer),
 }
@@ -120,8 +125,33 @@ impl GraphResources {
     /// node that uses it (a pass only sees what it declared, so this is a bug in the node).
     pub fn view(&self, texture: TextureId) -> &wgpu::TextureView {
         match self.table.get(texture.0.index as usize) {
-            Some(Some(Physical::Texture(_, view) | Physical::View(view))) => view,
+            Some(Some(Physical::Texture(_, view) | Physical::View(view) | Physical::Object(view, _))) => view,
             _ => panic!("texture handle {texture:?} was not declared in this frame's graph"),
+        }
+    }
+
+    /// The object imported with `texture` ([`RenderGraph::import_object`](crate::render::graph::RenderGraph::import_object)).
+    /// Panics like [`view`](Self::view), or when it was imported as another type (a bug in
+    /// the node).
+    pub fn object<T: Any>(&self, texture: TextureId) -> &T {
+        match self.table.get(texture.0.index as usize) {
+            Some(Some(Physical::Object(_, object))) => match object.downcast_ref() {
+                Some(object) => object,
+                None => panic!("texture handle {texture:?} was imported with another type"),
+            },
+            _ => panic!("texture handle {texture:?} was not imported with an object in this frame's graph"),
+        }
+    }
+
+    /// The object imported with `texture`, shared (for a node that keeps it while it records);
+    /// panics like [`object`](Self::object).
+    pub fn shared<T: Any + Send + Sync>(&self, texture: TextureId) -> Arc<T> {
+        match self.table.get(texture.0.index as usize) {
+            Some(Some(Physical::Object(_, object))) => match object.clone().downcast() {
+                Ok(object) => object,
+                Err(_) => panic!("texture handle {texture:?} was imported with another type"),
+            },
+            _ => panic!("texture handle {texture:?} was not imported with an object in this frame's graph"),
         }
     }
 

@@ -15,7 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use crate::layout::ShadowStorage;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
-use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::layouts::entry;
 use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
 use crate::render::shadows::moment_storage::MomentArray;
@@ -99,6 +99,8 @@ pub struct CascadeMomentsPass {
     /// The depth and moments allocations `held` refers to, and what each layer holds.
     held_for: (u64, u64),
     held: Vec<Held>,
+    /// This frame's cascade depth array and moments in the graph.
+    handles: Option<(TextureId, TextureId)>,
     cache: bool,
     jobs: Vec<Job>,
     data: Vec<JobGpu>,
@@ -160,19 +162,26 @@ impl RenderNode for CascadeMomentsPass {
     /// nothing (the node is culled).
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
+        self.handles = Some((
+            frame.maps(ShadowStorage::Cascades),
+            frame.moments(ShadowStorage::Cascades),
+        ));
         if any_sun_moments(inputs.lights) {
             pass.read(frame.maps(ShadowStorage::Cascades));
             pass.write(frame.moments(ShadowStorage::Cascades));
         }
     }
 
-    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
-        self.plan(ctx);
+    fn record(&mut self, ctx: &mut FrameContext<'_>, res: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        let Some((depth, moments)) = self.handles else {
+            return;
+        };
+        let (depth, moments) = (res.object::<DepthArray>(depth), res.object::<MomentArray>(moments));
+        self.plan(ctx, (depth.id, moments.id));
         if self.jobs.is_empty() {
             return;
         }
         let device = &ctx.gpu.device;
-        let moments = ctx.shadows.moments(ShadowStorage::Cascades);
         let format = moments.moments.texture.format();
         if self.pipelines.as_ref().is_none_or(|p| p.format != format) {
             self.pipelines = Some(create_pipelines(device, ctx.library, format));
@@ -209,7 +218,6 @@ impl RenderNode for CascadeMomentsPass {
         let Some((buffer, generation)) = uploaded else {
             return;
         };
-        let depth = ctx.shadows.array(ShadowStorage::Cascades);
         let key = (depth.id, moments.id, generation);
         if self.groups.as_ref().is_none_or(|(held, _)| *held != key) {
             self.groups = Some((key, bind_groups(device, pipelines, buffer, depth, moments)));
@@ -301,12 +309,9 @@ impl CascadeMomentsPass {
     /// Lists the cascades whose moments must be made this frame (their depth or parameters
     /// changed, the allocations are new, or the cache is off), and marks what their layers
     /// hold.
-    fn plan(&mut self, ctx: &FrameContext<'_>) {
+    /// `ids` are this frame's depth and moments allocation ids.
+    fn plan(&mut self, ctx: &FrameContext<'_>, ids: (u64, u64)) {
         self.jobs.clear();
-        let ids = (
-            ctx.shadows.array(ShadowStorage::Cascades).id,
-            ctx.shadows.moments(ShadowStorage::Cascades).id,
-        );
         if self.held_for != ids {
             self.held_for = ids;
             self.held.clear();

@@ -19,10 +19,11 @@
 
 use std::fmt::Write;
 use std::num::NonZeroU32;
+use std::sync::Arc;
 
 use crate::ecs::draw_groups::DrawGroup;
 use crate::ecs::light_views::FrameLights;
-use crate::ecs::view_list::ShadowView;
+use crate::ecs::view_list::{ShadowView, ShadowViewKind};
 use crate::layout::ShadowStorage;
 use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::footprint::{TILES, TexelRect, TileMask};
@@ -30,7 +31,7 @@ use crate::math::light_budget::LightKind;
 use crate::render::draw::draw_batches;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
-use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::clear::ClearPipelines;
 use crate::render::shadows::gpu::CasterViewGpu;
@@ -58,6 +59,10 @@ pub struct DepthPass {
     runs: Vec<TexelRect>,
     /// Moves scrolling views' layers with their windows.
     shift: LevelShift,
+    /// This frame's storages' handles in the graph, at [`ShadowStorage::index`].
+    maps: Vec<TextureId>,
+    /// This frame's storages, from the graph's resources.
+    storages: Vec<Arc<DepthArray>>,
 }
 
 /// What a layer of a storage holds.
@@ -76,7 +81,7 @@ struct Layer {
 mod scroll;
 
 /// The word timing names give a light of `kind`.
-fn short_word(kind: LightKind) -> &'static str {
+pub(crate) fn short_word(kind: LightKind) -> &'static str {
     match kind {
         LightKind::Directional => "sun",
         LightKind::Spot => "spot",
@@ -111,6 +116,8 @@ impl RenderNode for DepthPass {
     /// culled. Which views are drawn is decided while recording, when the storage is known.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
+        self.maps.clear();
+        self.maps.extend(frame.shadow_maps);
         let views = &inputs.shadow_views.views;
         for storage in ShadowStorage::ALL {
             if views.iter().any(|v| v.kind.storage() == storage) {
@@ -119,8 +126,11 @@ impl RenderNode for DepthPass {
         }
     }
 
-    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+    fn record(&mut self, ctx: &mut FrameContext<'_>, res: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         self.shift.begin_frame();
+        self.storages.clear();
+        self.storages
+            .extend(self.maps.iter().map(|&id| res.shared::<DepthArray>(id)));
         if ctx.scene.mesh_buffers().is_none() {
             return;
         }
@@ -178,11 +188,16 @@ impl RenderNode for DepthPass {
 }
 
 impl DepthPass {
+    /// The storage a view of `kind` renders into, this frame.
+    fn storage(&self, kind: ShadowViewKind) -> Arc<DepthArray> {
+        self.storages[kind.storage.index()].clone()
+    }
+
     /// Whether view `v` must be drawn (its layer does not hold its content version, or the
     /// cache is off); marks the layer as holding it.
     fn claim(&mut self, ctx: &FrameContext<'_>, v: usize) -> bool {
         let view = &ctx.shadow_views.views[v];
-        let storage = ctx.shadows.storage(view.kind);
+        let storage = self.storage(view.kind);
         // NOTE: a new allocation holds nothing; every layer of it is drawn again.
         let (id, layers) = &mut self.held[view.kind.storage.index()];
         if *id != storage.id {
@@ -275,14 +290,14 @@ impl DepthPass {
         let masked = (!group.masked.is_empty()).then(|| pipeline(true));
         ctx.counters.caster_pipelines += built;
         ctx.shadow_views_drawn += count as u32;
-        let storage = ctx.shadows.storage(view.kind);
+        let storage = self.storage(view.kind);
         // NOTE: a load-op clear clears the whole layer, whatever the view's viewport.
         let layer_texels = u64::from(storage.side).pow(2);
         let runs: u64 = self.runs.iter().map(|r| r.area()).sum();
         ctx.shadow_cleared_texels += clear.map_or(layer_texels, |_| runs) * count as u64;
         ctx.shadow_drawn_texels += u64::from(view.resolution).pow(2) * count as u64;
         let target = if count > 1 {
-            self.layer_range(storage, view.slot, count as u32)
+            self.layer_range(&storage, view.slot, count as u32)
         } else {
             storage.layer_views[view.slot as usize].clone()
         };

@@ -20,7 +20,7 @@ impl DepthPass {
         let view = &ctx.shadow_views.views[v];
         let Some(scroll) = view.scroll else { return };
         let (kind, version, resolution, slot) = (view.kind, view.version, view.resolution, view.slot);
-        let storage = ctx.shadows.storage(kind);
+        let storage = self.storage(kind);
         let (id, layers) = &mut self.held[kind.storage.index()];
         if *id != storage.id {
             *id = storage.id;
@@ -45,7 +45,7 @@ impl DepthPass {
                 let timing = ctx.timer.pass(name);
                 ctx.shadows.shift_scratch.as_ref().is_some_and(|scratch| {
                     let target = ShiftTarget {
-                        storage,
+                        storage: &storage,
                         scratch,
                         layer: slot,
                     };
@@ -113,7 +113,7 @@ impl DepthPass {
             .then(|| pipeline(true));
         ctx.counters.caster_pipelines += built;
         let clear = self.clears.get(&ctx.gpu.device, ctx.library, 0).clone();
-        let storage = ctx.shadows.storage(view.kind);
+        let storage = self.storage(view.kind);
         let name = &mut self.names[v];
         super::view_name(ctx.lights, view, name);
         name.push_str(" regions");

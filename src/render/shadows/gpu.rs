@@ -7,7 +7,6 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::{ShadowView, ShadowViews};
-use crate::layout::ShadowStorage;
 use crate::render::shadows::sun_moments::{
     MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised,
 };
@@ -258,7 +257,10 @@ pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: bool) -> u32 {
 }
 
 /// The GPU description of `view`, drawn at `view.resolution` texels in the top-left corner of
-/// a layer `side` texels wide (`support` as for [`pack_lights`]).
+/// a layer `side` texels wide: what its layout wrote for its WGSL module
+/// ([`ViewShading`](crate::ecs::view_list::ViewShading)), with, for a view whose light bakes
+/// moments per view (a sun filtering EVSM or MSM), their exponents and depth start
+/// (`support` as for [`pack_lights`]).
 pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: MomentSupport) -> ShadowViewGpu {
     let scale = view.resolution as f32 / side.max(1) as f32;
     let mut gpu = ShadowViewGpu {
@@ -266,34 +268,16 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
         rect: Vec4::new(0.0, 0.0, scale, scale),
         layer: view.slot,
         texel_size: 1.0 / view.resolution.max(1) as f32,
+        params: view.shading.params,
+        range: view.shading.range,
         ..ShadowViewGpu::default()
     };
-    let c = view.kind.index;
-    match view.kind.storage {
-        ShadowStorage::Cascades => {
-            let Some(sun) = lights.sun_at(view.light) else {
-                return gpu;
-            };
-            if let Some(cascade) = sun.cascades.active().get(c as usize) {
-                let k = cascade;
-                gpu.params = Vec4::new(k.texel_world_size, k.light_size_uv, k.pcss_scale, k.uv_scale_y);
-                gpu.range = Vec4::new(k.near, k.far, k.depth_range, 0.0);
-            }
-            if let Some(m) = cascade_moments(sun, c as usize, support.fp32_filterable) {
-                gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
-                gpu.range.w = m.depth_start;
-            }
-        }
-        ShadowStorage::Spots => {
-            if let Some(v) = lights.spot_at(view.light).and_then(|s| s.shadow) {
-                gpu.params = Vec4::new(v.texel_per_metre, v.near, v.far, 0.0);
-            }
-        }
-        ShadowStorage::Points => {
-            if let Some(v) = lights.point_at(view.light).and_then(|p| p.shadow) {
-                gpu.params = Vec4::new(v.texel_per_metre, v.near, v.range, 0.0);
-            }
-        }
+    let baked = lights
+        .sun_at(view.light)
+        .and_then(|sun| cascade_moments(sun, view.kind.index as usize, support.fp32_filterable));
+    if let Some(m) = baked {
+        gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
+        gpu.range.w = m.depth_start;
     }
     gpu
 }

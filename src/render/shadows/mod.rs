@@ -21,12 +21,14 @@ pub mod storage;
 pub mod sun_moments;
 pub mod visibility;
 
+use std::sync::Arc;
+
 use wgpu::util::DeviceExt;
 
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::{ShadowViewKind, ShadowViews};
-use crate::layout::ShadowStorage;
 use crate::layout::group::{Slot, bindings};
+use crate::layout::{ShadowStorage, StorageMoments};
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
 use crate::render::gpu_types::PoissonTapsGpu;
@@ -47,13 +49,13 @@ use crate::settings::ShadowMode;
 /// Everything the shadow passes and the materials share.
 pub struct ShadowResources {
     /// Each storage's depth array, at [`ShadowStorage::index`].
-    maps: [DepthArray; ShadowStorage::COUNT],
+    maps: [Arc<DepthArray>; ShadowStorage::COUNT],
     /// Each storage's moments, at [`ShadowStorage::index`]: VSM for spot and point lights,
     /// EVSM or MSM (in [`cascade_moment_format`]) for the cascades; a stand-in while none of
     /// the storage's lights filters moments.
-    moments: [MomentArray; ShadowStorage::COUNT],
+    moments: [Arc<MomentArray>; ShadowStorage::COUNT],
     /// The depth layer scrolling views move their layers through
-    /// ([`crate::render::shadows::shift`]), of the cascades' side, while a view scrolls.
+    /// ([`crate::render::shadows::shift`]), of their storage's side, while a view scrolls.
     pub shift_scratch: Option<ShiftScratch>,
     lights: wgpu::Buffer,
     more_lights: GrowBuffer,
@@ -119,8 +121,8 @@ fn shadow_group(
     device: &wgpu::Device,
     layouts: &Layouts,
     buffers: [&wgpu::Buffer; 4],
-    maps: &[DepthArray; ShadowStorage::COUNT],
-    moments: &[MomentArray; ShadowStorage::COUNT],
+    maps: &[Arc<DepthArray>; ShadowStorage::COUNT],
+    moments: &[Arc<MomentArray>; ShadowStorage::COUNT],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
     let [lights, more_lights, views, taps] = buffers;
@@ -196,9 +198,15 @@ impl ShadowResources {
             contents: bytemuck::bytes_of(&PoissonTapsGpu::standard()),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let maps = ShadowStorage::ALL.map(|s| DepthArray::placeholder(device, s.desc().label, s.desc().cube));
-        let moments = ShadowStorage::ALL
-            .map(|s| MomentArray::placeholder(device, s.desc().moments_label, moments_format, s.desc().cube));
+        let maps = ShadowStorage::ALL.map(|s| Arc::new(DepthArray::placeholder(device, s.desc().label, s.desc().cube)));
+        let moments = ShadowStorage::ALL.map(|s| {
+            Arc::new(MomentArray::placeholder(
+                device,
+                s.desc().moments_label,
+                moments_format,
+                s.desc().cube,
+            ))
+        });
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
         let group = shadow_group(
             device,
@@ -240,11 +248,21 @@ impl ShadowResources {
         &self.maps[storage.index()]
     }
 
+    /// The depth array of `storage`, shared: what the frame's graph imports for the nodes.
+    pub fn shared_array(&self, storage: ShadowStorage) -> Arc<DepthArray> {
+        self.maps[storage.index()].clone()
+    }
+
+    /// The moments of `storage`, shared like [`shared_array`](Self::shared_array).
+    pub fn shared_moments(&self, storage: ShadowStorage) -> Arc<MomentArray> {
+        self.moments[storage.index()].clone()
+    }
+
     /// Bytes of shadow-map memory (depth and moments).
     pub fn memory_bytes(&self) -> u64 {
-        let depth: u64 = self.maps.iter().map(DepthArray::memory_bytes).sum();
+        let depth: u64 = self.maps.iter().map(|m| m.memory_bytes()).sum();
         let shift = self.shift_scratch.as_ref().map_or(0, ShiftScratch::memory_bytes);
-        depth + shift + self.moments.iter().map(MomentArray::memory_bytes).sum::<u64>()
+        depth + shift + self.moments.iter().map(|m| m.memory_bytes()).sum::<u64>()
     }
 
     /// The moments of `storage`: VSM for spot and point lights, EVSM or MSM for the cascades.
@@ -283,40 +301,58 @@ impl ShadowResources {
             let storage = &mut self.maps[kind.index()];
             if storage.needs(side, layers) {
                 gpu.limits.check_target(side, side)?;
-                *storage = DepthArray::new(device, desc.label, side, layers, desc.cube);
+                *storage = Arc::new(DepthArray::new(device, desc.label, side, layers, desc.cube));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
         }
-        let scrolls = views.views.iter().any(|v| v.scroll.is_some());
-        let side = self.array(ShadowStorage::Cascades).side;
-        if !scrolls {
+        let scrolling = views.views.iter().find(|v| v.scroll.is_some());
+        let side = scrolling.map_or(0, |v| self.storage(v.kind).side);
+        if scrolling.is_none() {
             self.shift_scratch = None;
         } else if self.shift_scratch.as_ref().is_none_or(|s| s.side != side) {
             self.shift_scratch = Some(ShiftScratch::new(device, side));
         }
-        for kind in [ShadowStorage::Spots, ShadowStorage::Points] {
+        for kind in ShadowStorage::with_moments(StorageMoments::Vsm) {
             let (uses_vsm, blur) = vsm_use(lights, views, kind);
             let (side, layers) = if uses_vsm { views.extent(kind) } else { (0, 0) };
             let desc = kind.desc();
             let moments = &mut self.moments[kind.index()];
             if moments.needs(side, layers, blur) {
                 let format = moments.moments.texture.format();
-                *moments = MomentArray::new(device, desc.moments_label, format, (side, layers, 1), desc.cube, blur);
+                *moments = Arc::new(MomentArray::new(
+                    device,
+                    desc.moments_label,
+                    format,
+                    (side, layers, 1),
+                    desc.cube,
+                    blur,
+                ));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
         }
         let support = gpu.moment_support();
-        if let Some(format) = cascade_moment_format(lights, support) {
-            let (side, layers) = views.extent(ShadowStorage::Cascades);
+        // NOTE: baked moments are the suns' (EVSM or MSM), in the format they need.
+        for kind in ShadowStorage::with_moments(StorageMoments::Baked) {
+            let Some(format) = cascade_moment_format(lights, support) else {
+                continue;
+            };
+            let (side, layers) = views.extent(kind);
             let blur = sun_moment_blur(lights);
             let mips = sun_moment_mips(lights, side);
-            let label = ShadowStorage::Cascades.desc().moments_label;
-            let moments = &mut self.moments[ShadowStorage::Cascades.index()];
+            let label = kind.desc().moments_label;
+            let moments = &mut self.moments[kind.index()];
             let other = moments.moments.texture.format() != format || moments.mips() != mips;
             if moments.needs(side, layers, blur) || other {
-                *moments = MomentArray::new(device, label, format, (side, layers, mips), false, blur);
+                *moments = Arc::new(MomentArray::new(
+                    device,
+                    label,
+                    format,
+                    (side, layers, mips),
+                    false,
+                    blur,
+                ));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

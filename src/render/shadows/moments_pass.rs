@@ -12,12 +12,14 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::layout::ShadowStorage;
+use crate::layout::{ShadowStorage, StorageMoments};
+use crate::math::light_budget::LightKind;
 use crate::math::point::FACES;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
-use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode};
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::layouts::entry;
+use crate::render::shadows::depth_pass::short_word;
 use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
@@ -28,9 +30,6 @@ use crate::shader::ShaderLibrary;
 /// What a layer's moments were made from: the depth's content version and the pre-blur
 /// radius.
 type MadeFrom = (u64, u32);
-
-/// The storages whose lights filter VSM moments, in the order of the pass's jobs.
-const VSM_STORAGES: [ShadowStorage; 2] = [ShadowStorage::Spots, ShadowStorage::Points];
 
 /// Mirror of WGSL `MomentsJob`, padded to the 256-byte dynamic-offset alignment.
 #[repr(C)]
@@ -49,16 +48,16 @@ struct MomentsJobGpu {
 /// One light whose moments are made this frame.
 #[derive(Clone, Copy, Debug)]
 struct Job {
-    /// 0: spot lights, 1: point lights.
-    storage: usize,
+    /// The storage of its layers.
+    storage: ShadowStorage,
     /// First layer (slot) and how many.
     first: u32,
     layers: u32,
     near: f32,
     range: f32,
     blur: u32,
-    /// Index of the light among its kind (for the pass name).
-    light: usize,
+    /// The light's kind and index among its kind (for the pass name).
+    light: (LightKind, usize),
 }
 
 /// The pipelines, built on first use for the device's moments format.
@@ -76,12 +75,14 @@ pub struct MomentsPass {
     pipelines: Option<Pipelines>,
     /// The per-dispatch uniforms.
     jobs_buffer: JobBuffer,
-    /// Per storage (spot, point lights): its bind groups, kept while nothing behind them
-    /// changes.
-    groups: [Option<StorageGroups>; 2],
-    /// Per storage (spot, point lights): the moments and depth allocations `versions` refer
-    /// to, and what each layer's moments were made from.
-    held: [(u64, u64, Vec<MadeFrom>); 2],
+    /// Per storage, at [`ShadowStorage::index`]: its bind groups, kept while nothing behind
+    /// them changes.
+    groups: [Option<StorageGroups>; ShadowStorage::COUNT],
+    /// Per storage: the moments and depth allocations `versions` refer to, and what each
+    /// layer's moments were made from.
+    held: [(u64, u64, Vec<MadeFrom>); ShadowStorage::COUNT],
+    /// This frame's depth arrays and moments in the graph, at [`ShadowStorage::index`].
+    handles: Option<([TextureId; ShadowStorage::COUNT], [TextureId; ShadowStorage::COUNT])>,
     cache: bool,
     jobs: Vec<Job>,
     data: Vec<MomentsJobGpu>,
@@ -185,7 +186,8 @@ impl RenderNode for MomentsPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.cache = inputs.options.shadow_cache;
         let uses_vsm = |storage| vsm_use(inputs.lights, inputs.shadow_views, storage).0;
-        for storage in VSM_STORAGES {
+        self.handles = Some((frame.shadow_maps, frame.shadow_moments));
+        for storage in ShadowStorage::with_moments(StorageMoments::Vsm) {
             if uses_vsm(storage) {
                 pass.read(frame.maps(storage));
                 pass.write(frame.moments(storage));
@@ -193,13 +195,18 @@ impl RenderNode for MomentsPass {
         }
     }
 
-    fn record(&mut self, ctx: &mut FrameContext<'_>, _: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
-        self.plan(ctx);
-        if self.jobs.is_empty() {
+    fn record(&mut self, ctx: &mut FrameContext<'_>, res: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        let Some((maps, moments)) = self.handles else {
             return;
-        }
+        };
+        let depth_of = |s: ShadowStorage| res.object::<DepthArray>(maps[s.index()]);
+        let moments_of = |s: ShadowStorage| res.object::<MomentArray>(moments[s.index()]);
+        self.plan(ctx, |s| (moments_of(s).id, depth_of(s).id));
+        let Some(first) = self.jobs.first() else {
+            return;
+        };
         let device = &ctx.gpu.device;
-        let format = ctx.shadows.moments(ShadowStorage::Spots).moments.texture.format();
+        let format = moments_of(first.storage).moments.texture.format();
         let pipelines = self
             .pipelines
             .get_or_insert_with(|| create_pipelines(device, ctx.library, format));
@@ -207,7 +214,7 @@ impl RenderNode for MomentsPass {
         // scratch (layer 0 on); blur y scratch → moments.
         self.data.clear();
         for job in &self.jobs {
-            let side = ctx.shadows.array(VSM_STORAGES[job.storage]).side;
+            let side = depth_of(job.storage).side;
             let stages = [(job.first, job.first, 0), (job.first, 0, 0), (0, job.first, 1)];
             for &(src_layer, dst_layer, axis) in &stages[..job.stages()] {
                 self.data.push(MomentsJobGpu {
@@ -228,12 +235,12 @@ impl RenderNode for MomentsPass {
         let Some((buffer, generation)) = uploaded else {
             return;
         };
-        let stores: [(&DepthArray, &MomentArray); 2] =
-            VSM_STORAGES.map(|s| (ctx.shadows.array(s), ctx.shadows.moments(s)));
         // NOTE: the groups are made again only when an allocation behind them changed.
-        for (k, (depth, moments)) in stores.into_iter().enumerate() {
+        for storage in ShadowStorage::with_moments(StorageMoments::Vsm) {
+            let (depth, moments) = (depth_of(storage), moments_of(storage));
             let key = (depth.id, moments.id, generation);
-            let used = self.jobs.iter().any(|j| j.storage == k);
+            let k = storage.index();
+            let used = self.jobs.iter().any(|j| j.storage == storage);
             if used && self.groups[k].as_ref().is_none_or(|(held, _)| *held != key) {
                 let sampler = &ctx.layouts.moments_sampler;
                 self.groups[k] = Some((key, bind_groups(device, pipelines, buffer, sampler, depth, moments)));
@@ -241,23 +248,24 @@ impl RenderNode for MomentsPass {
         }
         let mut entry = 0;
         for job in &self.jobs {
-            let Some((_, groups)) = &self.groups[job.storage] else {
+            let Some((_, groups)) = &self.groups[job.storage.index()] else {
                 continue;
             };
             let side = self.data[entry].side;
             self.name.clear();
-            let kind = if job.storage == 0 { "spot" } else { "point" };
+            let (kind, light) = job.light;
             // NOTE: writing to a String cannot fail.
-            let _ = write!(self.name, "shadow moments {kind} {}", job.light);
+            let _ = write!(self.name, "shadow moments {} {light}", short_word(kind));
+            let cube = usize::from(job.storage.desc().cube);
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(&self.name),
                 timestamp_writes: ctx.timer.compute_pass(&self.name),
             });
             for (stage, group) in groups.iter().enumerate().take(job.stages()) {
                 let pipeline = if stage == 0 {
-                    &pipelines.resolve[job.storage]
+                    &pipelines.resolve[cube]
                 } else {
-                    &pipelines.blur[job.storage]
+                    &pipelines.blur[cube]
                 };
                 let offset = (entry * size_of::<MomentsJobGpu>()) as u32;
                 pass.set_pipeline(pipeline);
@@ -319,11 +327,13 @@ fn bind_groups(
 impl MomentsPass {
     /// Lists the VSM lights whose moments must be made this frame (their depth changed, the
     /// allocations are new, or the cache is off), and marks their layers as holding them.
-    fn plan(&mut self, ctx: &FrameContext<'_>) {
+    /// `ids` gives a storage's moments and depth allocation ids.
+    fn plan(&mut self, ctx: &FrameContext<'_>, ids: impl Fn(ShadowStorage) -> (u64, u64)) {
         self.jobs.clear();
         let views = &ctx.shadow_views.views;
-        let ids = VSM_STORAGES.map(|s| (ctx.shadows.moments(s).id, ctx.shadows.array(s).id));
-        for (held, &(moments, depth)) in self.held.iter_mut().zip(&ids) {
+        for storage in ShadowStorage::with_moments(StorageMoments::Vsm) {
+            let held = &mut self.held[storage.index()];
+            let (moments, depth) = ids(storage);
             if (held.0, held.1) != (moments, depth) {
                 *held = (moments, depth, Vec::new());
             }
@@ -331,10 +341,11 @@ impl MomentsPass {
         let mut v = 0;
         while v < views.len() {
             let view = &views[v];
-            let Some(storage) = VSM_STORAGES.iter().position(|&s| s == view.kind.storage) else {
+            let storage = view.kind.storage;
+            if storage.desc().moments != StorageMoments::Vsm {
                 v += 1;
                 continue;
-            };
+            }
             if view.kind.index != 0 {
                 v += 1;
                 continue;
@@ -348,20 +359,8 @@ impl MomentsPass {
             if settings.filter.mode != ShadowMode::Vsm {
                 continue;
             }
-            let (near, range) = match storage {
-                0 => ctx
-                    .lights
-                    .spot_at(view.light)
-                    .and_then(|s| s.shadow)
-                    .map(|s| (s.near, s.far)),
-                _ => ctx
-                    .lights
-                    .point_at(view.light)
-                    .and_then(|p| p.shadow)
-                    .map(|p| (p.near, p.range)),
-            }
-            .unwrap_or((0.05, 1.0));
-            let versions = &mut self.held[storage].2;
+            let (near, range) = (view.shading.near, view.shading.far);
+            let versions = &mut self.held[storage.index()].2;
             let last = group.iter().map(|g| g.slot as usize + 1).max().unwrap_or(0);
             if versions.len() < last {
                 versions.resize(last, (0, 0));
@@ -374,11 +373,7 @@ impl MomentsPass {
             for g in group {
                 versions[g.slot as usize] = (g.version, blur);
             }
-            let first_of_kind = if storage == 0 {
-                ctx.lights.suns.len()
-            } else {
-                ctx.lights.suns.len() + ctx.lights.spots.len()
-            };
+            let first_of_kind = ctx.lights.light_index(view.light_kind, 0);
             self.jobs.push(Job {
                 storage,
                 first: view.slot,
@@ -386,7 +381,7 @@ impl MomentsPass {
                 near,
                 range,
                 blur: settings.filter.vsm.blur,
-                light: (view.light as usize).saturating_sub(first_of_kind),
+                light: (view.light_kind, (view.light as usize).saturating_sub(first_of_kind)),
             });
         }
     }

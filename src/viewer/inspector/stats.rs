@@ -6,7 +6,6 @@ use egui::{Color32, Grid, Sense, Stroke, Ui, pos2, vec2};
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view_list::ShadowViews;
-use crate::layout::ShadowStorage;
 use crate::render::FrameReport;
 use crate::render::shadows::depth_pass::view_name;
 use crate::viewer::history::TimingHistory;
@@ -33,20 +32,8 @@ pub(crate) fn shadow_views_ui(ui: &mut Ui, lights: &FrameLights, views: &ShadowV
         for (i, view) in views.views.iter().enumerate() {
             view_name(lights, view, &mut name);
             ui.label(name.trim_start_matches("shadow "));
-            let (range, texel) = match view.kind.storage {
-                ShadowStorage::Cascades => lights
-                    .sun_at(view.light)
-                    .and_then(|s| s.cascades.active().get(view.kind.index as usize))
-                    .map_or(((0.0, 0.0), 0.0), |c| ((c.near, c.far), c.texel_world_size)),
-                ShadowStorage::Spots => {
-                    let planes = lights.spot_at(view.light).and_then(|s| s.shadow);
-                    (planes.map_or((0.0, 0.0), |v| (v.near, v.far)), 0.0)
-                }
-                ShadowStorage::Points => {
-                    let planes = lights.point_at(view.light).and_then(|p| p.shadow);
-                    (planes.map_or((0.0, 0.0), |v| (v.near, v.range)), 0.0)
-                }
-            };
+            let shading = &view.shading;
+            let (range, texel) = ((shading.near, shading.far), shading.texel_world_size);
             ui.label(format!("{:.1} – {:.1}", range.0, range.1));
             let density = if texel > 0.0 {
                 format!("{:.1}", 1.0 / texel)

@@ -1,0 +1,65 @@
+//! The sun's views: a layer of the cascades' storage per cascade or clipmap level of each
+//! shadowed sun, culled against the light-space box the receivers bound; a clipmap level
+//! scrolls ([`Scroll`]) rather than moving with the camera.
+
+use glam::Vec4;
+
+use crate::ecs::layout_views::ViewSink;
+use crate::ecs::light_views::FrameLights;
+use crate::ecs::receiver_culling::ReceiverCache;
+use crate::ecs::view_list::{CullVolume, Scroll, ShadowView, ShadowViewKind, ViewShading};
+use crate::math::cascades::Cascade;
+use crate::math::footprint::TileMask;
+use crate::math::light_budget::LightKind;
+
+/// What `cascades.wgsl` reads of a cascade or clipmap level: `params` = (texel world size,
+/// light size in UV, PCSS scale, UV y scale), `range` = (near, far, depth range, 0; the
+/// renderer writes the moments' depth start into `w`).
+pub fn cascade_shading(cascade: &Cascade) -> ViewShading {
+    let k = cascade;
+    ViewShading {
+        near: k.near,
+        far: k.far,
+        texel_world_size: k.texel_world_size,
+        params: Vec4::new(k.texel_world_size, k.light_size_uv, k.pcss_scale, k.uv_scale_y),
+        range: Vec4::new(k.near, k.far, k.depth_range, 0.0),
+    }
+}
+
+/// Appends every shadowed sun's views, layers numbered in order from 0.
+pub fn push_sun_views(lights: &FrameLights, receivers: &ReceiverCache, sink: &mut ViewSink<'_>) {
+    let mut slot = 0;
+    for (i, sun) in lights.suns.iter().enumerate() {
+        let set = &sun.cascades;
+        let culled = receivers.set(i);
+        for (c, (cascade, cull)) in set.active().iter().zip(culled.active()).enumerate() {
+            let view = ShadowView {
+                entity: sun.entity,
+                light_kind: LightKind::Directional,
+                light: lights.light_index(LightKind::Directional, i) as u32,
+                kind: ShadowViewKind::cascade(c as u32),
+                clip_from_world: cascade.clip_from_world,
+                cull: CullVolume::LightBox {
+                    light_rotation: set.light_rotation,
+                    min: cull.light_min,
+                    max: cull.light_max,
+                },
+                slot,
+                resolution: sun.resolution,
+                shading: cascade_shading(cascade),
+                footprint: TileMask::EMPTY,
+                version: 0,
+                scroll: set.clipmap.then(|| {
+                    let window = sun.clipmap.levels[c].first_texel;
+                    Scroll {
+                        from: window,
+                        to: window,
+                        ..Scroll::default()
+                    }
+                }),
+            };
+            sink.push(view, sun.settings);
+            slot += 1;
+        }
+    }
+}
