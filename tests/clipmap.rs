@@ -4,7 +4,9 @@
 //! draws nothing; moving it moves each level's texels and draws only the strips newly
 //! covered, and after a walk the levels hold what levels drawn whole hold; a caster that
 //! moves is drawn again only where it was and is; a scrolled EVSM clipmap shades as one drawn
-//! whole; and a render request moves its camera between frames.
+//! whole; a render request moves its camera between frames; and a level drawn whole from a
+//! caster list of an earlier window (its layer lost) is drawn again from a fresh list the next
+//! frame.
 
 mod common;
 // NOTE: this test draws only raw bits from the shared generator.
@@ -400,4 +402,87 @@ fn a_render_request_moves_its_camera_between_frames() {
         turn_degrees: 0.0,
     });
     assert_eq!(walked, [0, 4, 4], "levels scrolled per frame");
+}
+
+/// The layers of `app`'s first sun's levels, in level order.
+fn first_sun_levels(app: &bevy_app::App, sun: bevy_ecs::entity::Entity) -> Vec<Vec<f32>> {
+    use penumbra::layout::ShadowStorage;
+    use penumbra::render::Renderer;
+    let views = app.world().resource::<penumbra::ecs::ShadowViews>();
+    let mut slots: Vec<_> = views
+        .views
+        .iter()
+        .filter(|v| v.entity == sun)
+        .map(|v| (v.kind.index, v.slot))
+        .collect();
+    slots.sort();
+    let renderer = app.world().resource::<Renderer>();
+    slots
+        .iter()
+        .map(|&(_, slot)| {
+            renderer
+                .read_shadow_map(ShadowStorage::Cascades, slot)
+                .expect("a level")
+        })
+        .collect()
+}
+
+#[test]
+fn a_level_drawn_from_an_earlier_windows_list_is_drawn_again_the_next_frame() {
+    use penumbra::ecs::Transform;
+    use penumbra::ecs::components::DirectionalLight;
+    use penumbra::render::Renderer;
+    use penumbra::settings::ShadowSettings;
+    let resolution = 512;
+    let mut scrolled = long_field_with(resolution, true);
+    let mut whole = long_field_with(resolution, false);
+    for _ in 0..4 {
+        for app in [&mut scrolled, &mut whole] {
+            walk(app, Vec3::new(0.0, 0.0, -6.0), 0.0);
+            app.update();
+        }
+    }
+    // NOTE: a second sun grows the cascades' storage, so every level's layer is lost while
+    // its caster list is still the one culled for the first window.
+    let mut sun = None;
+    for app in [&mut scrolled, &mut whole] {
+        let world = app.world_mut();
+        let mut suns = world.query::<(bevy_ecs::entity::Entity, &DirectionalLight, &ShadowSettings)>();
+        let (entity, light, settings) = suns.iter(world).next().expect("the field's sun");
+        let (light, settings) = (*light, *settings);
+        sun = Some(entity);
+        let transform = Transform::from_translation(Vec3::ZERO).looking_at(Vec3::new(0.3, -1.0, 0.2), Vec3::Y);
+        world.spawn((light, settings, transform));
+        app.update();
+    }
+    let sun = sun.unwrap();
+    let report = &scrolled.world().resource::<Renderer>().last_report;
+    let resynced = report.shadow_views_resynced;
+    println!(
+        "the frame the storage grew: {} views drawn, {resynced} from an earlier window's list",
+        report.shadow_views_drawn
+    );
+    assert!(resynced >= 1, "no level was drawn from an earlier window's list");
+    for app in [&mut scrolled, &mut whole] {
+        app.update();
+    }
+    let report = &scrolled.world().resource::<Renderer>().last_report;
+    assert_eq!(report.shadow_views_resynced, 0, "a list was still stale");
+    assert!(
+        report.shadow_views_drawn >= resynced,
+        "{} views drawn again, {resynced} had stale lists",
+        report.shadow_views_drawn
+    );
+    let (kept, fresh) = (first_sun_levels(&scrolled, sun), first_sun_levels(&whole, sun));
+    assert_eq!(kept.len(), 6, "the first sun's levels");
+    for (level, (kept, fresh)) in kept.iter().zip(&fresh).enumerate() {
+        let covered = fresh.iter().filter(|&&d| d > 0.0).count();
+        let differ = kept.iter().zip(fresh).filter(|(x, y)| (**x - **y).abs() > 2e-6).count();
+        println!("level {level}: {covered} texels hold a caster, {differ} differ");
+        assert!(covered > 1000, "level {level}: only {covered} texels hold a caster");
+        assert_eq!(
+            differ, 0,
+            "level {level}: {differ} texels differ from the level drawn whole"
+        );
+    }
 }

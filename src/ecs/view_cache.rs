@@ -196,7 +196,11 @@ impl ViewCache {
                 entry.version = self.next_version;
             }
             entry.clip_from_world = view.clip_from_world;
-            entry.volume = *view.cull;
+            // NOTE: the volume is what the list was culled against: a lazy view that is not
+            // culled keeps the old one, so it is culled when it stops being lazy.
+            if entry.cull {
+                entry.volume = *view.cull;
+            }
             entry.resolution = view.resolution;
             entry.key = view.key;
             entry.generation = generation;

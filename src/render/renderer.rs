@@ -396,6 +396,7 @@ impl Renderer {
         report.shadow_draw_calls = shadow_draw_calls;
         report.shadow_cleared_texels = shadow_cleared_texels;
         report.shadow_views_scrolled = shadow_views_scrolled;
+        report.shadow_views_resynced = self.scroll_resync.len() as u32;
         report.shadow_drawn_texels = shadow_drawn_texels;
         report.shadow_memory = self.shadows.memory_bytes();
         report.resolved_memory = self.shadows.resolved_memory_bytes();

@@ -24,6 +24,10 @@ pub struct FrameReport {
     /// Clipmap levels whose layer was moved by whole texels with their window and drawn only
     /// where the window newly reached or casters changed.
     pub shadow_views_scrolled: u32,
+    /// Clipmap levels drawn whole from a caster list made for an earlier window (their layer
+    /// was lost: a new allocation, the cache off): the next frame culls them again and draws
+    /// them once more.
+    pub shadow_views_resynced: u32,
     /// Shadow-map texels drawn: every texel of a view drawn whole, the regions of a scrolled
     /// one.
     pub shadow_drawn_texels: u64,

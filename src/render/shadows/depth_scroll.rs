@@ -54,16 +54,21 @@ impl DepthPass {
                 })
             });
         if !shifted {
-            if !scroll.fresh {
-                let view = &ctx.shadow_views.views[v];
-                ctx.scroll_resync.push((view.entity, view.kind.index));
-            }
             if self.claim(ctx, v) {
                 let group = &ctx.shadow_views.groups[v];
                 self.draw(ctx, encoder, v, 1, group);
             }
-            if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
-                layer.window = Some(scroll.to);
+            let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) else {
+                return;
+            };
+            layer.window = Some(scroll.to);
+            if !scroll.fresh {
+                // NOTE: the list was made for an earlier window and may miss casters of this
+                // one: culling makes it again next frame, and the layer, holding nothing it
+                // can keep, is drawn whole from it.
+                let view = &ctx.shadow_views.views[v];
+                ctx.scroll_resync.push((view.entity, view.kind.index));
+                *layer = Default::default();
             }
             return;
         }
