@@ -4,9 +4,9 @@
 //! draws nothing; moving it moves each level's texels and draws only the strips newly
 //! covered, and after a walk the levels hold what levels drawn whole hold; a caster that
 //! moves is drawn again only where it was and is; a scrolled EVSM clipmap shades as one drawn
-//! whole; a render request moves its camera between frames; and a level drawn whole from a
-//! caster list of an earlier window (its layer lost) is drawn again from a fresh list the next
-//! frame.
+//! whole (and every pass of its frame is timed); a render request moves its camera between
+//! frames; and a level drawn whole from a caster list of an earlier window (its layer lost) is
+//! drawn again from a fresh list the next frame.
 
 mod common;
 // NOTE: this test draws only raw bits from the shared generator.
@@ -330,7 +330,7 @@ fn a_moving_caster_redraws_only_where_it_was_and_is() {
 }
 
 #[test]
-fn a_scrolled_evsm_clipmap_shades_as_one_drawn_whole() {
+fn a_scrolled_evsm_clipmap_shades_as_one_drawn_whole_and_times_every_pass() {
     use penumbra::render::Renderer;
     let mut apps = [
         long_field_filtered(512, true, ShadowMode::Evsm),
@@ -346,8 +346,22 @@ fn a_scrolled_evsm_clipmap_shades_as_one_drawn_whole() {
             app.update();
         }
     }
+    // NOTE: every pass of the last frame is timed: a level's move, its regions and its
+    // moments each take one.
+    let mut renderer = apps[0].world_mut().resource_mut::<Renderer>();
+    let mut timings = renderer.take_timings();
+    timings.extend(renderer.wait_for_timings());
+    let last = timings.last().expect("a timed frame");
+    let count = |what: &str| last.passes.iter().filter(|p| p.name.contains(what)).count();
     let scrolled = apps[0].world().resource::<Renderer>();
-    assert!(scrolled.last_report.shadow_views_scrolled > 0, "no level scrolled");
+    let levels = scrolled.last_report.shadow_views_scrolled as usize;
+    println!(
+        "{levels} levels scrolled; passes timed: {:?}",
+        last.passes.iter().map(|p| &p.name).collect::<Vec<_>>()
+    );
+    assert!(levels >= 5, "only {levels} levels scrolled");
+    assert_eq!(count("shadow moments sun"), levels, "a level's moments were not timed");
+    assert_eq!(count("forward"), 1, "the lighting pass was not timed");
     let (a, b) = (
         scrolled.read_image(),
         apps[1].world().resource::<Renderer>().read_image(),

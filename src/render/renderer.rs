@@ -479,10 +479,13 @@ impl Renderer {
 #[path = "renderer_readback.rs"]
 mod readback;
 
-/// The most passes a frame of `input` can time: one per shadow view, one per VSM light's
-/// moments and per cascade's moments, the prepass, the resolve and the lighting pass.
+/// The most passes a frame of `input` can time: one per shadow view and one more per
+/// scrolling view (its move, then its regions), one per VSM light's moments and per
+/// cascade's moments, the prepass, the resolve and the lighting pass.
 fn timed_passes(input: &FrameInputs<'_>) -> usize {
+    let views = &input.shadow_views.views;
+    let scrolling = views.iter().filter(|v| v.scroll.is_some()).count();
     let cascades: usize = input.lights.suns.iter().map(|s| s.cascades.count).sum();
     // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
-    input.shadow_views.views.len() + input.lights.spots.len() + input.lights.points.len() + cascades + 4
+    views.len() + scrolling + input.lights.spots.len() + input.lights.points.len() + cascades + 4
 }
