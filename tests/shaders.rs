@@ -102,6 +102,14 @@ fn the_clipmap_shift_shader_validates() {
 }
 
 #[test]
+fn the_page_allocation_shader_validates() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library.pages_allocate().unwrap_or_else(|e| panic!("{e}"));
+    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entry_points, ["main"]);
+}
+
+#[test]
 fn the_depth_bounds_shader_validates_single_sample_and_multisampled() {
     let mut library = ShaderLibrary::new().unwrap();
     for multisampled in [false, true] {

@@ -24,6 +24,9 @@ pub const MIN_VIRTUAL_RESOLUTION: u32 = 4096;
 pub const MAX_VIRTUAL_RESOLUTION: u32 = 16384;
 /// Page sides accepted, texels.
 pub const PAGE_SIZES: [u32; 4] = [64, 128, 256, 512];
+/// Frames of not being needed past which pages count as equally old when the pool chooses
+/// which to evict.
+pub const MAX_PAGE_AGE: u64 = 63;
 
 /// How a level's virtual texture is cut into pages.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -238,8 +241,9 @@ impl VirtualPages {
 
     /// Serves frame `frame`'s `needed` pages (sorted, without repeats; those outside their
     /// level's window `windows[level]` are left out): keeps the resident ones, frees pages that left their window,
-    /// maps the others to free pages (lowest first), evicting the least recently needed pages
-    /// (ties: lowest physical page) when none is free; what still has no page overflows.
+    /// maps the others, in the order given, to free pages (lowest first), evicting the least
+    /// recently needed pages (ages past [`MAX_PAGE_AGE`] frames alike; ties: lowest physical
+    /// page) when none is free; what still has no page overflows.
     pub fn allocate(&mut self, frame: u64, needed: &[PageKey], windows: &[PageRect]) -> Allocation {
         let mut out = Allocation::default();
         for physical in 0..self.pool.len() as u32 {
@@ -277,18 +281,16 @@ impl VirtualPages {
             .filter(|&p| self.pool[p as usize].owner.is_none())
             .rev()
             .collect();
+        // NOTE: the oldest first (ages past MAX_PAGE_AGE alike), the lowest among equals;
+        // taken from the end.
+        let age = |p: u32| (frame - self.pool[p as usize].last_needed).min(MAX_PAGE_AGE);
         let mut victims: Vec<u32> = (0..self.pool.len() as u32)
             .filter(|&p| {
                 let page = &self.pool[p as usize];
                 page.owner.is_some() && page.last_needed < frame
             })
             .collect();
-        victims.sort_by_key(|&p| {
-            (
-                std::cmp::Reverse(self.pool[p as usize].last_needed),
-                std::cmp::Reverse(p),
-            )
-        });
+        victims.sort_by_key(|&p| (age(p), std::cmp::Reverse(p)));
         for key in missing {
             let physical = match free.pop() {
                 Some(p) => p,

@@ -143,6 +143,10 @@ const CASCADE_MOMENTS: ModuleSource = ModuleSource {
     file: "shadow_cascade_moments.wgsl",
     source: include_str!("../../shaders/shadow_cascade_moments.wgsl"),
 };
+const PAGES_ALLOCATE: ModuleSource = ModuleSource {
+    file: "pages_allocate.wgsl",
+    source: include_str!("../../shaders/pages_allocate.wgsl"),
+};
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
     source: include_str!("../../shaders/resolve.wgsl"),
@@ -295,6 +299,11 @@ impl ShaderLibrary {
     /// The clipmap level shift (`vs_main`, `fs_main` writing depth).
     pub fn shadow_shift(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(SHADOW_SHIFT.file, SHADOW_SHIFT.source, HashMap::new())
+    }
+
+    /// The paged clipmap's allocation (`main`, one workgroup).
+    pub fn pages_allocate(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(PAGES_ALLOCATE.file, PAGES_ALLOCATE.source, HashMap::new())
     }
 
     /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a

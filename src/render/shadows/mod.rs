@@ -15,6 +15,7 @@ pub mod gpu;
 pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
+pub mod page_allocate;
 pub mod shift;
 pub mod standalone;
 pub mod storage;

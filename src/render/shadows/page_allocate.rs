@@ -1,0 +1,272 @@
+//! The paged clipmap's allocation on the GPU (`shaders/pages_allocate.wgsl`): from the bitset
+//! of pages the frame needs, one compute dispatch keeps the resident pages, frees those that
+//! left their window, maps the others to free or least recently needed pool pages and lists
+//! the pages to draw, by the rules of [`crate::math::pages`] (the mirror the tests compare it
+//! with). The page table and the pool stay on the GPU from frame to frame.
+
+use std::borrow::Cow;
+
+use bytemuck::{Pod, Zeroable};
+use glam::I64Vec2;
+
+use crate::math::pages::{MAX_PAGE_AGE, PageLayout};
+use crate::render::layouts::entry;
+use crate::render::readback::read_buffer;
+use crate::render::shadows::jobs::compute_pipeline;
+use crate::shader::ShaderLibrary;
+
+/// Levels the allocation's uniforms hold (WGSL `MAX_LEVELS`).
+pub const MAX_PAGED_LEVELS: usize = 8;
+/// A table entry or pool page that holds nothing (WGSL `NONE`).
+pub const NONE: u32 = u32::MAX;
+
+/// Mirror of WGSL `Params`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct ParamsGpu {
+    frame: u32,
+    levels: u32,
+    pages_per_side: u32,
+    pool_pages: u32,
+    max_age: u32,
+    _pad: [u32; 3],
+    windows: [[i32; 4]; MAX_PAGED_LEVELS],
+}
+
+/// Mirror of WGSL `Entry`: a level's table entry.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct EntryGpu {
+    /// Its physical page, or [`NONE`].
+    pub physical: u32,
+    /// The grid page it maps.
+    pub page_x: i32,
+    /// See `page_x`.
+    pub page_y: i32,
+    _pad: u32,
+}
+
+/// Mirror of WGSL `Page`: a page of the pool.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct PageGpu {
+    /// `level << 24 | entry` of the entry that maps it, or [`NONE`].
+    pub owner: u32,
+    /// The last frame it was needed.
+    pub last_needed: u32,
+    /// 1 when it holds its page's depth.
+    pub drawn: u32,
+    _pad: u32,
+}
+
+/// What one allocation did, read back.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct AllocationGpu {
+    /// Needed pages resident and drawn.
+    pub kept: u32,
+    /// Pages to draw: (`level << 24 | entry`, physical page), in no particular order.
+    pub draws: Vec<(u32, u32)>,
+    /// Pages evicted.
+    pub evicted: u32,
+    /// Needed pages left unmapped.
+    pub overflowed: u32,
+}
+
+/// The allocation's pipeline and buffers: the needed bitset, every level's table, the pool,
+/// the pool's order, the counters and the draw list.
+pub struct PageAllocator {
+    layout: PageLayout,
+    levels: u32,
+    pool_pages: u32,
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    params: wgpu::Buffer,
+    /// The pages needed this frame, a bit per table entry (level by level).
+    pub needed: wgpu::Buffer,
+    table: wgpu::Buffer,
+    pool: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    draws: wgpu::Buffer,
+}
+
+fn storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
+}
+
+impl PageAllocator {
+    /// Tables for `levels` levels (at most [`MAX_PAGED_LEVELS`]) cut by `layout`, and a pool
+    /// of `pool_pages` pages, every entry and page empty.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        library: &mut ShaderLibrary,
+        layout: PageLayout,
+        levels: u32,
+        pool_pages: u32,
+    ) -> Self {
+        let levels = levels.min(MAX_PAGED_LEVELS as u32);
+        let entries = u64::from(levels) * layout.entries() as u64;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("page allocation params"),
+            size: size_of::<ParamsGpu>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let needed = storage_buffer(device, "pages needed", entries.div_ceil(32) * 4);
+        let table = storage_buffer(device, "page table", entries * size_of::<EntryGpu>() as u64);
+        let pool = storage_buffer(device, "page pool", u64::from(pool_pages) * size_of::<PageGpu>() as u64);
+        let order = storage_buffer(device, "page pool order", u64::from(pool_pages) * 4);
+        let counters = storage_buffer(device, "page counters", 16);
+        let draws = storage_buffer(device, "pages to draw", entries * 8);
+        let empty = EntryGpu {
+            physical: NONE,
+            ..EntryGpu::default()
+        };
+        queue.write_buffer(&table, 0, bytemuck::cast_slice(&vec![empty; entries as usize]));
+        let free = PageGpu {
+            owner: NONE,
+            ..PageGpu::default()
+        };
+        queue.write_buffer(&pool, 0, bytemuck::cast_slice(&vec![free; pool_pages as usize]));
+        let module = library
+            .pages_allocate()
+            .expect("the shipped allocation shader composes (checked by tests)");
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("page allocation"),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page allocation"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::ShaderStages::COMPUTE,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(size_of::<ParamsGpu>() as u64),
+                    },
+                ),
+                storage_entry(1, true),
+                storage_entry(2, false),
+                storage_entry(3, false),
+                storage_entry(4, false),
+                storage_entry(5, false),
+                storage_entry(6, false),
+            ],
+        });
+        let buffers = [&params, &needed, &table, &pool, &order, &counters, &draws];
+        let bindings: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page allocation"),
+            layout: &group_layout,
+            entries: &bindings,
+        });
+        let pipeline = compute_pipeline(device, "page allocation", &shader, &group_layout, "main");
+        Self {
+            layout,
+            levels,
+            pool_pages,
+            pipeline,
+            group,
+            params,
+            needed,
+            table,
+            pool,
+            counters,
+            draws,
+        }
+    }
+
+    /// Records frame `frame`'s allocation with each level's window starting at grid page
+    /// `windows[level]`, from the bitset in [`needed`](Self::needed).
+    pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, frame: u32, windows: &[I64Vec2]) {
+        let mut params = ParamsGpu {
+            frame,
+            levels: self.levels,
+            pages_per_side: self.layout.pages_per_side(),
+            pool_pages: self.pool_pages,
+            max_age: MAX_PAGE_AGE as u32,
+            _pad: [0; 3],
+            windows: [[0; 4]; MAX_PAGED_LEVELS],
+        };
+        for (w, first) in params.windows.iter_mut().zip(windows) {
+            *w = [first.x as i32, first.y as i32, 0, 0];
+        }
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        encoder.clear_buffer(&self.counters, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("page allocation"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// Reads back the tables, the pool and the last allocation (waits for the GPU; None when
+    /// the device failed to map them).
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<(Vec<EntryGpu>, Vec<PageGpu>, AllocationGpu)> {
+        let table: Vec<EntryGpu> = pods(&read_storage(device, queue, &self.table)?);
+        let pool: Vec<PageGpu> = pods(&read_storage(device, queue, &self.pool)?);
+        let counters: Vec<u32> = pods(&read_storage(device, queue, &self.counters)?);
+        let draws: Vec<[u32; 2]> = pods(&read_storage(device, queue, &self.draws)?);
+        let allocation = AllocationGpu {
+            kept: counters[0],
+            draws: draws[..counters[1] as usize].iter().map(|d| (d[0], d[1])).collect(),
+            evicted: counters[2],
+            overflowed: counters[3],
+        };
+        Some((table, pool, allocation))
+    }
+}
+
+/// The `T`s in `bytes`.
+fn pods<T: Pod>(bytes: &[u8]) -> Vec<T> {
+    bytes
+        .chunks_exact(size_of::<T>())
+        .map(bytemuck::pod_read_unaligned)
+        .collect()
+}
+
+/// A copy of storage buffer `buffer` (waits for the GPU).
+fn read_storage(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Option<Vec<u8>> {
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("page readback"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    queue.submit([encoder.finish()]);
+    read_buffer(device, &staging, buffer.size())
+}
