@@ -111,6 +111,17 @@ fn resident(index: u32, page: vec2<i32>) -> bool {
     return e.physical != NONE && e.page_x == page.x && e.page_y == page.y;
 }
 
+// What entry `index` asks for this frame: 0 nothing (not needed), 1 its page, which is
+// resident, 2 its page, which is missing.
+fn state(index: u32) -> u32 {
+    if !is_needed(index) {
+        return 0u;
+    }
+    let per_level = entries_per_level();
+    let page = entry_page(index / per_level, index % per_level);
+    return select(2u, 1u, resident(index, page));
+}
+
 fn add_draw(key: u32, physical: u32) {
     pool[physical].drawn = 1u;
     let at = atomicAdd(&counters.draws, 1u);
@@ -156,22 +167,17 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     let mine = run(tid, total);
     var missing = 0u;
     for (var i = mine.x; i < mine.y; i++) {
-        if !is_needed(i) {
-            continue;
-        }
-        let level = i / per_level;
-        let page = entry_page(level, i % per_level);
-        if resident(i, page) {
+        let wanted = state(i);
+        if wanted == 1u {
             let p = table[i].physical;
             pool[p].last_needed = params.frame;
             if pool[p].drawn == 0u {
-                add_draw(level << 24u | (i % per_level), p);
+                add_draw((i / per_level) << 24u | (i % per_level), p);
             } else {
                 atomicAdd(&counters.kept, 1u);
             }
-        } else {
-            missing += 1u;
         }
+        missing += u32(wanted == 2u);
     }
     let rank = scan(tid, missing).x;
     storageBarrier();
@@ -211,14 +217,11 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     // 4. Map each missing page to the page of its rank in the order.
     var r = rank;
     for (var i = mine.x; i < mine.y; i++) {
-        if !is_needed(i) {
+        if state(i) != 2u {
             continue;
         }
         let level = i / per_level;
         let page = entry_page(level, i % per_level);
-        if resident(i, page) {
-            continue;
-        }
         if r >= ordered {
             atomicAdd(&counters.overflowed, 1u);
             r += 1u;
