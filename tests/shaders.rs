@@ -102,11 +102,13 @@ fn the_clipmap_shift_shader_validates() {
 }
 
 #[test]
-fn the_page_allocation_shader_validates() {
+fn the_page_marking_and_allocation_shaders_validate() {
     let mut library = ShaderLibrary::new().unwrap();
-    let module = library.pages_allocate().unwrap_or_else(|e| panic!("{e}"));
-    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entry_points, ["main"]);
+    for module in [library.pages_mark(), library.pages_allocate()] {
+        let module = module.unwrap_or_else(|e| panic!("{e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["main"]);
+    }
 }
 
 #[test]

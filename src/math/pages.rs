@@ -10,7 +10,7 @@
 //! ([`PageLayout::entry`]). A window that moves keeps the entries of the pages it still covers;
 //! an entry whose page left the window holds a page no receiver asks for, and is reclaimed.
 //!
-//! Each frame: the pages a receiver's filter reads are marked ([`PageLayout::footprint`]);
+//! Each frame: the pages a receiver's filter reads are marked ([`mark_receiver`]);
 //! [`VirtualPages::allocate`] keeps the marked pages that are resident, maps the others to
 //! free physical pages, evicts the least recently needed pages only when none is free, and
 //! reports the pages it could not map (overflow: their receivers read a coarser level);
@@ -112,6 +112,54 @@ pub fn snap_to_pages(centre: DVec2, layout: &PageLayout) -> I64Vec2 {
     let page = f64::from(layout.page_size);
     let half = f64::from(layout.virtual_resolution) / 2.0;
     ((centre - DVec2::splat(half)) / page).round().as_i64vec2() * i64::from(layout.page_size)
+}
+
+/// A paged level's window: where it starts on the grid and how wide its texels are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PagedLevel {
+    /// Grid texel of the window's first texel (a whole page).
+    pub first_texel: I64Vec2,
+    /// Side of a texel, metres.
+    pub texel: f64,
+}
+
+/// How receivers mark the pages they read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarkRule {
+    /// Texels a receiver's filter reads around it (PCF radius, PCSS search, moment blur).
+    pub radius: f64,
+    /// Texels a level's window keeps clear of its edge for the receivers it serves
+    /// (at least `radius`).
+    pub margin: f64,
+    /// Band of a window's half side, along the inner edge of the margin, where a receiver
+    /// also reads the next level (it blends into it).
+    pub blend: f64,
+}
+
+/// Appends the pages a receiver at light-frame `xy` reads to `out`: its filter's footprint
+/// in the finest level whose window holds it with the rule's margin, and in the next level
+/// too inside the blend band. Nothing outside every level.
+pub fn mark_receiver(layout: &PageLayout, levels: &[PagedLevel], xy: DVec2, rule: &MarkRule, out: &mut Vec<PageKey>) {
+    let side = f64::from(layout.virtual_resolution);
+    for (i, level) in levels.iter().enumerate() {
+        let lo = (level.first_texel.as_dvec2() + DVec2::splat(rule.margin)) * level.texel;
+        let hi = (level.first_texel.as_dvec2() + DVec2::splat(side - rule.margin)) * level.texel;
+        if xy.cmplt(lo).any() || xy.cmpgt(hi).any() {
+            continue;
+        }
+        let mut footprint = |k: usize| {
+            let at = xy / levels[k].texel;
+            let pages = layout.footprint(at, rule.radius);
+            out.extend(pages.pages().map(|p| PageKey::new(k as u32, p)));
+        };
+        footprint(i);
+        let band = rule.blend * 0.5 * side * level.texel;
+        let inside = (xy - lo).min(hi - xy).min_element();
+        if i + 1 < levels.len() && inside < band {
+            footprint(i + 1);
+        }
+        return;
+    }
 }
 
 /// A rectangle of grid pages, both corners included.

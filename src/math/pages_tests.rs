@@ -251,3 +251,38 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
+    let l = layout();
+    let levels = [
+        PagedLevel {
+            first_texel: I64Vec2::ZERO,
+            texel: 1.0,
+        },
+        PagedLevel {
+            first_texel: I64Vec2::splat(-2048),
+            texel: 2.0,
+        },
+    ];
+    let rule = MarkRule {
+        radius: 4.0,
+        margin: 8.0,
+        blend: 0.1,
+    };
+    let mut out = Vec::new();
+    mark_receiver(&l, &levels, DVec2::splat(2112.0), &rule, &mut out);
+    assert_eq!(out, vec![PageKey::new(0, I64Vec2::splat(16))], "the middle of level 0 reads one page");
+    out.clear();
+    // 20 texels inside level 0's margin: inside its band (0.1 of 2048), so level 1 is read too.
+    mark_receiver(&l, &levels, DVec2::new(28.0, 2112.0), &rule, &mut out);
+    let levels_read: Vec<u32> = out.iter().map(|k| k.level).collect();
+    assert_eq!(levels_read, [0, 1], "{out:?}");
+    out.clear();
+    // Inside level 0's margin: level 1 serves it alone.
+    mark_receiver(&l, &levels, DVec2::new(4.0, 2112.0), &rule, &mut out);
+    assert!(out.iter().all(|k| k.level == 1) && !out.is_empty(), "{out:?}");
+    out.clear();
+    mark_receiver(&l, &levels, DVec2::splat(1e6), &rule, &mut out);
+    assert!(out.is_empty(), "outside every level nothing is read");
+}

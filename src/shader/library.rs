@@ -147,6 +147,10 @@ const PAGES_ALLOCATE: ModuleSource = ModuleSource {
     file: "pages_allocate.wgsl",
     source: include_str!("../../shaders/pages_allocate.wgsl"),
 };
+const PAGES_MARK: ModuleSource = ModuleSource {
+    file: "pages_mark.wgsl",
+    source: include_str!("../../shaders/pages_mark.wgsl"),
+};
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
     source: include_str!("../../shaders/resolve.wgsl"),
@@ -304,6 +308,11 @@ impl ShaderLibrary {
     /// The paged clipmap's allocation (`main`, one workgroup).
     pub fn pages_allocate(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(PAGES_ALLOCATE.file, PAGES_ALLOCATE.source, HashMap::new())
+    }
+
+    /// The paged clipmap's marking (`main`, a thread per pixel).
+    pub fn pages_mark(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(PAGES_MARK.file, PAGES_MARK.source, HashMap::new())
     }
 
     /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a

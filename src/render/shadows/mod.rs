@@ -16,6 +16,7 @@ pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
 pub mod page_allocate;
+pub mod page_mark;
 pub mod shift;
 pub mod standalone;
 pub mod storage;

@@ -257,6 +257,13 @@ fn pods<T: Pod>(bytes: &[u8]) -> Vec<T> {
         .collect()
 }
 
+impl PageAllocator {
+    /// Reads back the bitset of needed pages (waits for the GPU).
+    pub fn read_needed(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Vec<u32>> {
+        Some(pods(&read_storage(device, queue, &self.needed)?))
+    }
+}
+
 /// A copy of storage buffer `buffer` (waits for the GPU).
 fn read_storage(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Option<Vec<u8>> {
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
