@@ -102,12 +102,19 @@ fn the_clipmap_shift_shader_validates() {
 }
 
 #[test]
-fn the_page_marking_and_allocation_shaders_validate() {
+fn the_page_marking_allocation_and_drawing_shaders_validate() {
     let mut library = ShaderLibrary::new().unwrap();
     for module in [library.pages_mark(), library.pages_allocate()] {
         let module = module.unwrap_or_else(|e| panic!("{e}"));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(entry_points, ["main"]);
+    }
+    for (cull, expected) in [(true, &["cull"][..]), (false, &["clear_vs", "caster_vs"][..])] {
+        let module = library
+            .pages_render(cull)
+            .unwrap_or_else(|e| panic!("cull {cull}: {e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, expected);
     }
 }
 

@@ -153,6 +153,25 @@ pub fn compute_clipmap(input: &ClipmapInput) -> ClipmapSet {
     set
 }
 
+/// `level` of a clipmap of `resolution`² texel levels in the light frame `rotation`, with its
+/// window moved to start at grid texel `first_texel` (a paged level's window starts on a
+/// whole page).
+pub fn moved_level(rotation: Mat3, level: &ClipmapLevel, first_texel: I64Vec2, resolution: u32) -> ClipmapLevel {
+    let texel = f64::from(level.extent) / f64::from(resolution.max(1));
+    ClipmapLevel {
+        first_texel,
+        clip_from_world: region_clip_from_world(
+            rotation,
+            first_texel,
+            I64Vec2::splat(i64::from(resolution)),
+            texel,
+            f64::from(level.z_min),
+            f64::from(level.depth),
+        ),
+        ..*level
+    }
+}
+
 /// Light clip space from world of the region of `size` texels starting at grid texel `first`
 /// and the depth range `[z_min, z_min + depth]`.
 fn region_clip_from_world(rotation: Mat3, first: I64Vec2, size: I64Vec2, texel: f64, z_min: f64, depth: f64) -> Mat4 {

@@ -272,7 +272,11 @@ fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
     };
     let mut out = Vec::new();
     mark_receiver(&l, &levels, DVec2::splat(2112.0), &rule, &mut out);
-    assert_eq!(out, vec![PageKey::new(0, I64Vec2::splat(16))], "the middle of level 0 reads one page");
+    assert_eq!(
+        out,
+        vec![PageKey::new(0, I64Vec2::splat(16))],
+        "the middle of level 0 reads one page"
+    );
     out.clear();
     // 20 texels inside level 0's margin: inside its band (0.1 of 2048), so level 1 is read too.
     mark_receiver(&l, &levels, DVec2::new(28.0, 2112.0), &rule, &mut out);

@@ -77,6 +77,9 @@ pub struct GpuContext {
     pub timestamps: bool,
     /// Depth can be left unclipped (casters in front of the near plane are clamped to it).
     pub unclipped_depth: bool,
+    /// Vertex stages may write clip distances (the paged clipmap's caster confines each page
+    /// to its tile with them).
+    pub clip_distances: bool,
     /// Pipeline-statistics queries are available (fragment invocations can be counted).
     pub pipeline_statistics: bool,
     /// Most views one multiview pass may render (0: no `MULTIVIEW`, cascades are drawn one
@@ -126,6 +129,7 @@ impl GpuContext {
             | wgpu::Features::MULTIVIEW
             | wgpu::Features::FLOAT32_FILTERABLE
             | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
+            | wgpu::Features::CLIP_DISTANCES
             // NOTE: without it only WebGPU's guaranteed sample counts (1 and 4, and not for
             // every format) may be used.
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
@@ -169,6 +173,7 @@ impl GpuContext {
             queue,
             timestamps: required_features.contains(wgpu::Features::TIMESTAMP_QUERY),
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
+            clip_distances: required_features.contains(wgpu::Features::CLIP_DISTANCES),
             pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             multiview_views,
             unorm16_moments: required_features.contains(wgpu::Features::TEXTURE_FORMAT_16BIT_NORM),

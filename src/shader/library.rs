@@ -151,6 +151,10 @@ const PAGES_MARK: ModuleSource = ModuleSource {
     file: "pages_mark.wgsl",
     source: include_str!("../../shaders/pages_mark.wgsl"),
 };
+const PAGES_RENDER: ModuleSource = ModuleSource {
+    file: "pages_render.wgsl",
+    source: include_str!("../../shaders/pages_render.wgsl"),
+};
 const RESOLVE: ModuleSource = ModuleSource {
     file: "resolve.wgsl",
     source: include_str!("../../shaders/resolve.wgsl"),
@@ -315,6 +319,17 @@ impl ShaderLibrary {
         self.compose(PAGES_MARK.file, PAGES_MARK.source, HashMap::new())
     }
 
+    /// The paged clipmap's page drawing: with `cull`, the compute culling of casters per page
+    /// (`cull`); without, the vertex stages of the tiles' clear (`clear_vs`) and of the
+    /// casters (`caster_vs`).
+    pub fn pages_render(&mut self, cull: bool) -> Result<naga::Module, ShaderError> {
+        let mut defs = HashMap::new();
+        if cull {
+            defs.insert("CULL".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
+        }
+        self.compose(PAGES_RENDER.file, PAGES_RENDER.source, defs)
+    }
+
     /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a
     /// single-sample or (`multisampled`) a multisampled camera depth.
     pub fn depth_bounds(&mut self, multisampled: bool) -> Result<naga::Module, ShaderError> {
@@ -389,11 +404,15 @@ impl ShaderLibrary {
 }
 
 /// What shaders may use: naga's defaults, `@builtin(view_index)` (only the multiview
-/// caster reads it; wgpu refuses that module on a device without `MULTIVIEW`) and 16-bit
+/// caster reads it; wgpu refuses that module on a device without `MULTIVIEW`), 16-bit
 /// unorm storage textures (only the 16-bit MSM bake writes them, on a device with
-/// `TEXTURE_FORMAT_16BIT_NORM`).
+/// `TEXTURE_FORMAT_16BIT_NORM`) and clip distances (only the paged clipmap's caster writes
+/// them, on a device with `CLIP_DISTANCES`).
 fn capabilities() -> Capabilities {
-    Capabilities::default() | Capabilities::MULTIVIEW | Capabilities::STORAGE_TEXTURE_16BIT_NORM_FORMATS
+    Capabilities::default()
+        | Capabilities::MULTIVIEW
+        | Capabilities::STORAGE_TEXTURE_16BIT_NORM_FORMATS
+        | Capabilities::CLIP_DISTANCES
 }
 
 /// Runs naga's validator over a composed module.

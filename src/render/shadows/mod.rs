@@ -17,6 +17,7 @@ pub mod moment_storage;
 pub mod moments_pass;
 pub mod page_allocate;
 pub mod page_mark;
+pub mod page_render;
 pub mod shift;
 pub mod standalone;
 pub mod storage;

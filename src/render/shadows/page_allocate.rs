@@ -258,6 +258,22 @@ fn pods<T: Pod>(bytes: &[u8]) -> Vec<T> {
 }
 
 impl PageAllocator {
+    /// How its levels are cut into pages.
+    pub fn layout(&self) -> PageLayout {
+        self.layout
+    }
+
+    /// Pages in its pool.
+    pub fn pool_pages(&self) -> u32 {
+        self.pool_pages
+    }
+
+    /// The list of pages to draw, the counters (the second is the list's length) and the
+    /// tables: what the page drawing reads.
+    pub fn draw_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
+        (&self.draws, &self.counters, &self.table)
+    }
+
     /// Reads back the bitset of needed pages (waits for the GPU).
     pub fn read_needed(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Vec<u32>> {
         Some(pods(&read_storage(device, queue, &self.needed)?))

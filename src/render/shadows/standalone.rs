@@ -140,6 +140,22 @@ impl StandaloneShadows {
         })
     }
 
+    /// Renders one orthographic view (a clipmap level's window, say) of `resolution`² texels
+    /// from `clip_from_world` (reverse-Z) with `settings`' biases and depth clamping; returns
+    /// the `Depth32Float` texture.
+    pub fn render_ortho(
+        &mut self,
+        gpu: &GpuContext,
+        casters: &[ShadowCaster<'_>],
+        clip_from_world: Mat4,
+        resolution: u32,
+        settings: &ShadowSettings,
+    ) -> wgpu::Texture {
+        let texture = depth_texture(gpu, "standalone orthographic shadow", resolution, 1);
+        self.draw(gpu, casters, &[clip_from_world], &texture, settings);
+        texture
+    }
+
     /// Draws every caster into layer `i` of `texture` from `views[i]`, then submits.
     fn draw(
         &mut self,

@@ -1,0 +1,420 @@
+//! The paged clipmap's page drawing on the GPU (`shaders/pages_render.wgsl`): from the
+//! allocation's list of pages to draw, a compute pass culls each caster against each listed
+//! page (its bounding sphere against the page's square, seen from the light) into per-caster
+//! instance lists and indirect draws; one render pass over the pool atlas then clears the
+//! listed pages' tiles to the far depth and draws each caster once per page it reaches, its
+//! vertices moved from the level's window onto the page's tile and clipped to the tile. The
+//! CPU records the same commands every frame and never learns which pages were drawn.
+
+use std::borrow::Cow;
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat3, Mat4, Vec4};
+
+use crate::math::pages::{PageLayout, PagedLevel};
+use crate::render::layouts::entry;
+use crate::render::shadows::jobs::compute_pipeline;
+use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
+use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
+use crate::render::target::texture_2d;
+use crate::shader::ShaderLibrary;
+
+/// Bytes between two casters' entries of the caster-id uniform (the dynamic-offset
+/// alignment).
+const ID_STRIDE: u64 = 256;
+
+/// Mirror of WGSL `Level`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct LevelGpu {
+    clip_from_world: Mat4,
+    window: Vec4,
+}
+
+/// Mirror of WGSL `Render`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct RenderGpu {
+    light_from_world: Mat4,
+    tiles: u32,
+    page_size: f32,
+    atlas_side: f32,
+    pages_per_side: u32,
+    casters: u32,
+    slots: u32,
+    levels: u32,
+    _pad: u32,
+    level: [LevelGpu; MAX_PAGED_LEVELS],
+}
+
+/// Mirror of WGSL `Caster`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct CasterGpu {
+    world_from_local: Mat4,
+    sphere: Vec4,
+}
+
+/// One caster to draw into the pages: where its triangles are in the index buffer, where it
+/// is, and the sphere that bounds it.
+#[derive(Clone, Copy, Debug)]
+pub struct PageCaster {
+    /// World from local.
+    pub world_from_local: Mat4,
+    /// World centre (xyz) and radius (w) of its bounding sphere.
+    pub sphere: Vec4,
+    /// Its indices: first, count, and the vertex they count from.
+    pub indices: (u32, u32, i32),
+}
+
+/// What a frame's pages are drawn from besides the allocation.
+#[derive(Clone, Copy, Debug)]
+pub struct PageScene<'a> {
+    /// The light's frame from world.
+    pub light_rotation: Mat3,
+    /// Each level's clip space (its whole window) from world, and its window.
+    pub levels: &'a [(Mat4, PagedLevel)],
+    /// The casters.
+    pub casters: &'a [PageCaster],
+    /// Positions (three floats a vertex) and 32-bit indices of every caster.
+    pub geometry: (&'a wgpu::Buffer, &'a wgpu::Buffer),
+}
+
+/// The pool atlas and the pipelines and buffers that draw pages into it.
+pub struct PageRenderer {
+    layout: PageLayout,
+    /// Tiles per side of the atlas.
+    pub tiles: u32,
+    /// The pool: `Depth32Float`, `tiles · page_size` texels a side, physical page `p` at tile
+    /// `(p mod tiles, p / tiles)`.
+    pub atlas: wgpu::Texture,
+    atlas_view: wgpu::TextureView,
+    slots: u32,
+    max_casters: u32,
+    cull: (wgpu::ComputePipeline, wgpu::BindGroup),
+    draw_group: wgpu::BindGroup,
+    clear: wgpu::RenderPipeline,
+    caster: wgpu::RenderPipeline,
+    id_group: wgpu::BindGroup,
+    uniforms: wgpu::Buffer,
+    casters: wgpu::Buffer,
+    args: wgpu::Buffer,
+    clear_args: wgpu::Buffer,
+    _ids: wgpu::Buffer,
+}
+
+fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn storage(binding: u32, stages: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        stages,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
+}
+
+fn uniform(binding: u32, stages: wgpu::ShaderStages, dynamic: bool, size: u64) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        stages,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic,
+            min_binding_size: wgpu::BufferSize::new(size),
+        },
+    )
+}
+
+fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("page drawing"),
+        layout,
+        entries: &entries,
+    })
+}
+
+impl PageRenderer {
+    /// An atlas for `allocator`'s pool and the pipelines, for up to `max_casters` casters;
+    /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
+    /// to it). Needs a device with clip distances.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        library: &mut ShaderLibrary,
+        allocator: &PageAllocator,
+        max_casters: u32,
+        unclipped: bool,
+    ) -> Self {
+        let (layout, slots) = (allocator.layout(), allocator.pool_pages());
+        let tiles = (f64::from(slots).sqrt().ceil() as u32).max(1);
+        let side = tiles * layout.page_size;
+        let atlas = texture_2d(device, "page pool atlas", (side, side, 1), SHADOW_FORMAT, DEPTH_USAGE);
+        let atlas_view = atlas.create_view(&wgpu::TextureViewDescriptor::default());
+        let uniforms = buffer(
+            device,
+            "page drawing",
+            size_of::<RenderGpu>() as u64,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let caster_bytes = u64::from(max_casters) * size_of::<CasterGpu>() as u64;
+        let casters = buffer(device, "page casters", caster_bytes, wgpu::BufferUsages::STORAGE);
+        let lists = buffer(
+            device,
+            "page caster lists",
+            u64::from(max_casters) * u64::from(slots) * 4,
+            wgpu::BufferUsages::STORAGE,
+        );
+        let indirect = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
+        let args = buffer(device, "page caster draws", u64::from(max_casters) * 20, indirect);
+        let clear_args = buffer(device, "page clears", 16, indirect);
+        let ids = buffer(
+            device,
+            "page caster ids",
+            u64::from(max_casters) * ID_STRIDE,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let id_data: Vec<u8> = (0..max_casters)
+            .flat_map(|c| {
+                let mut entry = [0u8; ID_STRIDE as usize];
+                entry[..4].copy_from_slice(&c.to_le_bytes());
+                entry
+            })
+            .collect();
+        let (draws, counters, table) = allocator.draw_buffers();
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let vertex = wgpu::ShaderStages::VERTEX;
+        let render_size = size_of::<RenderGpu>() as u64;
+        let shared = |stages| {
+            [
+                uniform(0, stages, false, render_size),
+                storage(1, stages, true),
+                storage(2, stages, true),
+                storage(3, stages, true),
+                storage(4, stages, true),
+            ]
+        };
+        let cull_entries: Vec<_> = shared(compute)
+            .into_iter()
+            .chain([storage(5, compute, false), storage(6, compute, false)])
+            .collect();
+        let cull_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page culling"),
+            entries: &cull_entries,
+        });
+        let draw_entries: Vec<_> = shared(vertex).into_iter().chain([storage(5, vertex, true)]).collect();
+        let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page drawing"),
+            entries: &draw_entries,
+        });
+        let id_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page caster id"),
+            entries: &[uniform(0, vertex, true, 16)],
+        });
+        let shared_buffers = [&uniforms, draws, counters, table, &casters];
+        let cull_group = group(device, &cull_layout, &[&shared_buffers[..], &[&lists, &args]].concat());
+        let draw_group = group(device, &draw_layout, &[&shared_buffers[..], &[&lists]].concat());
+        let id_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page caster id"),
+            layout: &id_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &ids,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(16),
+                }),
+            }],
+        });
+        let mut module = |cull: bool| {
+            let module = library
+                .pages_render(cull)
+                .expect("the shipped page drawing shader composes (checked by tests)");
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("page drawing"),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+            })
+        };
+        let cull_pipeline = compute_pipeline(device, "page culling", &module(true), &cull_layout, "cull");
+        let shader = module(false);
+        let pipeline_layout = |groups: &[Option<&wgpu::BindGroupLayout>]| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("page drawing"),
+                bind_group_layouts: groups,
+                immediate_size: 0,
+            })
+        };
+        let depth = |compare, bias| wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(compare),
+            stencil: wgpu::StencilState::default(),
+            bias,
+        };
+        let clear = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("page clear"),
+            layout: Some(&pipeline_layout(&[Some(&draw_layout)])),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("clear_vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(depth(wgpu::CompareFunction::Always, wgpu::DepthBiasState::default())),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let caster = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("page casters"),
+            layout: Some(&pipeline_layout(&[Some(&draw_layout), Some(&id_layout)])),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("caster_vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                unclipped_depth: unclipped,
+                ..Default::default()
+            },
+            depth_stencil: Some(depth(wgpu::CompareFunction::Greater, wgpu::DepthBiasState::default())),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        queue.write_buffer(&ids, 0, &id_data);
+        Self {
+            layout,
+            tiles,
+            atlas,
+            atlas_view,
+            slots,
+            max_casters,
+            cull: (cull_pipeline, cull_group),
+            draw_group,
+            clear,
+            caster,
+            id_group,
+            uniforms,
+            casters,
+            args,
+            clear_args,
+            _ids: ids,
+        }
+    }
+
+    /// Records this frame's page drawing: the casters culled per listed page, the listed
+    /// pages' tiles cleared, the casters drawn into them.
+    pub fn record(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        allocator: &PageAllocator,
+        scene: &PageScene<'_>,
+    ) {
+        let count = scene.casters.len().min(self.max_casters as usize);
+        let casters = &scene.casters[..count];
+        let mut level = [LevelGpu {
+            clip_from_world: Mat4::ZERO,
+            window: Vec4::ZERO,
+        }; MAX_PAGED_LEVELS];
+        for (l, (clip_from_world, paged)) in level.iter_mut().zip(scene.levels) {
+            let first = self.layout.page_of(paged.first_texel).as_vec2();
+            *l = LevelGpu {
+                clip_from_world: *clip_from_world,
+                window: Vec4::new(first.x, first.y, paged.texel as f32, 0.0),
+            };
+        }
+        let data = RenderGpu {
+            light_from_world: Mat4::from_mat3(scene.light_rotation),
+            tiles: self.tiles,
+            page_size: self.layout.page_size as f32,
+            atlas_side: (self.tiles * self.layout.page_size) as f32,
+            pages_per_side: self.layout.pages_per_side(),
+            casters: count as u32,
+            slots: self.slots,
+            levels: scene.levels.len().min(MAX_PAGED_LEVELS) as u32,
+            _pad: 0,
+            level,
+        };
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
+        let caster_data: Vec<CasterGpu> = casters
+            .iter()
+            .map(|c| CasterGpu {
+                world_from_local: c.world_from_local,
+                sphere: c.sphere,
+            })
+            .collect();
+        queue.write_buffer(&self.casters, 0, bytemuck::cast_slice(&caster_data));
+        let args: Vec<[u32; 5]> = casters
+            .iter()
+            .map(|c| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, 0])
+            .collect();
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&args));
+        queue.write_buffer(&self.clear_args, 0, bytemuck::cast_slice(&[6u32, 0, 0, 0]));
+        // NOTE: the clears' instance count is the allocation's count of pages to draw.
+        encoder.copy_buffer_to_buffer(allocator.draw_buffers().1, 4, &self.clear_args, 4, 4);
+        if count > 0 {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("page culling"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.cull.0);
+            pass.set_bind_group(0, &self.cull.1, &[]);
+            pass.dispatch_workgroups((count as u32).div_ceil(64), self.slots, 1);
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("pages"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.atlas_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.draw_group, &[]);
+        pass.set_pipeline(&self.clear);
+        pass.draw_indirect(&self.clear_args, 0);
+        let (vertices, indices) = scene.geometry;
+        pass.set_pipeline(&self.caster);
+        pass.set_vertex_buffer(0, vertices.slice(..));
+        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        for c in 0..count as u64 {
+            pass.set_bind_group(1, &self.id_group, &[(c * ID_STRIDE) as u32]);
+            pass.draw_indexed_indirect(&self.args, c * 20);
+        }
+    }
+}
