@@ -240,3 +240,41 @@ fn main(@builtin(local_invocation_index) tid: u32) {
         add_draw(key, p);
     }
 }
+
+// Invalidation, before the allocation: the drawn pages a moving caster's old or new bounds
+// reach (rectangles of grid pages of one level each), or every page when the light turned,
+// are marked for drawing again; their residency stays.
+const MAX_INVALIDATIONS: u32 = 64u;
+
+struct Invalidations {
+    count: u32,
+    all: u32,
+    _pad0: u32,
+    _pad1: u32,
+    // Per rectangle: the smallest and largest grid page (both included).
+    rects: array<vec4<i32>, MAX_INVALIDATIONS>,
+    // The level of rectangle i: levels[i / 4][i % 4].
+    levels: array<vec4<u32>, 16>,
+}
+
+@group(0) @binding(7) var<uniform> invalidations: Invalidations;
+
+@compute @workgroup_size(64)
+fn invalidate(@builtin(global_invocation_id) id: vec3<u32>) {
+    let p = id.x;
+    if p >= params.pool_pages || pool[p].owner == NONE {
+        return;
+    }
+    let owner = pool[p].owner;
+    let level = owner >> 24u;
+    let e = table[level * entries_per_level() + (owner & 0xffffffu)];
+    var hit = invalidations.all != 0u;
+    for (var i = 0u; i < min(invalidations.count, MAX_INVALIDATIONS); i++) {
+        let r = invalidations.rects[i];
+        let same = invalidations.levels[i / 4u][i % 4u] == level;
+        hit = hit || (same && e.page_x >= r.x && e.page_y >= r.y && e.page_x <= r.z && e.page_y <= r.w);
+    }
+    if hit {
+        pool[p].drawn = 0u;
+    }
+}

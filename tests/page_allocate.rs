@@ -1,8 +1,9 @@
 //! The paged clipmap's allocation on a real wgpu device (lavapipe in CI) against its CPU
 //! mirror (`math::pages::VirtualPages::allocate`) on recorded frames: a walk whose windows
 //! move and whose needed pages come and go, with a pool too small for some frames (pages are
-//! evicted and overflow) and still frames between. After every frame the GPU's tables and
-//! pool equal the mirror's entry for entry, and so do the counts and the pages to draw.
+//! evicted and overflow), still frames between, and pages invalidated by a moving caster and
+//! by the light turning. After every frame the GPU's tables and pool equal the mirror's entry
+//! for entry, and so do the counts and the pages to draw.
 
 // NOTE: this test draws only raw bits from the shared generator.
 #[allow(dead_code)]
@@ -76,8 +77,34 @@ fn the_gpu_allocates_pages_as_its_cpu_mirror_does() {
     let per_level = layout.entries();
     let allocator = PageAllocator::new(device, queue, &mut library, layout, LEVELS, POOL);
     let mut mirror = VirtualPages::new(layout, LEVELS, POOL);
-    let (mut drawn, mut evicted, mut overflowed, mut still) = (0, 0, 0, 0);
+    let (mut drawn, mut evicted, mut overflowed, mut still, mut invalidated) = (0, 0, 0, 0, 0);
     for (f, frame) in walk(&layout, 24).iter().enumerate() {
+        // NOTE: a caster moving over the window's centre in the levels it reaches, every
+        // fifth frame that is not a still one, and the light turning once.
+        let centre = frame.windows[0] + I64Vec2::splat(i64::from(layout.pages_per_side()) / 2);
+        let caster: Vec<(u32, PageRect)> = (0..2)
+            .map(|level| {
+                let at = frame.windows[level as usize] + (centre - frame.windows[0]) / (1 << level);
+                let rect = PageRect {
+                    min: at - I64Vec2::new(1, 2),
+                    max: at + I64Vec2::new(2, 1),
+                };
+                (level, rect)
+            })
+            .collect();
+        let (moved, all): (&[(u32, PageRect)], bool) = match f {
+            10 => (&[], true),
+            _ if f % 5 == 1 && f % 4 != 3 => (&caster, false),
+            _ => (&[], false),
+        };
+        let mut marked = 0;
+        for (level, rect) in moved {
+            marked += mirror.invalidate(*level, rect);
+        }
+        if all {
+            marked += mirror.invalidate_all();
+        }
+        invalidated += marked;
         let number = f as u32 + 1;
         let rects: Vec<PageRect> = frame.windows.iter().map(|w| layout.window(*w * 128)).collect();
         let cpu = mirror.allocate(u64::from(number), &frame.needed, &rects);
@@ -91,6 +118,9 @@ fn the_gpu_allocates_pages_as_its_cpu_mirror_does() {
         }
         queue.write_buffer(&allocator.needed, 0, bytemuck::cast_slice(&bits));
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        if all || !moved.is_empty() {
+            allocator.record_invalidation(queue, &mut encoder, moved, all);
+        }
         allocator.record(queue, &mut encoder, number, &frame.windows);
         queue.submit([encoder.finish()]);
         let (table, pool, got) = allocator.read(device, queue).expect("the buffers read back");
@@ -147,7 +177,10 @@ fn the_gpu_allocates_pages_as_its_cpu_mirror_does() {
             );
         }
     }
-    println!("{drawn} pages drawn, {evicted} evicted, {overflowed} overflowed, {still} still frames");
+    println!(
+        "{drawn} pages drawn, {evicted} evicted, {overflowed} overflowed, {invalidated} invalidated, {still} still frames"
+    );
+    assert!(invalidated > 100, "only {invalidated} drawn pages invalidated");
     assert!(drawn > 1000, "only {drawn} pages drawn over the walk");
     assert!(evicted > 50, "only {evicted} pages evicted: the pool was never full");
     assert!(overflowed > 0, "no page overflowed");

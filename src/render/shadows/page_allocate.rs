@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use bytemuck::{Pod, Zeroable};
 use glam::I64Vec2;
 
-use crate::math::pages::{MAX_PAGE_AGE, PageLayout};
+use crate::math::pages::{MAX_PAGE_AGE, PageLayout, PageRect};
 use crate::render::layouts::entry;
 use crate::render::readback::read_buffer;
 use crate::render::shadows::jobs::compute_pipeline;
@@ -19,6 +19,19 @@ use crate::shader::ShaderLibrary;
 pub const MAX_PAGED_LEVELS: usize = 8;
 /// A table entry or pool page that holds nothing (WGSL `NONE`).
 pub const NONE: u32 = u32::MAX;
+/// Rectangles one invalidation holds (WGSL `MAX_INVALIDATIONS`).
+pub const MAX_INVALIDATIONS: usize = 64;
+
+/// Mirror of WGSL `Invalidations`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct InvalidationsGpu {
+    count: u32,
+    all: u32,
+    _pad: [u32; 2],
+    rects: [[i32; 4]; MAX_INVALIDATIONS],
+    levels: [[u32; 4]; MAX_INVALIDATIONS / 4],
+}
 
 /// Mirror of WGSL `Params`.
 #[repr(C)]
@@ -80,6 +93,7 @@ pub struct PageAllocator {
     pool_pages: u32,
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
+    invalidate: (wgpu::ComputePipeline, wgpu::BindGroup, wgpu::Buffer),
     params: wgpu::Buffer,
     /// The pages needed this frame, a bit per table entry (level by level).
     pub needed: wgpu::Buffer,
@@ -152,18 +166,19 @@ impl PageAllocator {
             label: Some("page allocation"),
             source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
         });
+        let params_entry = entry(
+            0,
+            wgpu::ShaderStages::COMPUTE,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: wgpu::BufferSize::new(size_of::<ParamsGpu>() as u64),
+            },
+        );
         let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page allocation"),
             entries: &[
-                entry(
-                    0,
-                    wgpu::ShaderStages::COMPUTE,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(size_of::<ParamsGpu>() as u64),
-                    },
-                ),
+                params_entry,
                 storage_entry(1, true),
                 storage_entry(2, false),
                 storage_entry(3, false),
@@ -187,24 +202,120 @@ impl PageAllocator {
             entries: &bindings,
         });
         let pipeline = compute_pipeline(device, "page allocation", &shader, &group_layout, "main");
-        Self {
+        let invalidations = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("page invalidations"),
+            size: size_of::<InvalidationsGpu>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let invalidate_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page invalidation"),
+            entries: &[
+                params_entry,
+                storage_entry(2, false),
+                storage_entry(3, false),
+                entry(
+                    7,
+                    wgpu::ShaderStages::COMPUTE,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(size_of::<InvalidationsGpu>() as u64),
+                    },
+                ),
+            ],
+        });
+        let invalidate_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page invalidation"),
+            layout: &invalidate_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: table.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: pool.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: invalidations.as_entire_binding(),
+                },
+            ],
+        });
+        let invalidate_pipeline =
+            compute_pipeline(device, "page invalidation", &shader, &invalidate_layout, "invalidate");
+        let allocator = Self {
             layout,
             levels,
             pool_pages,
             pipeline,
             group,
+            invalidate: (invalidate_pipeline, invalidate_group, invalidations),
             params,
             needed,
             table,
             pool,
             counters,
             draws,
+        };
+        // NOTE: the invalidation reads the tables' size from the parameters; each allocation
+        // writes them again with its frame and windows.
+        allocator.write_params(queue, 0, &[]);
+        allocator
+    }
+
+    /// Records the invalidation of the drawn pages of each `(level, pages)` rectangle (the
+    /// first [`MAX_INVALIDATIONS`]), or of every page with `all`: they are drawn again when
+    /// next needed. Record it before the frame's allocation.
+    pub fn record_invalidation(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        rects: &[(u32, PageRect)],
+        all: bool,
+    ) {
+        let mut data = InvalidationsGpu {
+            count: rects.len().min(MAX_INVALIDATIONS) as u32,
+            all: u32::from(all),
+            _pad: [0; 2],
+            rects: [[0; 4]; MAX_INVALIDATIONS],
+            levels: [[0; 4]; MAX_INVALIDATIONS / 4],
+        };
+        for (i, (level, r)) in rects.iter().take(MAX_INVALIDATIONS).enumerate() {
+            data.rects[i] = [r.min.x as i32, r.min.y as i32, r.max.x as i32, r.max.y as i32];
+            data.levels[i / 4][i % 4] = *level;
         }
+        let (pipeline, group, buffer) = &self.invalidate;
+        queue.write_buffer(buffer, 0, bytemuck::bytes_of(&data));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("page invalidation"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(self.pool_pages.div_ceil(64), 1, 1);
     }
 
     /// Records frame `frame`'s allocation with each level's window starting at grid page
     /// `windows[level]`, from the bitset in [`needed`](Self::needed).
     pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, frame: u32, windows: &[I64Vec2]) {
+        self.write_params(queue, frame, windows);
+        encoder.clear_buffer(&self.counters, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("page allocation"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    fn write_params(&self, queue: &wgpu::Queue, frame: u32, windows: &[I64Vec2]) {
         let mut params = ParamsGpu {
             frame,
             levels: self.levels,
@@ -218,14 +329,6 @@ impl PageAllocator {
             *w = [first.x as i32, first.y as i32, 0, 0];
         }
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        encoder.clear_buffer(&self.counters, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("page allocation"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.group, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
     }
 
     /// Reads back the tables, the pool and the last allocation (waits for the GPU; None when
