@@ -104,10 +104,14 @@ fn the_clipmap_shift_shader_validates() {
 #[test]
 fn the_page_marking_allocation_and_drawing_shaders_validate() {
     let mut library = ShaderLibrary::new().unwrap();
-    for module in [library.pages_mark(), library.pages_allocate()] {
+    let modules = [
+        (library.pages_mark(), &["main"][..]),
+        (library.pages_allocate(), &["main", "invalidate"][..]),
+    ];
+    for (module, expected) in modules {
         let module = module.unwrap_or_else(|e| panic!("{e}"));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entry_points, ["main"]);
+        assert_eq!(entry_points, expected);
     }
     for (cull, expected) in [(true, &["cull"][..]), (false, &["clear_vs", "caster_vs"][..])] {
         let module = library
