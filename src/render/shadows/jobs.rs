@@ -103,3 +103,52 @@ pub fn job_binding<T>(buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
         }),
     }
 }
+
+/// A storage-buffer entry at `binding` for `stages`.
+pub fn storage_entry(binding: u32, stages: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        stages,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
+}
+
+/// A uniform-buffer entry at `binding` for `stages` of at least `size` bytes (bound at a
+/// dynamic offset with `dynamic`).
+pub fn uniform_entry(binding: u32, stages: wgpu::ShaderStages, dynamic: bool, size: u64) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        stages,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic,
+            min_binding_size: wgpu::BufferSize::new(size),
+        },
+    )
+}
+
+/// A group binding each of `buffers` whole, at its position in the list.
+pub fn buffer_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}

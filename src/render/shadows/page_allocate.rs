@@ -10,9 +10,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::I64Vec2;
 
 use crate::math::pages::{MAX_PAGE_AGE, PageLayout, PageRect};
-use crate::render::layouts::entry;
 use crate::render::readback::read_buffer;
-use crate::render::shadows::jobs::compute_pipeline;
+use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::shader::ShaderLibrary;
 
 /// Levels the allocation's uniforms hold (WGSL `MAX_LEVELS`).
@@ -112,18 +111,6 @@ fn storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffe
     })
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        wgpu::ShaderStages::COMPUTE,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    )
-}
-
 impl PageAllocator {
     /// Tables for `levels` levels (at most [`MAX_PAGED_LEVELS`]) cut by `layout`, and a pool
     /// of `pool_pages` pages, every entry and page empty.
@@ -166,41 +153,22 @@ impl PageAllocator {
             label: Some("page allocation"),
             source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
         });
-        let params_entry = entry(
-            0,
-            wgpu::ShaderStages::COMPUTE,
-            wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: wgpu::BufferSize::new(size_of::<ParamsGpu>() as u64),
-            },
-        );
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let params_entry = uniform_entry(0, compute, false, size_of::<ParamsGpu>() as u64);
         let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page allocation"),
             entries: &[
                 params_entry,
-                storage_entry(1, true),
-                storage_entry(2, false),
-                storage_entry(3, false),
-                storage_entry(4, false),
-                storage_entry(5, false),
-                storage_entry(6, false),
+                storage_entry(1, compute, true),
+                storage_entry(2, compute, false),
+                storage_entry(3, compute, false),
+                storage_entry(4, compute, false),
+                storage_entry(5, compute, false),
+                storage_entry(6, compute, false),
             ],
         });
         let buffers = [&params, &needed, &table, &pool, &order, &counters, &draws];
-        let bindings: Vec<wgpu::BindGroupEntry<'_>> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("page allocation"),
-            layout: &group_layout,
-            entries: &bindings,
-        });
+        let group = buffer_group(device, "page allocation", &group_layout, &buffers);
         let pipeline = compute_pipeline(device, "page allocation", &shader, &group_layout, "main");
         let invalidations = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("page invalidations"),
@@ -212,17 +180,9 @@ impl PageAllocator {
             label: Some("page invalidation"),
             entries: &[
                 params_entry,
-                storage_entry(2, false),
-                storage_entry(3, false),
-                entry(
-                    7,
-                    wgpu::ShaderStages::COMPUTE,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(size_of::<InvalidationsGpu>() as u64),
-                    },
-                ),
+                storage_entry(2, compute, false),
+                storage_entry(3, compute, false),
+                uniform_entry(7, compute, false, size_of::<InvalidationsGpu>() as u64),
             ],
         });
         let invalidate_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -11,7 +11,7 @@ use glam::{Mat3, Mat4, UVec2};
 
 use crate::math::pages::{MarkRule, PageLayout, PagedLevel};
 use crate::render::layouts::entry;
-use crate::render::shadows::jobs::compute_pipeline;
+use crate::render::shadows::jobs::{compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::MAX_PAGED_LEVELS;
 use crate::shader::ShaderLibrary;
 
@@ -78,24 +78,8 @@ impl PageMark {
                         multisampled: false,
                     },
                 ),
-                entry(
-                    1,
-                    compute,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(size_of::<MarkGpu>() as u64),
-                    },
-                ),
-                entry(
-                    2,
-                    compute,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
+                uniform_entry(1, compute, false, size_of::<MarkGpu>() as u64),
+                storage_entry(2, compute, false),
             ],
         });
         let pipeline = compute_pipeline(device, "page marking", &shader, &layout, "main");

@@ -12,8 +12,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4, Vec4};
 
 use crate::math::pages::{PageLayout, PagedLevel};
-use crate::render::layouts::entry;
-use crate::render::shadows::jobs::compute_pipeline;
+use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
 use crate::render::target::texture_2d;
@@ -112,46 +111,6 @@ fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsa
     })
 }
 
-fn storage(binding: u32, stages: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        stages,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    )
-}
-
-fn uniform(binding: u32, stages: wgpu::ShaderStages, dynamic: bool, size: u64) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        stages,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: wgpu::BufferSize::new(size),
-        },
-    )
-}
-
-fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("page drawing"),
-        layout,
-        entries: &entries,
-    })
-}
-
 impl PageRenderer {
     /// An atlas for `allocator`'s pool and the pipelines, for up to `max_casters` casters;
     /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
@@ -205,33 +164,46 @@ impl PageRenderer {
         let render_size = size_of::<RenderGpu>() as u64;
         let shared = |stages| {
             [
-                uniform(0, stages, false, render_size),
-                storage(1, stages, true),
-                storage(2, stages, true),
-                storage(3, stages, true),
-                storage(4, stages, true),
+                uniform_entry(0, stages, false, render_size),
+                storage_entry(1, stages, true),
+                storage_entry(2, stages, true),
+                storage_entry(3, stages, true),
+                storage_entry(4, stages, true),
             ]
         };
         let cull_entries: Vec<_> = shared(compute)
             .into_iter()
-            .chain([storage(5, compute, false), storage(6, compute, false)])
+            .chain([storage_entry(5, compute, false), storage_entry(6, compute, false)])
             .collect();
         let cull_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page culling"),
             entries: &cull_entries,
         });
-        let draw_entries: Vec<_> = shared(vertex).into_iter().chain([storage(5, vertex, true)]).collect();
+        let draw_entries: Vec<_> = shared(vertex)
+            .into_iter()
+            .chain([storage_entry(5, vertex, true)])
+            .collect();
         let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page drawing"),
             entries: &draw_entries,
         });
         let id_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page caster id"),
-            entries: &[uniform(0, vertex, true, 16)],
+            entries: &[uniform_entry(0, vertex, true, 16)],
         });
         let shared_buffers = [&uniforms, draws, counters, table, &casters];
-        let cull_group = group(device, &cull_layout, &[&shared_buffers[..], &[&lists, &args]].concat());
-        let draw_group = group(device, &draw_layout, &[&shared_buffers[..], &[&lists]].concat());
+        let cull_group = buffer_group(
+            device,
+            "page culling",
+            &cull_layout,
+            &[&shared_buffers[..], &[&lists, &args]].concat(),
+        );
+        let draw_group = buffer_group(
+            device,
+            "page drawing",
+            &draw_layout,
+            &[&shared_buffers[..], &[&lists]].concat(),
+        );
         let id_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("page caster id"),
             layout: &id_layout,
