@@ -4,9 +4,8 @@
 //! draws nothing; moving it moves each level's texels and draws only the strips newly
 //! covered, and after a walk the levels hold what levels drawn whole hold; a caster that
 //! moves is drawn again only where it was and is; a scrolled EVSM clipmap shades as one drawn
-//! whole (and every pass of its frame is timed); a render request moves its camera between
-//! frames; and a level drawn whole from a caster list of an earlier window (its layer lost) is
-//! drawn again from a fresh list the next frame.
+//! whole (and every pass of its frame is timed); and a render request moves its camera
+//! between frames.
 
 mod common;
 // NOTE: this test draws only raw bits from the shared generator.
@@ -14,6 +13,7 @@ mod common;
 #[path = "common/xorshift.rs"]
 mod xorshift;
 
+use common::clipmap::{drawn, long_field, long_field_filtered, long_field_with, matrices, walk};
 use common::rays::Aabb;
 use common::suns::{Device, GROUND, visibility};
 use glam::Vec3;
@@ -126,55 +126,6 @@ fn every_filter_on_the_clipmap_puts_the_shadow_where_the_rays_do() {
     }
 }
 
-/// The long field with its sun on a 6-level clipmap of `resolution`² levels (the cache on
-/// or off), rendered once.
-fn long_field_with(resolution: u32, cache: bool) -> bevy_app::App {
-    long_field_filtered(resolution, cache, ShadowMode::Pcf)
-}
-
-/// [`long_field_with`], its sun filtered with `mode` (moments without contact hardening).
-fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> bevy_app::App {
-    use penumbra::render::RenderOptions;
-    use penumbra::settings::{ShadowSettings, SunLayout};
-    let renderer = penumbra::render::Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = common::still_scene(renderer, "assets/bench/long_field.ron");
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
-    let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.map.resolution = resolution;
-        s.filter.mode = mode;
-        // NOTE: every pixel then reads the moments (no depth comparison at casters' feet).
-        s.filter.moments.contact_hardening = false;
-        s.map.layout = SunLayout::Clipmap {
-            levels: 6,
-            level0_extent: 32.0,
-        };
-    }
-    app.update();
-    app
-}
-
-fn long_field() -> bevy_app::App {
-    long_field_with(2048, true)
-}
-
-fn drawn(app: &bevy_app::App) -> u32 {
-    app.world()
-        .resource::<penumbra::render::Renderer>()
-        .last_report
-        .shadow_views_drawn
-}
-
-fn matrices(app: &bevy_app::App) -> Vec<glam::Mat4> {
-    let views = app.world().resource::<penumbra::ecs::ShadowViews>();
-    views.views.iter().map(|v| v.clip_from_world).collect()
-}
-
 #[test]
 fn turning_the_camera_changes_no_level_and_draws_nothing() {
     use penumbra::ecs::{Camera3d, Transform};
@@ -193,17 +144,6 @@ fn turning_the_camera_changes_no_level_and_draws_nothing() {
         app.update();
         assert_eq!(matrices(&app), first, "yaw {yaw}: a level moved");
         assert_eq!(drawn(&app), 0, "yaw {yaw}: turning the camera redrew a level");
-    }
-}
-
-/// Moves the camera of `app` by `step` and turns it by `yaw`.
-fn walk(app: &mut bevy_app::App, step: Vec3, yaw: f32) {
-    use penumbra::ecs::{Camera3d, Transform};
-    let world = app.world_mut();
-    let mut cameras = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
-    for mut t in cameras.iter_mut(world) {
-        t.translation += step;
-        t.rotate_y(yaw);
     }
 }
 
@@ -416,87 +356,4 @@ fn a_render_request_moves_its_camera_between_frames() {
         turn_degrees: 0.0,
     });
     assert_eq!(walked, [0, 4, 4], "levels scrolled per frame");
-}
-
-/// The layers of `app`'s first sun's levels, in level order.
-fn first_sun_levels(app: &bevy_app::App, sun: bevy_ecs::entity::Entity) -> Vec<Vec<f32>> {
-    use penumbra::layout::ShadowStorage;
-    use penumbra::render::Renderer;
-    let views = app.world().resource::<penumbra::ecs::ShadowViews>();
-    let mut slots: Vec<_> = views
-        .views
-        .iter()
-        .filter(|v| v.entity == sun)
-        .map(|v| (v.kind.index, v.slot))
-        .collect();
-    slots.sort();
-    let renderer = app.world().resource::<Renderer>();
-    slots
-        .iter()
-        .map(|&(_, slot)| {
-            renderer
-                .read_shadow_map(ShadowStorage::Cascades, slot)
-                .expect("a level")
-        })
-        .collect()
-}
-
-#[test]
-fn a_level_drawn_from_an_earlier_windows_list_is_drawn_again_the_next_frame() {
-    use penumbra::ecs::Transform;
-    use penumbra::ecs::components::DirectionalLight;
-    use penumbra::render::Renderer;
-    use penumbra::settings::ShadowSettings;
-    let resolution = 512;
-    let mut scrolled = long_field_with(resolution, true);
-    let mut whole = long_field_with(resolution, false);
-    for _ in 0..4 {
-        for app in [&mut scrolled, &mut whole] {
-            walk(app, Vec3::new(0.0, 0.0, -6.0), 0.0);
-            app.update();
-        }
-    }
-    // NOTE: a second sun grows the cascades' storage, so every level's layer is lost while
-    // its caster list is still the one culled for the first window.
-    let mut sun = None;
-    for app in [&mut scrolled, &mut whole] {
-        let world = app.world_mut();
-        let mut suns = world.query::<(bevy_ecs::entity::Entity, &DirectionalLight, &ShadowSettings)>();
-        let (entity, light, settings) = suns.iter(world).next().expect("the field's sun");
-        let (light, settings) = (*light, *settings);
-        sun = Some(entity);
-        let transform = Transform::from_translation(Vec3::ZERO).looking_at(Vec3::new(0.3, -1.0, 0.2), Vec3::Y);
-        world.spawn((light, settings, transform));
-        app.update();
-    }
-    let sun = sun.unwrap();
-    let report = &scrolled.world().resource::<Renderer>().last_report;
-    let resynced = report.shadow_views_resynced;
-    println!(
-        "the frame the storage grew: {} views drawn, {resynced} from an earlier window's list",
-        report.shadow_views_drawn
-    );
-    assert!(resynced >= 1, "no level was drawn from an earlier window's list");
-    for app in [&mut scrolled, &mut whole] {
-        app.update();
-    }
-    let report = &scrolled.world().resource::<Renderer>().last_report;
-    assert_eq!(report.shadow_views_resynced, 0, "a list was still stale");
-    assert!(
-        report.shadow_views_drawn >= resynced,
-        "{} views drawn again, {resynced} had stale lists",
-        report.shadow_views_drawn
-    );
-    let (kept, fresh) = (first_sun_levels(&scrolled, sun), first_sun_levels(&whole, sun));
-    assert_eq!(kept.len(), 6, "the first sun's levels");
-    for (level, (kept, fresh)) in kept.iter().zip(&fresh).enumerate() {
-        let covered = fresh.iter().filter(|&&d| d > 0.0).count();
-        let differ = kept.iter().zip(fresh).filter(|(x, y)| (**x - **y).abs() > 2e-6).count();
-        println!("level {level}: {covered} texels hold a caster, {differ} differ");
-        assert!(covered > 1000, "level {level}: only {covered} texels hold a caster");
-        assert_eq!(
-            differ, 0,
-            "level {level}: {differ} texels differ from the level drawn whole"
-        );
-    }
 }

@@ -4,6 +4,7 @@
 // NOTE: each test binary uses part of this module.
 #![allow(dead_code)]
 
+pub mod clipmap;
 pub mod rays;
 pub mod suns;
 

@@ -30,7 +30,6 @@ impl DepthPass {
         let kept = self.cache
             && held.version == version
             && held.window == Some(scroll.from)
-            && resolution == storage.side
             && (scroll.to - scroll.from).abs().max_element() < i64::from(resolution);
         let moved = scroll.from != scroll.to;
         let shifted = kept
@@ -48,6 +47,7 @@ impl DepthPass {
                         storage: &storage,
                         scratch,
                         layer: slot,
+                        resolution,
                     };
                     self.shift
                         .shift(device, queue, ctx.library, encoder, target, offset, timing)
@@ -137,6 +137,10 @@ impl DepthPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if view.resolution < storage.side {
+            let side = view.resolution as f32;
+            pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);
+        }
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let offset = (v * size_of::<CasterViewGpu>()) as u32;

@@ -69,6 +69,9 @@ pub struct ShiftTarget<'a> {
     pub scratch: &'a ShiftScratch,
     /// The layer.
     pub layer: u32,
+    /// Texels per side of the view in its top-left corner (the layer's side, or less when
+    /// the storage is shared with larger views).
+    pub resolution: u32,
 }
 
 /// The shift pipeline and its uniforms, made on first use.
@@ -87,8 +90,8 @@ impl LevelShift {
         self.used = 0;
     }
 
-    /// Records the shift of `target`'s layer by `offset` texels (target texel + offset =
-    /// source texel), timed by `timing`; false when this frame already recorded as many
+    /// Records the shift of `target`'s view by `offset` texels (target texel + offset =
+    /// source texel; the rest of its layer is cleared), timed by `timing`; false when this frame already recorded as many
     /// shifts as its uniforms hold, or the scratch is not of the layer's side (the caller
     /// then draws the level whole).
     #[allow(clippy::too_many_arguments)]
@@ -106,6 +109,7 @@ impl LevelShift {
             storage,
             scratch,
             layer,
+            resolution,
         } = target;
         if self.used >= MAX_SHIFTS_PER_FRAME || scratch.side != storage.side {
             return false;
@@ -115,7 +119,7 @@ impl LevelShift {
         self.used += 1;
         let data = ShiftGpu {
             offset,
-            side: storage.side as i32,
+            side: resolution.min(storage.side) as i32,
             layer: layer as i32,
             _pad: [0; 60],
         };

@@ -1,0 +1,88 @@
+//! The long field with its sun on a clipmap, and the camera walks the clipmap tests take.
+
+use bevy_app::App;
+use glam::Vec3;
+use penumbra::settings::ShadowMode;
+
+/// The long field with its sun on a 6-level clipmap of `resolution`² levels (the cache on
+/// or off), rendered once.
+pub fn long_field_with(resolution: u32, cache: bool) -> App {
+    long_field_filtered(resolution, cache, ShadowMode::Pcf)
+}
+
+/// [`long_field_with`], its sun filtered with `mode` (moments without contact hardening).
+pub fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> App {
+    use penumbra::render::RenderOptions;
+    use penumbra::settings::{ShadowSettings, SunLayout};
+    let renderer = penumbra::render::Renderer::headless(160, 90)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = super::still_scene(renderer, "assets/bench/long_field.ron");
+    app.insert_resource(RenderOptions {
+        shadow_cache: cache,
+        ..RenderOptions::default()
+    });
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        s.map.resolution = resolution;
+        s.filter.mode = mode;
+        // NOTE: every pixel then reads the moments (no depth comparison at casters' feet).
+        s.filter.moments.contact_hardening = false;
+        s.map.layout = SunLayout::Clipmap {
+            levels: 6,
+            level0_extent: 32.0,
+        };
+    }
+    app.update();
+    app
+}
+
+pub fn long_field() -> App {
+    long_field_with(2048, true)
+}
+
+pub fn drawn(app: &App) -> u32 {
+    app.world()
+        .resource::<penumbra::render::Renderer>()
+        .last_report
+        .shadow_views_drawn
+}
+
+pub fn matrices(app: &App) -> Vec<glam::Mat4> {
+    let views = app.world().resource::<penumbra::ecs::ShadowViews>();
+    views.views.iter().map(|v| v.clip_from_world).collect()
+}
+
+/// Moves the camera of `app` by `step` and turns it by `yaw`.
+pub fn walk(app: &mut App, step: Vec3, yaw: f32) {
+    use penumbra::ecs::{Camera3d, Transform};
+    let world = app.world_mut();
+    let mut cameras = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
+    for mut t in cameras.iter_mut(world) {
+        t.translation += step;
+        t.rotate_y(yaw);
+    }
+}
+
+/// The layers of `app`'s first sun's levels, in level order.
+pub fn first_sun_levels(app: &App, sun: bevy_ecs::entity::Entity) -> Vec<Vec<f32>> {
+    use penumbra::layout::ShadowStorage;
+    use penumbra::render::Renderer;
+    let views = app.world().resource::<penumbra::ecs::ShadowViews>();
+    let mut slots: Vec<_> = views
+        .views
+        .iter()
+        .filter(|v| v.entity == sun)
+        .map(|v| (v.kind.index, v.slot))
+        .collect();
+    slots.sort();
+    let renderer = app.world().resource::<Renderer>();
+    slots
+        .iter()
+        .map(|&(_, slot)| {
+            renderer
+                .read_shadow_map(ShadowStorage::Cascades, slot)
+                .expect("a level")
+        })
+        .collect()
+}
