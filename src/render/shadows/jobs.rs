@@ -152,3 +152,25 @@ pub fn buffer_group(
         entries: &entries,
     })
 }
+
+/// Reading a struct's layout from naga, for the tests that compare a Rust mirror with it.
+#[cfg(test)]
+pub(crate) mod layout_check {
+    /// The members (name, byte offset) and the size of WGSL struct `name` in `module`.
+    pub fn wgsl_layout(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name} in the module"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        let fields = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .filter(|(n, _)| !n.starts_with("_pad"))
+            .collect();
+        (fields, *span as usize)
+    }
+}

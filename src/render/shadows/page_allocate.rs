@@ -356,3 +356,51 @@ fn read_storage(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffe
     queue.submit([encoder.finish()]);
     read_buffer(device, &staging, buffer.size())
 }
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+    use crate::render::shadows::jobs::layout_check::wgsl_layout;
+
+    #[test]
+    fn the_uniforms_and_records_match_the_wgsl_layout() {
+        let module = ShaderLibrary::new().unwrap().pages_allocate().unwrap();
+        let fields = |list: &[(&str, usize)]| list.iter().map(|(n, o)| (n.to_string(), *o)).collect::<Vec<_>>();
+        let params = [
+            ("frame", offset_of!(ParamsGpu, frame)),
+            ("levels", offset_of!(ParamsGpu, levels)),
+            ("pages_per_side", offset_of!(ParamsGpu, pages_per_side)),
+            ("pool_pages", offset_of!(ParamsGpu, pool_pages)),
+            ("max_age", offset_of!(ParamsGpu, max_age)),
+            ("windows", offset_of!(ParamsGpu, windows)),
+        ];
+        assert_eq!(
+            wgsl_layout(&module, "Params"),
+            (fields(&params), size_of::<ParamsGpu>())
+        );
+        let entry = [
+            ("physical", offset_of!(EntryGpu, physical)),
+            ("page_x", offset_of!(EntryGpu, page_x)),
+            ("page_y", offset_of!(EntryGpu, page_y)),
+        ];
+        assert_eq!(wgsl_layout(&module, "Entry"), (fields(&entry), size_of::<EntryGpu>()));
+        let page = [
+            ("owner", offset_of!(PageGpu, owner)),
+            ("last_needed", offset_of!(PageGpu, last_needed)),
+            ("drawn", offset_of!(PageGpu, drawn)),
+        ];
+        assert_eq!(wgsl_layout(&module, "Page"), (fields(&page), size_of::<PageGpu>()));
+        let invalidations = [
+            ("count", offset_of!(InvalidationsGpu, count)),
+            ("all", offset_of!(InvalidationsGpu, all)),
+            ("rects", offset_of!(InvalidationsGpu, rects)),
+            ("levels", offset_of!(InvalidationsGpu, levels)),
+        ];
+        assert_eq!(
+            wgsl_layout(&module, "Invalidations"),
+            (fields(&invalidations), size_of::<InvalidationsGpu>())
+        );
+    }
+}

@@ -154,3 +154,33 @@ impl PageMark {
         pass.dispatch_workgroups(size.x.div_ceil(8), size.y.div_ceil(8), 1);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+    use crate::render::shadows::jobs::layout_check::wgsl_layout;
+
+    #[test]
+    fn the_uniforms_match_the_wgsl_layout() {
+        let module = ShaderLibrary::new().unwrap().pages_mark().unwrap();
+        let rust: Vec<(String, usize)> = [
+            ("world_from_clip", offset_of!(MarkGpu, world_from_clip)),
+            ("light_from_world", offset_of!(MarkGpu, light_from_world)),
+            ("size", offset_of!(MarkGpu, size)),
+            ("levels", offset_of!(MarkGpu, levels)),
+            ("pages_per_side", offset_of!(MarkGpu, pages_per_side)),
+            ("page_size", offset_of!(MarkGpu, page_size)),
+            ("virtual_resolution", offset_of!(MarkGpu, virtual_resolution)),
+            ("radius", offset_of!(MarkGpu, radius)),
+            ("margin", offset_of!(MarkGpu, margin)),
+            ("blend", offset_of!(MarkGpu, blend)),
+            ("level", offset_of!(MarkGpu, level)),
+        ]
+        .iter()
+        .map(|(n, o)| (n.to_string(), *o))
+        .collect();
+        assert_eq!(wgsl_layout(&module, "Mark"), (rust, size_of::<MarkGpu>()));
+    }
+}

@@ -390,3 +390,47 @@ impl PageRenderer {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+    use crate::render::shadows::jobs::layout_check::wgsl_layout;
+
+    #[test]
+    fn the_uniforms_and_records_match_the_wgsl_layout() {
+        let fields = |list: &[(&str, usize)]| list.iter().map(|(n, o)| (n.to_string(), *o)).collect::<Vec<_>>();
+        for cull in [true, false] {
+            let module = ShaderLibrary::new().unwrap().pages_render(cull).unwrap();
+            let render = [
+                ("light_from_world", offset_of!(RenderGpu, light_from_world)),
+                ("tiles", offset_of!(RenderGpu, tiles)),
+                ("page_size", offset_of!(RenderGpu, page_size)),
+                ("atlas_side", offset_of!(RenderGpu, atlas_side)),
+                ("pages_per_side", offset_of!(RenderGpu, pages_per_side)),
+                ("casters", offset_of!(RenderGpu, casters)),
+                ("slots", offset_of!(RenderGpu, slots)),
+                ("levels", offset_of!(RenderGpu, levels)),
+                ("level", offset_of!(RenderGpu, level)),
+            ];
+            assert_eq!(
+                wgsl_layout(&module, "Render"),
+                (fields(&render), size_of::<RenderGpu>())
+            );
+            let level = [
+                ("clip_from_world", offset_of!(LevelGpu, clip_from_world)),
+                ("window", offset_of!(LevelGpu, window)),
+            ];
+            assert_eq!(wgsl_layout(&module, "Level"), (fields(&level), size_of::<LevelGpu>()));
+            let caster = [
+                ("world_from_local", offset_of!(CasterGpu, world_from_local)),
+                ("sphere", offset_of!(CasterGpu, sphere)),
+            ];
+            assert_eq!(
+                wgsl_layout(&module, "Caster"),
+                (fields(&caster), size_of::<CasterGpu>())
+            );
+        }
+    }
+}
