@@ -106,20 +106,20 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     }
     queue.write_buffer(&allocator.needed, 0, bytemuck::cast_slice(&bits));
     let pages = PageRenderer::new(device, queue, &mut library, &allocator, 16, gpu.unclipped_depth);
-    let (mut positions, mut indices, mut casters) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut vertices, mut indices, mut casters) = (Vec::new(), Vec::new(), Vec::new());
     for (mesh, transform) in &scene {
         let b = mesh.bounds().transformed(transform);
         casters.push(PageCaster {
             world_from_local: *transform,
             sphere: b.center().extend(b.half_extents().length()),
-            indices: (indices.len() as u32, mesh.indices.len() as u32, positions.len() as i32),
+            indices: (indices.len() as u32, mesh.indices.len() as u32, vertices.len() as i32),
         });
-        positions.extend(mesh.vertices.iter().map(|v| v.position));
+        vertices.extend_from_slice(&mesh.vertices);
         indices.extend_from_slice(&mesh.indices);
     }
     let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
-        contents: bytemuck::cast_slice(&positions),
+        contents: bytemuck::cast_slice(&vertices),
         usage: wgpu::BufferUsages::VERTEX,
     });
     let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -16,6 +16,11 @@ static MESH_BUFFERS: [Option<wgpu::VertexBufferLayout<'static>>; 1] = [Some(wgpu
     attributes: &VERTEX_ATTRIBUTES,
 })];
 
+/// The vertex buffers of a mesh pipeline (for a vertex stage of another entry point).
+pub fn mesh_buffers() -> &'static [Option<wgpu::VertexBufferLayout<'static>>] {
+    &MESH_BUFFERS
+}
+
 /// The vertex stage of a mesh pipeline: `vs_main` of `module` over the mesh buffers.
 pub fn mesh_vertex_state(module: &wgpu::ShaderModule) -> wgpu::VertexState<'_> {
     wgpu::VertexState {

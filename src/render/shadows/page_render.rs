@@ -12,6 +12,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4, Vec4};
 
 use crate::math::pages::{PageLayout, PagedLevel};
+use crate::render::draw::mesh_buffers;
 use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
@@ -75,7 +76,8 @@ pub struct PageScene<'a> {
     pub levels: &'a [(Mat4, PagedLevel)],
     /// The casters.
     pub casters: &'a [PageCaster],
-    /// Positions (three floats a vertex) and 32-bit indices of every caster.
+    /// The mesh vertices (the engine's [`Vertex`](crate::mesh::Vertex) layout) and 32-bit
+    /// indices of every caster.
     pub geometry: (&'a wgpu::Buffer, &'a wgpu::Buffer),
 }
 
@@ -264,11 +266,7 @@ impl PageRenderer {
                 module: &shader,
                 entry_point: Some("caster_vs"),
                 compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
+                buffers: mesh_buffers(),
             },
             primitive: wgpu::PrimitiveState {
                 cull_mode: None,
