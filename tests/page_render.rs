@@ -105,7 +105,17 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
         bits[i / 32] |= 1 << (i % 32);
     }
     queue.write_buffer(&allocator.needed, 0, bytemuck::cast_slice(&bits));
-    let pages = PageRenderer::new(device, queue, &mut library, &allocator, 16, gpu.unclipped_depth);
+    // NOTE: both sides draw with the default slope-scaled bias.
+    let settings = ShadowSettings::default();
+    let pages = PageRenderer::new(
+        device,
+        queue,
+        &mut library,
+        &allocator,
+        16,
+        &settings.bias,
+        gpu.unclipped_depth,
+    );
     let (mut vertices, mut indices, mut casters) = (Vec::new(), Vec::new(), Vec::new());
     for (mesh, transform) in &scene {
         let b = mesh.bounds().transformed(transform);
@@ -142,9 +152,6 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     assert_eq!(allocation.draws.len(), 98, "every needed page is drawn");
     let atlas_side = pages.tiles * 128;
     let atlas = read_depth(&gpu, &pages.atlas, (atlas_side, atlas_side));
-    let mut settings = ShadowSettings::default();
-    settings.bias.slope_bias = 0.0;
-    settings.bias.bias_clamp = 0.0;
     let shadow_casters: Vec<ShadowCaster<'_>> = scene
         .iter()
         .map(|(mesh, transform)| ShadowCaster {
@@ -193,6 +200,6 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
         coverage + edges <= 3,
         "{coverage} texels differ in coverage, {edges} in which caster they hold"
     );
-    // NOTE: depth interpolated over a moved viewport (lavapipe: up to 4.2e-6).
-    assert!(worst <= 1.2e-5, "depth differs by {worst:e}");
+    // NOTE: depth interpolated over a moved viewport (lavapipe: up to 7.2e-7).
+    assert!(worst <= 2.2e-6, "depth differs by {worst:e}");
 }

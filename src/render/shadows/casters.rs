@@ -81,6 +81,18 @@ impl CasterPipelines {
     }
 }
 
+/// The hardware depth bias of a caster pipeline with slope-scaled bias `slope` clamped at
+/// `clamp`. Reverse-Z stores larger depth nearer the light, so the bias is negative: it
+/// pushes casters away from the light. The clamp is negative too (Vulkan takes
+/// max(bias, clamp)).
+pub fn caster_bias(slope: f32, clamp: f32) -> wgpu::DepthBiasState {
+    wgpu::DepthBiasState {
+        constant: 0,
+        slope_scale: -slope,
+        clamp: -clamp,
+    }
+}
+
 fn create_pipeline(
     device: &wgpu::Device,
     layouts: &Layouts,
@@ -105,18 +117,12 @@ fn create_pipeline(
             immediate_size: 0,
         })
     };
-    // NOTE: reverse-Z stores larger depth nearer the light, so the bias is negative: it pushes
-    // casters away from the light. The clamp is negative too (Vulkan takes max(bias, clamp)).
     let depth_stencil = wgpu::DepthStencilState {
         format: SHADOW_FORMAT,
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Greater),
         stencil: wgpu::StencilState::default(),
-        bias: wgpu::DepthBiasState {
-            constant: 0,
-            slope_scale: -f32::from_bits(key.slope_bias),
-            clamp: -f32::from_bits(key.bias_clamp),
-        },
+        bias: caster_bias(f32::from_bits(key.slope_bias), f32::from_bits(key.bias_clamp)),
     };
     let primitive = wgpu::PrimitiveState {
         // Two-sided: single-sided casters (planes, cards) must cast from both sides.

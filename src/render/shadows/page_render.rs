@@ -13,10 +13,12 @@ use glam::{Mat3, Mat4, Vec4};
 
 use crate::math::pages::{PageLayout, PagedLevel};
 use crate::render::draw::mesh_buffers;
+use crate::render::shadows::casters::caster_bias;
 use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
 use crate::render::target::texture_2d;
+use crate::settings::ShadowBias;
 use crate::shader::ShaderLibrary;
 
 /// Bytes between two casters' entries of the caster-id uniform (the dynamic-offset
@@ -114,15 +116,18 @@ fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsa
 }
 
 impl PageRenderer {
-    /// An atlas for `allocator`'s pool and the pipelines, for up to `max_casters` casters;
+    /// An atlas for `allocator`'s pool and the pipelines, for up to `max_casters` casters
+    /// drawn with the light's `bias` (slope-scaled, clamp) as the caster pipelines draw;
     /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
     /// to it). Needs a device with clip distances.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         library: &mut ShaderLibrary,
         allocator: &PageAllocator,
         max_casters: u32,
+        bias: &ShadowBias,
         unclipped: bool,
     ) -> Self {
         let (layout, slots) = (allocator.layout(), allocator.pool_pages());
@@ -273,7 +278,10 @@ impl PageRenderer {
                 unclipped_depth: unclipped,
                 ..Default::default()
             },
-            depth_stencil: Some(depth(wgpu::CompareFunction::Greater, wgpu::DepthBiasState::default())),
+            depth_stencil: Some(depth(
+                wgpu::CompareFunction::Greater,
+                caster_bias(bias.slope_bias, bias.bias_clamp),
+            )),
             multisample: wgpu::MultisampleState::default(),
             fragment: None,
             multiview_mask: None,
