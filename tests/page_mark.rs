@@ -3,19 +3,14 @@
 //! mirror marks for a pixel (with a footprint a twentieth of a texel narrower) is marked, and
 //! no page that no pixel reads (with one that much wider).
 
-// NOTE: this test reads back depth only.
-#[allow(dead_code)]
-#[path = "common/depth.rs"]
-mod depth;
-
 use std::collections::BTreeSet;
 
-use depth::read_depth;
 use penumbra::math::light_space::light_rotation;
 use penumbra::math::pages::{MarkRule, PageKey, PageLayout, PagedLevel, mark_receiver, snap_to_pages};
 use penumbra::render::GpuContext;
 use penumbra::render::shadows::page_allocate::PageAllocator;
 use penumbra::render::shadows::page_mark::{MarkInput, PageMark};
+use penumbra::render::shadows::storage::read_depth_layer;
 use penumbra::shader::ShaderLibrary;
 
 /// A depth-only pipeline drawing triangles of world positions with `view_proj` (reverse-Z).
@@ -136,7 +131,7 @@ fn camera_depth(gpu: &GpuContext, (width, height): (u32, u32)) -> (wgpu::Texture
         pass.draw(0..triangles.len() as u32, 0..1);
     }
     gpu.queue.submit([encoder.finish()]);
-    let depth = read_depth(gpu, &texture, (width, height));
+    let depth = read_depth_layer(&gpu.device, &gpu.queue, &texture, 0).expect("the depth");
     (texture, depth, view_proj.inverse())
 }
 

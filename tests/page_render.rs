@@ -2,17 +2,12 @@
 //! levels, allocated and drawn on the GPU into the pool atlas, hold what the whole levels
 //! drawn by the engine's caster pipeline hold at those texels.
 
-// NOTE: this test reads back depth only.
-#[allow(dead_code)]
-#[path = "common/depth.rs"]
-mod depth;
-
-use depth::read_depth;
 use glam::I64Vec2;
 use penumbra::math::pages::{PageKey, PageLayout, PageRect, PagedLevel, snap_to_pages};
 use penumbra::mesh::{MeshData, cuboid, plane, sphere};
 use penumbra::render::GpuContext;
 use penumbra::render::shadows::page_allocate::PageAllocator;
+use penumbra::render::shadows::storage::read_depth_layer;
 use penumbra::shader::ShaderLibrary;
 
 /// A 60 m ground with boxes and a sphere on it.
@@ -151,7 +146,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     let (_, _, allocation) = allocator.read(device, queue).expect("the allocation reads back");
     assert_eq!(allocation.draws.len(), 98, "every needed page is drawn");
     let atlas_side = pages.tiles * 128;
-    let atlas = read_depth(&gpu, &pages.atlas, (atlas_side, atlas_side));
+    let atlas = read_depth_layer(device, queue, &pages.atlas, 0).expect("the atlas");
     let shadow_casters: Vec<ShadowCaster<'_>> = scene
         .iter()
         .map(|(mesh, transform)| ShadowCaster {
@@ -164,7 +159,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     let (mut judged, mut covered, mut coverage, mut edges, mut worst) = (0usize, 0usize, 0usize, 0usize, 0.0f32);
     for (l, (clip_from_world, paged)) in levels.iter().enumerate() {
         let whole = standalone.render_ortho(&gpu, &shadow_casters, *clip_from_world, 4096, &settings);
-        let whole = read_depth(&gpu, &whole, (4096, 4096));
+        let whole = read_depth_layer(device, queue, &whole, 0).expect("the level");
         let first_page = layout.page_of(paged.first_texel);
         for &(key, physical) in allocation.draws.iter().filter(|d| d.0 >> 24 == l as u32) {
             let entry = (key & 0xff_ffff) as i64;
