@@ -187,14 +187,8 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
     };
     let view = texture.create_view(&Default::default());
     let size = glam::UVec2::new(width, height);
-    mark.record(
-        &gpu.device,
-        &gpu.queue,
-        &mut encoder,
-        (&view, size),
-        &input,
-        &allocator.needed,
-    );
+    let group = mark.group(&gpu.device, &view, &allocator.needed);
+    mark.record(&gpu.queue, &mut encoder, (&group, size), &input, &allocator.needed);
     gpu.queue.submit([encoder.finish()]);
     let bits: Vec<u32> = allocator
         .read_needed(&gpu.device, &gpu.queue)

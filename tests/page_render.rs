@@ -102,7 +102,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     queue.write_buffer(&allocator.needed, 0, bytemuck::cast_slice(&bits));
     // NOTE: both sides draw with the default slope-scaled bias.
     let settings = ShadowSettings::default();
-    let pages = PageRenderer::new(
+    let mut pages = PageRenderer::new(
         device,
         queue,
         &mut library,

@@ -457,11 +457,11 @@ impl Renderer {
             analysis,
             shadow_maps: ShadowStorage::ALL.map(|s| {
                 let array = self.shadows.shared_array(s);
-                graph.import_object(s.desc().label, &array.array_view.clone(), array)
+                graph.import_object(s.desc().label, array.array_view.clone(), array)
             }),
             shadow_moments: ShadowStorage::ALL.map(|s| {
                 let moments = self.shadows.shared_moments(s);
-                graph.import_object(s.desc().moments_label, &moments.moments.sampled.clone(), moments)
+                graph.import_object(s.desc().moments_label, moments.moments.sampled.clone(), moments)
             }),
             depth_prepass,
             depth: None,

@@ -140,11 +140,11 @@ impl RenderGraph {
     pub fn import_object(
         &mut self,
         label: &'static str,
-        view: &wgpu::TextureView,
+        view: wgpu::TextureView,
         object: Arc<dyn Any + Send + Sync>,
     ) -> TextureId {
         let handle = self.decls.add(label, None);
-        self.resources.set(handle.index, Physical::Object(view.clone(), object));
+        self.resources.set(handle.index, Physical::Object(view, object));
         TextureId(handle)
     }
 

@@ -96,13 +96,36 @@ impl PageMark {
         }
     }
 
-    /// Records the marking of `depth` (`size` pixels) into `needed` (cleared first).
+    /// The group a marking reads `depth` through and writes `needed` through: made once
+    /// per depth allocation by the caller, not per frame.
+    pub fn group(&self, device: &wgpu::Device, depth: &wgpu::TextureView, needed: &wgpu::Buffer) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("page marking"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(depth),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: needed.as_entire_binding(),
+                },
+            ],
+        })
+    }
+
+    /// Records the marking of the depth `group` reads (`size` pixels) into its bitset
+    /// `needed` (cleared first).
     pub fn record(
         &self,
-        device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        (depth, size): (&wgpu::TextureView, UVec2),
+        (group, size): (&wgpu::BindGroup, UVec2),
         input: &MarkInput<'_>,
         needed: &wgpu::Buffer,
     ) {
@@ -126,31 +149,13 @@ impl PageMark {
             level,
         };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("page marking"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(depth),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: needed.as_entire_binding(),
-                },
-            ],
-        });
         encoder.clear_buffer(needed, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("page marking"),
             timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(size.x.div_ceil(8), size.y.div_ceil(8), 1);
     }
 }

@@ -104,6 +104,8 @@ pub struct PageRenderer {
     args: wgpu::Buffer,
     clear_args: wgpu::Buffer,
     _ids: wgpu::Buffer,
+    caster_data: Vec<CasterGpu>,
+    args_data: Vec<[u32; 5]>,
 }
 
 fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -288,6 +290,8 @@ impl PageRenderer {
             cache: None,
         });
         queue.write_buffer(&ids, 0, &id_data);
+        // NOTE: six vertices a tile; the instance count is copied in each frame.
+        queue.write_buffer(&clear_args, 0, bytemuck::cast_slice(&[6u32, 0, 0, 0]));
         Self {
             layout,
             tiles,
@@ -305,13 +309,15 @@ impl PageRenderer {
             args,
             clear_args,
             _ids: ids,
+            caster_data: Vec::new(),
+            args_data: Vec::new(),
         }
     }
 
     /// Records this frame's page drawing: the casters culled per listed page, the listed
     /// pages' tiles cleared, the casters drawn into them.
     pub fn record(
-        &self,
+        &mut self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         allocator: &PageAllocator,
@@ -343,20 +349,20 @@ impl PageRenderer {
             level,
         };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
-        let caster_data: Vec<CasterGpu> = casters
-            .iter()
-            .map(|c| CasterGpu {
-                world_from_local: c.world_from_local,
-                sphere: c.sphere,
-            })
-            .collect();
-        queue.write_buffer(&self.casters, 0, bytemuck::cast_slice(&caster_data));
-        let args: Vec<[u32; 5]> = casters
-            .iter()
-            .map(|c| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, 0])
-            .collect();
-        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&args));
-        queue.write_buffer(&self.clear_args, 0, bytemuck::cast_slice(&[6u32, 0, 0, 0]));
+        // NOTE: the lists keep their allocations from frame to frame.
+        self.caster_data.clear();
+        self.caster_data.extend(casters.iter().map(|c| CasterGpu {
+            world_from_local: c.world_from_local,
+            sphere: c.sphere,
+        }));
+        queue.write_buffer(&self.casters, 0, bytemuck::cast_slice(&self.caster_data));
+        self.args_data.clear();
+        self.args_data.extend(
+            casters
+                .iter()
+                .map(|c| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, 0]),
+        );
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&self.args_data));
         // NOTE: the clears' instance count is the allocation's count of pages to draw.
         encoder.copy_buffer_to_buffer(allocator.draw_buffers().1, 4, &self.clear_args, 4, 4);
         if count > 0 {
