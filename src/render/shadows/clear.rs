@@ -23,6 +23,39 @@ pub fn overwrite_depth() -> wgpu::DepthStencilState {
     }
 }
 
+/// A pipeline that writes depth whatever the target held ([`overwrite_depth`]): vertex
+/// stage `vertex` of `shader` with no vertex buffers, fragment stage `fragment` when given
+/// (none: the rasterised depth is written), over `views` multiview views (0: not multiview).
+pub fn overwrite_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    (shader, vertex, fragment): (&wgpu::ShaderModule, &str, Option<&str>),
+    views: u32,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some(vertex),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(overwrite_depth()),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: fragment.map(|entry| wgpu::FragmentState {
+            module: shader,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &[],
+        }),
+        multiview_mask: NonZeroU32::new((1 << views) - 1),
+        cache: None,
+    })
+}
+
 /// Built clear pipelines, by multiview view count.
 #[derive(Default)]
 pub struct ClearPipelines {
@@ -52,23 +85,8 @@ impl ClearPipelines {
                 immediate_size: 0,
             })
         });
-        self.pipelines.entry(views).or_insert_with(|| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("shadow clear"),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: shader,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(overwrite_depth()),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: None,
-                multiview_mask: NonZeroU32::new((1 << views) - 1),
-                cache: None,
-            })
-        })
+        self.pipelines
+            .entry(views)
+            .or_insert_with(|| overwrite_pipeline(device, "shadow clear", layout, (shader, "vs_main", None), views))
     }
 }

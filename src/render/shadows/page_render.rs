@@ -14,6 +14,7 @@ use glam::{Mat3, Mat4, Vec4};
 use crate::math::pages::{PageLayout, PagedLevel};
 use crate::render::draw::mesh_buffers;
 use crate::render::shadows::casters::caster_bias;
+use crate::render::shadows::clear::overwrite_pipeline;
 use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
@@ -243,29 +244,8 @@ impl PageRenderer {
                 immediate_size: 0,
             })
         };
-        let depth = |compare, bias| wgpu::DepthStencilState {
-            format: SHADOW_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(compare),
-            stencil: wgpu::StencilState::default(),
-            bias,
-        };
-        let clear = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("page clear"),
-            layout: Some(&pipeline_layout(&[Some(&draw_layout)])),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("clear_vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(wgpu::CompareFunction::Always, wgpu::DepthBiasState::default())),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        let clear_layout = pipeline_layout(&[Some(&draw_layout)]);
+        let clear = overwrite_pipeline(device, "page clear", &clear_layout, (&shader, "clear_vs", None), 0);
         let caster = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("page casters"),
             layout: Some(&pipeline_layout(&[Some(&draw_layout), Some(&id_layout)])),
@@ -280,10 +260,13 @@ impl PageRenderer {
                 unclipped_depth: unclipped,
                 ..Default::default()
             },
-            depth_stencil: Some(depth(
-                wgpu::CompareFunction::Greater,
-                caster_bias(bias.slope_bias, bias.bias_clamp),
-            )),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: wgpu::StencilState::default(),
+                bias: caster_bias(bias.slope_bias, bias.bias_clamp),
+            }),
             multisample: wgpu::MultisampleState::default(),
             fragment: None,
             multiview_mask: None,

@@ -11,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::IVec2;
 
 use crate::render::layouts::entry;
-use crate::render::shadows::clear::overwrite_depth;
+use crate::render::shadows::clear::overwrite_pipeline;
 use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
 use crate::render::target::texture_2d;
 use crate::shader::ShaderLibrary;
@@ -230,27 +230,8 @@ fn create(
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("clipmap shift"),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &shader,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(overwrite_depth()),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &shader,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
-            targets: &[],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
+    let stages = (&shader, "vs_main", Some("fs_main"));
+    let pipeline = overwrite_pipeline(device, "clipmap shift", &pipeline_layout, stages, 0);
     let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("clipmap shift"),
         size: STRIDE * MAX_SHIFTS_PER_FRAME as u64,
