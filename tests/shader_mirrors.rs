@@ -56,6 +56,28 @@ fn run_compute(module: naga::Module, count: usize) -> Vec<f32> {
         .collect()
 }
 
+/// Composes a compute shader whose `main` runs `body` after `imports` (WGSL `#import` lines),
+/// writing `count` floats into `out`, runs it and returns them.
+fn run_wgsl(file: &str, imports: &str, body: &str, count: usize) -> Vec<f32> {
+    let source = format!(
+        "{imports}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    );
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library
+        .compose(file, &source, Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    run_compute(module, count)
+}
+
+/// Asserts each GPU value is within `relative` of its CPU mirror (absolutely below 1).
+fn assert_close(gpu: &[f32], cpu: &[f32], relative: f32) {
+    assert_eq!(gpu.len(), cpu.len());
+    for (k, (g, c)) in gpu.iter().zip(cpu).enumerate() {
+        let tolerance = relative * c.abs().max(1.0);
+        assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
+    }
+}
+
 #[test]
 fn the_evsm_tests_in_wgsl_match_their_cpu_mirror() {
     use penumbra::math::evsm::{
@@ -135,18 +157,13 @@ fn the_evsm_tests_in_wgsl_match_their_cpu_mirror() {
             evsm2_covered_visibility(mc, receiver, c, floor, bleed),
         ]);
     }
-    let source = format!(
-        "#import penumbra::shadows::moments::{{evsm2_covered_visibility, evsm2_visibility, evsm4_visibility, negative_warp, positive_warp}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    let gpu = run_wgsl(
+        "evsm_test.wgsl",
+        "#import penumbra::shadows::moments::{evsm2_covered_visibility, evsm2_visibility, evsm4_visibility, negative_warp, positive_warp}",
+        &body,
+        cpu.len(),
     );
-    let mut library = ShaderLibrary::new().unwrap();
-    let module = library
-        .compose("evsm_test.wgsl", &source, Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    let gpu = run_compute(module, cpu.len());
-    for (k, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
-        let tolerance = 1e-4 * c.abs().max(1.0);
-        assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
-    }
+    assert_close(&gpu, &cpu, 1e-4);
     // The cases span lit, dark and between.
     let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 5]).collect();
     assert!(visibilities.contains(&1.0) && visibilities.iter().any(|&v| v < 0.05));
@@ -177,14 +194,12 @@ fn the_moment_tests_in_wgsl_match_their_cpu_mirror() {
             v + 2,
         );
     }
-    let source = format!(
-        "#import penumbra::shadows::moments::{{chebyshev_upper_bound, moments_visibility, reduce_light_bleeding}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    let gpu = run_wgsl(
+        "moments_test.wgsl",
+        "#import penumbra::shadows::moments::{chebyshev_upper_bound, moments_visibility, reduce_light_bleeding}",
+        &body,
+        cases.len() * 3,
     );
-    let mut library = ShaderLibrary::new().unwrap();
-    let module = library
-        .compose("moments_test.wgsl", &source, Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    let gpu = run_compute(module, cases.len() * 3);
     for (i, &(m, depth, floor, bleed)) in cases.iter().enumerate() {
         let cpu: [f32; 3] = [
             chebyshev_upper_bound(m, depth, floor),
@@ -233,18 +248,13 @@ fn the_msm_tests_in_wgsl_match_their_cpu_mirror() {
         cpu.push(trip.dot(glam::Vec4::new(1.0, 10.0, 100.0, 1000.0)));
         assert!(stored.is_finite());
     }
-    let source = format!(
-        "#import penumbra::shadows::msm::{{msm_dequantize, msm_moments, msm_quantize, msm_visibility}}\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    let gpu = run_wgsl(
+        "msm_test.wgsl",
+        "#import penumbra::shadows::msm::{msm_dequantize, msm_moments, msm_quantize, msm_visibility}",
+        &body,
+        cpu.len(),
     );
-    let mut library = ShaderLibrary::new().unwrap();
-    let module = library
-        .compose("msm_test.wgsl", &source, Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    let gpu = run_compute(module, cpu.len());
-    for (k, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
-        let tolerance = 1e-3 * c.abs().max(1.0);
-        assert!((g - c).abs() <= tolerance, "value {k}: GPU {g}, CPU {c}");
-    }
+    assert_close(&gpu, &cpu, 1e-3);
     // The cases span lit, dark and between.
     let visibilities: Vec<f32> = (0..cases.len()).map(|i| cpu[i * 2]).collect();
     assert!(visibilities.iter().any(|&v| v > 0.99) && visibilities.iter().any(|&v| v < 0.01));
@@ -267,14 +277,12 @@ fn each_light_samples_the_pcss_taps_of_its_own_quality() {
             2 * i + 1
         );
     }
-    let source = format!(
-        "#import penumbra::shadows::common::{{blocker_samples, filter_samples}}\n#import penumbra::shadows::types::Light\n\n@group(0) @binding(0) var<storage, read_write> out: array<f32>;\n\n@compute @workgroup_size(1)\nfn main() {{\n    var light: Light;\n{body}}}\n"
+    let counts = run_wgsl(
+        "pcss_samples.wgsl",
+        "#import penumbra::shadows::common::{blocker_samples, filter_samples}\n#import penumbra::shadows::types::Light",
+        &format!("    var light: Light;\n{body}"),
+        6,
     );
-    let mut library = ShaderLibrary::new().unwrap();
-    let module = library
-        .compose("pcss_samples.wgsl", &source, Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    let counts = run_compute(module, 6);
     let expected: Vec<f32> = qualities
         .iter()
         .flat_map(|q| [q.blocker_samples() as f32, q.filter_samples() as f32])
