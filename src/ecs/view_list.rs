@@ -82,11 +82,6 @@ impl ShadowViewKind {
         }
     }
 
-    /// The storage a view of this kind renders into.
-    pub fn storage(self) -> ShadowStorage {
-        self.storage
-    }
-
     /// Its bit in a single-pass caster entry's view mask (0 for a storage not drawn in one
     /// pass per light).
     pub fn single_pass_bit(self) -> u32 {
@@ -233,7 +228,7 @@ impl ShadowViews {
     pub fn extent(&self, storage: ShadowStorage) -> (u32, u32) {
         self.views
             .iter()
-            .filter(|v| v.kind.storage() == storage)
+            .filter(|v| v.kind.storage == storage)
             .fold((0, 0), |(side, layers), v| {
                 (side.max(v.resolution), layers.max(v.slot + 1))
             })

@@ -120,7 +120,7 @@ impl RenderNode for DepthPass {
         self.maps.extend(frame.shadow_maps);
         let views = &inputs.shadow_views.views;
         for storage in ShadowStorage::ALL {
-            if views.iter().any(|v| v.kind.storage() == storage) {
+            if views.iter().any(|v| v.kind.storage == storage) {
                 pass.write(frame.maps(storage));
             }
         }

@@ -99,7 +99,7 @@ pub(crate) fn vsm_use(lights: &FrameLights, views: &ShadowViews, storage: Shadow
     views
         .views
         .iter()
-        .filter(|v| v.kind.storage() == storage)
+        .filter(|v| v.kind.storage == storage)
         .filter_map(|v| lights.view_settings(v))
         .filter(|s| s.filter.mode == ShadowMode::Vsm)
         .fold((false, false), |(_, blur), s| (true, blur || s.filter.vsm.blur > 0))
@@ -243,7 +243,7 @@ impl ShadowResources {
 
     /// The storage a view of `kind` renders into.
     pub fn storage(&self, kind: ShadowViewKind) -> &DepthArray {
-        self.array(kind.storage())
+        self.array(kind.storage)
     }
 
     /// The depth array of `storage`.
