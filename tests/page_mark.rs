@@ -256,8 +256,9 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
     println!("{covered} pixels covered, {ambiguous} at a level's edge; pages marked per level {per_level:?}");
     assert!(extra.is_empty(), "pages no receiver reads: {extra:?}");
     assert!(covered > 4000, "only {covered} pixels covered");
+    // NOTE: lavapipe: none; at most a thousandth of the pixels may escape the first bound.
     assert!(
-        ambiguous * 100 < covered,
+        ambiguous * 1000 < covered,
         "{ambiguous} of {covered} pixels at a level's edge"
     );
     assert!(
