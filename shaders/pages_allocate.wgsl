@@ -2,7 +2,8 @@
 // `math::pages` (its `VirtualPages::allocate` is the mirror the tests compare with). One
 // workgroup of 256 threads, in four phases separated by barriers:
 //   1. pages whose table entry left its level's window are freed;
-//   2. every needed page (a bit of `needed`, in level then table-entry order) that is
+//   2. every needed page (a bit of `needed`, coarsest level first, then in table-entry
+//      order, so an overflow leaves the coarse levels a fine level falls back to) that is
 //      resident is kept (stamped with the frame; listed for drawing if it was invalidated),
 //      and the others are counted: each thread takes a run of entries, and a prefix sum
 //      gives every missing page its rank;
@@ -128,6 +129,12 @@ fn add_draw(key: u32, physical: u32) {
     draws[at] = vec2<u32>(key, physical);
 }
 
+// The table index of the `q`-th needed candidate: the coarsest level's entries first.
+fn candidate(q: u32) -> u32 {
+    let per_level = entries_per_level();
+    return (params.levels - 1u - q / per_level) * per_level + q % per_level;
+}
+
 // The run [start, end) of `total` items thread `tid` takes.
 fn run(tid: u32, total: u32) -> vec2<u32> {
     let size = (total + THREADS - 1u) / THREADS;
@@ -166,7 +173,8 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     let total = params.levels * per_level;
     let mine = run(tid, total);
     var missing = 0u;
-    for (var i = mine.x; i < mine.y; i++) {
+    for (var q = mine.x; q < mine.y; q++) {
+        let i = candidate(q);
         let wanted = state(i);
         if wanted == 1u {
             let p = table[i].physical;
@@ -216,7 +224,8 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     workgroupBarrier();
     // 4. Map each missing page to the page of its rank in the order.
     var r = rank;
-    for (var i = mine.x; i < mine.y; i++) {
+    for (var q = mine.x; q < mine.y; q++) {
+        let i = candidate(q);
         if state(i) != 2u {
             continue;
         }

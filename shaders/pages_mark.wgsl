@@ -1,8 +1,9 @@
 // Marks the pages of a paged clipmap that the frame's receivers read, by the rules of
 // `math::pages::mark_receiver`: each covered pixel of the camera's depth is taken back to the
-// world and into the light's frame, finds the finest level whose window holds it with the
-// margin, and sets the bits of the pages its filter's footprint touches there (and in the
-// next level inside the blend band). One thread per pixel; the bitset is a bit per table
+// world and into the light's frame, finds the finest level (from the first whose texel is at
+// least the pixel's width there) whose window holds it with the margin, and sets the bits of
+// the pages its filter's footprint touches there (and in the next level inside the blend
+// band). One thread per pixel; the bitset is a bit per table
 // entry, level by level.
 
 const MAX_LEVELS: u32 = 8u;
@@ -17,11 +18,12 @@ struct Mark {
     pages_per_side: u32,
     page_size: f32,
     virtual_resolution: f32,
-    // Texels the filter reads around a receiver; texels a window keeps clear; blend band.
+    // Texels the filter reads around a receiver; texels a window keeps clear; blend band;
+    // the smallest texel a receiver reads per metre of its view depth (0: any).
     radius: f32,
     margin: f32,
     blend: f32,
-    _pad0: f32,
+    pixel: f32,
     _pad1: f32,
     _pad2: f32,
     // Per level: xy the window's first grid texel, z the texel's side in metres.
@@ -61,7 +63,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let world = mark.world_from_clip * vec4<f32>(ndc, d, 1.0);
     let xy = (mark.light_from_world * vec4<f32>(world.xyz / world.w, 0.0)).xy;
+    // NOTE: clip w is the view depth, so the point's homogeneous w is its inverse.
+    let pixel = mark.pixel / world.w;
+    var first = mark.levels - 1u;
     for (var i = 0u; i < mark.levels; i++) {
+        if mark.level[i].z >= pixel {
+            first = i;
+            break;
+        }
+    }
+    for (var i = first; i < mark.levels; i++) {
         let first = mark.level[i].xy;
         let texel = mark.level[i].z;
         let lo = (first + mark.margin) * texel;

@@ -38,6 +38,7 @@ impl From<Fit> for CascadeFit {
 pub enum Layout {
     Cascades,
     Clipmap,
+    VirtualClipmap,
 }
 
 /// Storage of a sun's moments (`MomentFormat`).

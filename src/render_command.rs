@@ -17,7 +17,10 @@ use penumbra::render::limits::MAX_TEXTURE_SIDE;
 use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
-use penumbra::settings::{MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings, SunLayout};
+use penumbra::settings::{
+    DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality, ShadowDebugView,
+    ShadowMode, ShadowSettings, SunLayout,
+};
 use penumbra::text::format_bytes;
 
 /// Options of `penumbra render`.
@@ -73,6 +76,16 @@ pub struct RenderArgs {
     /// default: the scene's, else 32).
     #[arg(long, value_parser = clipmap_extent)]
     clipmap_extent: Option<f32>,
+    /// Texels per side of each virtual clipmap level, a power of two 4096-16384 (with
+    /// `--layout virtual-clipmap`; default 16384).
+    #[arg(long)]
+    virtual_resolution: Option<u32>,
+    /// Texels per side of a virtual clipmap's page: 64, 128, 256 or 512 (default 128).
+    #[arg(long)]
+    page_size: Option<u32>,
+    /// Pages of the virtual clipmap's pool (default 2048; the pool's memory is printed).
+    #[arg(long)]
+    pool_pages: Option<u32>,
     /// Tint pixels by the cascade (or clipmap level) they sample.
     #[arg(long)]
     debug_cascades: bool,
@@ -191,6 +204,9 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         layout,
         clipmap_levels,
         clipmap_extent,
+        virtual_resolution,
+        page_size,
+        pool_pages,
         debug_cascades,
         asset_root,
         max_instances,
@@ -258,15 +274,17 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         if let Some(side) = resolution {
             s.map.resolution = side;
         }
-        let (levels, extent) = match s.map.layout {
-            SunLayout::Clipmap { levels, level0_extent } => (levels, level0_extent),
-            SunLayout::Cascades => (6, 32.0),
-        };
+        let (levels, extent) = s.map.layout.clipmap_levels().unwrap_or((6, 32.0));
+        let (levels, level0_extent) = (clipmap_levels.unwrap_or(levels), clipmap_extent.unwrap_or(extent));
         s.map.layout = match layout {
             Some(Layout::Cascades) => SunLayout::Cascades,
-            Some(Layout::Clipmap) => SunLayout::Clipmap {
-                levels: clipmap_levels.unwrap_or(levels),
-                level0_extent: clipmap_extent.unwrap_or(extent),
+            Some(Layout::Clipmap) => SunLayout::Clipmap { levels, level0_extent },
+            Some(Layout::VirtualClipmap) => SunLayout::VirtualClipmap {
+                levels,
+                level0_extent,
+                virtual_resolution: virtual_resolution.unwrap_or(DEFAULT_VIRTUAL_RESOLUTION),
+                page_size: page_size.unwrap_or(DEFAULT_PAGE_SIZE),
+                pool_pages: pool_pages.unwrap_or(DEFAULT_POOL_PAGES),
             },
             None => s.map.layout,
         };
@@ -370,6 +388,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
     }
     let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
     println!("shadow views drawn per frame [{}]", drawn.join(", "));
+    print_pages(&result.frames, s.map.layout.pool_bytes());
     if result.frames.iter().any(|f| f.shadow_views_scrolled > 0) {
         let texels: Vec<String> = (result.frames.iter())
             .map(|f| format!("{} ({} scrolled)", f.shadow_drawn_texels, f.shadow_views_scrolled))
@@ -401,4 +420,30 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         println!("warning    {w}");
     }
     Ok(())
+}
+
+/// Prints what a paged sun's pages did each frame, and its pool's memory (nothing without a
+/// paged sun).
+fn print_pages(frames: &[penumbra::render::FrameReport], pool_bytes: u64) {
+    let pages: Vec<_> = frames.iter().filter_map(|f| f.pages).collect();
+    let Some(last) = pages.last() else {
+        return;
+    };
+    println!(
+        "pages      pool {} pages, {} ({} resident after the last frame)",
+        last.pool,
+        format_bytes(pool_bytes),
+        last.resident
+    );
+    let each: Vec<String> = pages
+        .iter()
+        .map(|p| format!("{}/{}/{}/{}", p.needed, p.drawn, p.evicted, p.overflowed))
+        .collect();
+    println!(
+        "pages      needed/drawn/evicted/overflowed per frame [{}]",
+        each.join(", ")
+    );
+    if pages.iter().any(|p| p.overflowed > 0) {
+        println!("warning    the page pool overflowed: pixels read a coarser level (raise --pool-pages)");
+    }
 }

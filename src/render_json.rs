@@ -53,6 +53,7 @@ pub fn summary_json(
         "shadow_texels_drawn": report.shadow_drawn_texels,
         "shadow_views_scrolled": report.shadow_views_scrolled,
         "shadow_views_resynced": report.shadow_views_resynced,
+        "pages": result.frames.iter().map(|f| f.pages).collect::<Vec<_>>(),
         "forward_fragments": report.forward_fragments,
         "shadow_views_drawn_per_frame": result.frames.iter().map(|f| f.shadow_views_drawn).collect::<Vec<_>>(),
         "cpu_ms": {

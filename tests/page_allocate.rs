@@ -61,7 +61,8 @@ fn walk(layout: &PageLayout, count: usize) -> Vec<Frame> {
             windows.push(first);
         }
         // NOTE: the GPU serves the pages in level then table-entry order.
-        needed.sort_by_key(|k| (k.level, layout.entry(k.grid())));
+        // NOTE: the coarsest level first, as the GPU ranks them.
+        needed.sort_by_key(|k| (std::cmp::Reverse(k.level), layout.entry(k.grid())));
         frames.push(Frame { windows, needed });
     }
     frames
@@ -121,7 +122,7 @@ fn the_gpu_allocates_pages_as_its_cpu_mirror_does() {
         if all || !moved.is_empty() {
             allocator.record_invalidation(queue, &mut encoder, moved, all);
         }
-        allocator.record(queue, &mut encoder, number, &frame.windows);
+        allocator.record(queue, &mut encoder, (number, &frame.windows), None);
         queue.submit([encoder.finish()]);
         let (table, pool, got) = allocator.read(device, queue).expect("the buffers read back");
         let key_of = |k: &PageKey| k.level << 24 | layout.entry(k.grid()) as u32;

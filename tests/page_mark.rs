@@ -173,6 +173,7 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
         radius: 20.0,
         margin: 40.0,
         blend: 0.1,
+        pixel: 0.0,
     };
     let mut library = ShaderLibrary::new().unwrap();
     let mark = PageMark::new(&gpu.device, &mut library);
@@ -188,7 +189,13 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
     let view = texture.create_view(&Default::default());
     let size = glam::UVec2::new(width, height);
     let group = mark.group(&gpu.device, &view, &allocator.needed);
-    mark.record(&gpu.queue, &mut encoder, (&group, size), &input, &allocator.needed);
+    mark.record(
+        (&gpu.queue, &mut encoder),
+        (&group, size),
+        &input,
+        &allocator.needed,
+        None,
+    );
     gpu.queue.submit([encoder.finish()]);
     let bits: Vec<u32> = allocator
         .read_needed(&gpu.device, &gpu.queue)
@@ -202,11 +209,13 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
         radius: rule.radius - eps,
         margin: rule.margin + eps,
         blend: rule.blend - 1e-4,
+        pixel: 0.0,
     };
     let wide = MarkRule {
         radius: rule.radius + eps,
         margin: rule.margin - eps,
         blend: rule.blend + 1e-4,
+        pixel: 0.0,
     };
     let (mut covered, mut ambiguous) = (0, 0);
     let mut upper = BTreeSet::new();
@@ -225,6 +234,8 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
         );
         let world = wfc * glam::DVec4::new(ndc.x, ndc.y, f64::from(d), 1.0);
         let xy = (light_rotation.as_dmat3() * (world.truncate() / world.w)).truncate();
+        // NOTE: the rule reads every level (pixel 0), so the view depth is not used.
+        let xy = (xy, 1.0 / world.w);
         lo.clear();
         hi.clear();
         mark_receiver(&layout, &levels, xy, &narrow, &mut lo);

@@ -7,7 +7,8 @@ use penumbra::math::pages::{PageKey, PageLayout, PageRect, PagedLevel, snap_to_p
 use penumbra::mesh::{MeshData, cuboid, plane, sphere};
 use penumbra::render::GpuContext;
 use penumbra::render::shadows::page_allocate::PageAllocator;
-use penumbra::render::shadows::storage::read_depth_layer;
+use penumbra::render::shadows::page_pool::atlas_tiles;
+use penumbra::render::shadows::storage::{DepthArray, read_depth_layer};
 use penumbra::shader::ShaderLibrary;
 
 /// A 60 m ground with boxes and a sphere on it.
@@ -102,11 +103,13 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     queue.write_buffer(&allocator.needed, 0, bytemuck::cast_slice(&bits));
     // NOTE: both sides draw with the default slope-scaled bias.
     let settings = ShadowSettings::default();
+    let side = atlas_tiles(100) * 128;
+    let atlas = DepthArray::new(device, "page atlas", side, 1, false);
     let mut pages = PageRenderer::new(
         device,
         queue,
         &mut library,
-        &allocator,
+        (&allocator, &atlas),
         16,
         &settings.bias,
         gpu.unclipped_depth,
@@ -140,13 +143,13 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     };
     let mut encoder = device.create_command_encoder(&Default::default());
     let windows: Vec<I64Vec2> = levels.iter().map(|(_, p)| layout.page_of(p.first_texel)).collect();
-    allocator.record(queue, &mut encoder, 1, &windows);
-    pages.record(queue, &mut encoder, &allocator, &page_scene);
+    allocator.record(queue, &mut encoder, (1, &windows), None);
+    pages.record((queue, &mut encoder), &allocator, &page_scene, None);
     queue.submit([encoder.finish()]);
     let (_, _, allocation) = allocator.read(device, queue).expect("the allocation reads back");
     assert_eq!(allocation.draws.len(), 98, "every needed page is drawn");
     let atlas_side = pages.tiles * 128;
-    let atlas = read_depth_layer(device, queue, &pages.atlas, 0).expect("the atlas");
+    let atlas = read_depth_layer(device, queue, &atlas.texture, 0).expect("the atlas");
     let shadow_casters: Vec<ShadowCaster<'_>> = scene
         .iter()
         .map(|(mesh, transform)| ShadowCaster {

@@ -1,6 +1,7 @@
 // The cascades of a directional light: cascade selection, projection with normal offset and
 // receiver-plane depth gradient, PCF or PCSS from the cascades' depth array, cascade blend
-// and distance fade. The entry point is `directional_visibility`, called by
+// and distance fade; a paged clipmap's levels through the page table. The entry point is
+// `directional_visibility`, called by
 // penumbra::lights::shadow_visibility for a sun.
 //
 // Shader defs: SHADOW_FILTER_PCSS compiles the PCSS path (variants with a PCSS light);
@@ -11,7 +12,8 @@
 
 #import penumbra::contract::{
     MAX_PENUMBRA_TEXELS, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM,
-    SHADOW_FILTER_PCSS, SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FILTER_PCSS, SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_PAGED,
+    SHADOW_FLAG_RECEIVER_PLANE,
 }
 #import penumbra::shadows::clipmap::{clipmap_fade, select_level}
 #import penumbra::shadows::bindings::{cascade_maps, cascade_moments, moments_sampler, shadow_views}
@@ -26,6 +28,7 @@
     evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding,
 }
 #import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
+#import penumbra::shadows::page_table::footprint_resident
 #import penumbra::shadows::types::{Light, ShadowView, Surface}
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -247,9 +250,43 @@ fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
 }
 #endif
 
-// Shadow factor from one cascade with the light's filter.
-fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
-    let p = project_to_cascade(light, index, surface.position, surface.normal);
+// A receiver projected into a paged sun's level `index`, or past the last level.
+struct PagedPick {
+    index: u32,
+    sample: MapSample,
+}
+
+// The level a paged sun's receiver reads, from level `index` on: the first whose pages under
+// the filter's footprint (the PCF kernel, or PCSS's widest search) are all resident, so a
+// pool that overflowed falls back to a coarser level; `view_count` when none is, and the
+// receiver is lit.
+fn paged_level(light: Light, index: u32, surface: Surface) -> PagedPick {
+    let pcss = light.shadow_filter == SHADOW_FILTER_PCSS;
+    let texels = select(f32(min(light.pcf_radius, 5u)) + 2.0, MAX_PENUMBRA_TEXELS + 2.0, pcss);
+    for (var i = index; i < light.view_count; i++) {
+        let view = shadow_views.items[light.first_view + i];
+        var p = project_to_cascade(light, i, surface.position, surface.normal);
+        p.page = vec4<f32>(view.exponents, view.range.w, 0.0);
+        if footprint_resident(p.page, p.layer, p.texel, p.uv, texels * p.texel) {
+            return PagedPick(i, p);
+        }
+    }
+    return PagedPick(light.view_count, MapSample());
+}
+
+// Shadow factor from one cascade (or clipmap level) with the light's filter; a paged sun's
+// from the first resident level from `first` on.
+fn sample_cascade(light: Light, first: u32, surface: Surface) -> f32 {
+    var index = first;
+    var p = project_to_cascade(light, index, surface.position, surface.normal);
+    if (light.flags & SHADOW_FLAG_PAGED) != 0u {
+        let pick = paged_level(light, first, surface);
+        if pick.index >= light.view_count {
+            return 1.0;
+        }
+        index = pick.index;
+        p = pick.sample;
+    }
     let rect = shadow_views.items[light.first_view + index].rect;
     let uv = (p.uv - rect.xy) / rect.zw;
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || p.depth > 1.0 {
@@ -276,7 +313,7 @@ fn sample_cascade(light: Light, index: u32, surface: Surface) -> f32 {
 // receiver outside every clipmap level.
 fn select_view(light: Light, surface: Surface) -> CascadeSelection {
     if (light.flags & SHADOW_FLAG_CLIPMAP) != 0u {
-        let level = select_level(light, surface.position);
+        let level = select_level(light, surface.position, surface.view_depth);
         return CascadeSelection(level.index, level.blend);
     }
     return select_cascade(light, surface.view_depth);

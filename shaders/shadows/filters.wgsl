@@ -3,11 +3,13 @@
 // search and variable-width filter. Each takes the depth array to read and a `MapSample`:
 // the receiver already projected into one view by its layout module.
 //
-// The PCSS sample counts are the shader defs of penumbra::shadows::common.
+// The PCSS sample counts are the shader defs of penumbra::shadows::common. A sample of a
+// paged clipmap level reads every tap through the page table (`map_compare`, `map_gather`).
 #define_import_path penumbra::shadows::filters
 
 #import penumbra::contract::SHADOW_FLAG_BLOCKER_EARLY_OUT
-#import penumbra::shadows::bindings::{shadow_compare, shadow_point}
+#import penumbra::shadows::bindings::{page_atlas, shadow_compare, shadow_point}
+#import penumbra::shadows::page_table::page_uv
 #import penumbra::shadows::types::Light
 #import penumbra::shadows::common::{
     RECEIVER_PLANE_EPSILON_TEXELS, blocker_samples, blocker_tap, filter_tap, sixteen_tap,
@@ -29,13 +31,47 @@ struct MapSample {
     filter_step: vec2<f32>,
     // One texel, in layer UV.
     texel: f32,
+    // A paged level (z > 0): xy the grid page of its window's first page, z the page side in
+    // texels; `uv` is then the level's UV and `layer` its place in the page table.
+    page: vec4<f32>,
+}
+
+// A hardware 2x2 comparison at `uv` (layer UV) against `depth`: of `map`'s layer, or of the
+// page pool's atlas through the page table for a paged level (lit where the page is missing).
+fn map_compare(map: texture_depth_2d_array, p: MapSample, uv: vec2<f32>, depth: f32) -> f32 {
+    if p.page.z > 0.0 {
+        let at = page_uv(p.page, p.layer, p.texel, uv);
+        if at.x < 0.0 {
+            return 1.0;
+        }
+        return textureSampleCompareLevel(page_atlas, shadow_compare, at, 0, depth);
+    }
+    return textureSampleCompareLevel(map, shadow_compare, uv, p.layer, depth);
+}
+
+// The 2x2 raw depths around `uv` (layer UV), as `map_compare` reads them (far, 0, where a
+// page is missing).
+fn map_gather(map: texture_depth_2d_array, p: MapSample, uv: vec2<f32>) -> vec4<f32> {
+    if p.page.z > 0.0 {
+        let at = page_uv(p.page, p.layer, p.texel, uv);
+        if at.x < 0.0 {
+            return vec4<f32>(0.0);
+        }
+        return textureGather(page_atlas, shadow_point, at, 0);
+    }
+    return textureGather(map, shadow_point, uv, p.layer);
 }
 
 // Comparison depth for a tap at `offset_uv` from the receiver: the receiver plane's depth
-// there, moved towards the light by a fraction of a texel of slope.
+// there, moved towards the light by a fraction of a texel of slope, and never past the far
+// end of the view's depth (0).
+//
+// NOTE: a receiver past a clipmap level's depth range (its range bounds the casters, not the
+// receivers) is compared at depth 0; its plane's gradient then took taps below 0, where every
+// empty texel (0) compared as a blocker and shadowed ground no caster was over.
 fn tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
     let slack = RECEIVER_PLANE_EPSILON_TEXELS * p.texel * (abs(p.dz_duv.x) + abs(p.dz_duv.y));
-    return p.depth + dot(p.dz_duv, offset_uv) + slack;
+    return max(p.depth + dot(p.dz_duv, offset_uv) + slack, 0.0);
 }
 
 // One hardware 2x2 comparison tap: 1 lit, 0 shadowed.
@@ -44,7 +80,7 @@ fn tap_depth(p: MapSample, offset_uv: vec2<f32>) -> f32 {
 // cleared to the far depth (0) around it, so a kernel reaching past a smaller view's corner
 // reads "no caster" there, as it does past the edge of a full layer.
 fn compare_tap(map: texture_depth_2d_array, p: MapSample, offset_uv: vec2<f32>) -> f32 {
-    return textureSampleCompareLevel(map, shadow_compare, p.uv + offset_uv, p.layer, tap_depth(p, offset_uv));
+    return map_compare(map, p, p.uv + offset_uv, tap_depth(p, offset_uv));
 }
 
 // Fixed (2R+1)² grid of comparison taps, `filter_step` apart (R at most 5).
@@ -118,7 +154,7 @@ fn find_blockers(
     var count = 0.0;
     for (var i = 0u; i < samples; i++) {
         let offset = rotation * blocker_tap(i, samples) * radius * aspect;
-        let depths = textureGather(map, shadow_point, p.uv + offset, p.layer);
+        let depths = map_gather(map, p, p.uv + offset);
         let reference = pcss_tap_depth(p, offset);
         let is_blocker = vec4<f32>(depths > vec4<f32>(reference));
         sum += dot(depths, is_blocker);
@@ -142,7 +178,7 @@ fn pcss_filter(
     var lit = 0.0;
     for (var i = 0u; i < samples; i++) {
         let offset = rotation * filter_tap(i, samples) * radius * aspect;
-        lit += textureSampleCompareLevel(map, shadow_compare, p.uv + offset, p.layer, pcss_tap_depth(p, offset));
+        lit += map_compare(map, p, p.uv + offset, pcss_tap_depth(p, offset));
     }
     lit /= f32(samples);
     return mix(1.0, lit, smoothstep(0.0, 4.0, blocker_count));

@@ -66,7 +66,9 @@ struct ShadowView {
     layer: u32,
     // 1 / side of the view's shadow map in texels.
     texel_size: f32,
-    // A sun's moments (EVSM): this cascade's positive and negative warp exponents.
+    // A sun's moments (EVSM): this cascade's positive and negative warp exponents. A paged
+    // clipmap level (penumbra::shadows::pages): the grid page of its window's first page,
+    // with `range.w` its page side in texels and `layer` its level in the page table.
     exponents: vec2<f32>,
 }
 
@@ -79,6 +81,15 @@ struct PoissonTaps {
     filter_sixteen: array<vec4<f32>, 8>,
     filter_twenty_five: array<vec4<f32>, 13>,
     filter_forty_nine: array<vec4<f32>, 25>,
+}
+
+// One entry of a paged clipmap's page table (16 bytes): the physical page of the pool
+// holding the grid page (page_x, page_y) of its level, or 0xffffffff (none resident).
+struct PageEntry {
+    physical: u32,
+    page_x: i32,
+    page_y: i32,
+    padding: u32,
 }
 
 // The first MAX_LIGHTS lights of the frame.

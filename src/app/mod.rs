@@ -242,6 +242,7 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
             .find(|t| t.frame == frame)
             .map(|t| t.passes)
             .unwrap_or_default();
+        report.pages = renderer.read_page_stats();
         reports.push(report);
     }
     let world = app.world();

@@ -223,6 +223,7 @@ mod tests {
             resolution: 2048,
             cascades: CascadeSet::default(),
             clipmap: Default::default(),
+            paged: None,
         }
     }
 

@@ -15,7 +15,7 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::name::Name;
 use bevy_ecs::system::{Local, Query, Res, ResMut, SystemParam};
 use bevy_transform::components::GlobalTransform;
-use glam::Vec3;
+use glam::{I64Vec2, Vec3};
 
 use crate::ecs::components::DirectionalLight;
 use crate::ecs::instances::RenderInstances;
@@ -29,13 +29,14 @@ use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view::{ActiveView, SeenByCamera};
 use crate::ecs::view_list::{POINT_NEAR, ShadowLightBudget};
 use crate::math::cascades::{CascadeInput, CascadeSet, compute_cascades};
-use crate::math::clipmap::{ClipmapInput, ClipmapSet, clipmap_cascades, compute_clipmap};
+use crate::math::clipmap::{ClipmapInput, ClipmapSet, clipmap_cascades, compute_clipmap, moved_level};
 use crate::math::light_budget::{
     BudgetChoice, LightCandidate, LightKind, RankScratch, RankingView, choose_shadowed_lights_into,
 };
+use crate::math::pages::{PageLayout, snap_to_pages};
 use crate::math::point::point_view;
 use crate::math::spot::spot_view;
-use crate::settings::{ShadowSettings, SunLayout};
+use crate::settings::{ShadowMode, ShadowSettings, SunLayout};
 use crate::text::echoed;
 
 /// Reused buffers of [`update_frame_lights`]. Candidates are identified by their index in
@@ -122,6 +123,11 @@ pub fn update_frame_lights(
         }
         // NOTE: every pass reads the technique the light is filtered with, not the one asked.
         settings.filter.mode = settings.filter.mode.effective(true);
+        // NOTE: pages hold depth only: a moment filter falls back to PCF.
+        let paged = matches!(settings.map.layout, SunLayout::VirtualClipmap { .. });
+        if paged && !matches!(settings.filter.mode, ShadowMode::Pcf | ShadowMode::Pcss) {
+            settings.filter.mode = ShadowMode::Pcf;
+        }
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
                 id: lights.suns.len(),
@@ -137,6 +143,7 @@ pub fn update_frame_lights(
             resolution: settings.map.resolution,
             cascades: CascadeSet::default(),
             clipmap: ClipmapSet::default(),
+            paged: None,
         });
     }
     for (entity, light, transform, settings) in &spots {
@@ -234,13 +241,21 @@ pub fn update_frame_lights(
         .map(|p| lights.points[p].resolution)
         .max()
         .unwrap_or(0);
+    let mut paged_taken = false;
     for &id in &scratch.choice.shadowed {
         if let Some(sun) = lights.suns.get_mut(id) {
             let Some((camera, _)) = &view.camera else {
                 continue;
             };
-            if let SunLayout::Clipmap { levels, level0_extent } = sun.settings.map.layout {
-                let clipmap = compute_clipmap(&ClipmapInput {
+            if let Some((levels, level0_extent)) = sun.settings.map.layout.clipmap_levels() {
+                // NOTE: one sun is paged (the pool serves one); another is a plain clipmap.
+                let pages = paged_layout(&sun.settings.map.layout).filter(|_| !paged_taken);
+                paged_taken |= pages.is_some();
+                sun.paged = pages;
+                if let Some(pages) = pages {
+                    sun.resolution = pages.virtual_resolution;
+                }
+                let mut clipmap = compute_clipmap(&ClipmapInput {
                     camera_position: camera.position(),
                     light_direction: sun.direction,
                     levels,
@@ -248,6 +263,9 @@ pub fn update_frame_lights(
                     resolution: sun.resolution,
                     casters: instances.caster_bounds,
                 });
+                if let Some(pages) = pages {
+                    snap_levels_to_pages(&mut clipmap, &pages);
+                }
                 sun.cascades = clipmap_cascades(&clipmap, sun.light.angular_diameter);
                 sun.clipmap = clipmap;
             } else {
@@ -323,5 +341,30 @@ fn report_over_budget(
                 budget.lights.of(kind)
             ),
         );
+    }
+}
+
+/// The page layout of a paged clipmap (None for other layouts, or settings the checks have
+/// not made valid).
+pub fn paged_layout(layout: &SunLayout) -> Option<PageLayout> {
+    match *layout {
+        SunLayout::VirtualClipmap {
+            virtual_resolution,
+            page_size,
+            ..
+        } => PageLayout::new(virtual_resolution, page_size).ok(),
+        _ => None,
+    }
+}
+
+/// Moves each level of `clipmap` to the window of whole pages of `pages` nearest its own.
+fn snap_levels_to_pages(clipmap: &mut ClipmapSet, pages: &PageLayout) {
+    let half = i64::from(pages.virtual_resolution / 2);
+    let rotation = clipmap.light_rotation;
+    let count = clipmap.count;
+    for level in clipmap.levels.iter_mut().take(count) {
+        let centre = (level.first_texel + I64Vec2::splat(half)).as_dvec2();
+        let first = snap_to_pages(centre, pages);
+        *level = moved_level(rotation, level, first, pages.virtual_resolution);
     }
 }

@@ -12,6 +12,7 @@ use crate::ecs::view_list::{SPOT_NEAR, ShadowView};
 use crate::math::cascades::CascadeSet;
 use crate::math::clipmap::ClipmapSet;
 use crate::math::light_budget::LightKind;
+use crate::math::pages::PageLayout;
 use crate::math::point::PointView;
 use crate::math::spot::{SpotInput, SpotView};
 use crate::settings::ShadowSettings;
@@ -35,6 +36,9 @@ pub struct SunView {
     pub cascades: CascadeSet,
     /// Its clipmap's levels this frame (no level with the cascade layout).
     pub clipmap: ClipmapSet,
+    /// How its clipmap's levels are paged: the frame's first sun with a virtual clipmap
+    /// (its levels then render into the page pool); None for every other sun.
+    pub paged: Option<PageLayout>,
 }
 
 /// A spot light this frame. Positions are relative to the [`RenderOrigin`](crate::ecs::origin::RenderOrigin).

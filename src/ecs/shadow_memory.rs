@@ -176,7 +176,10 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
 fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -> (LightRequest, Entity) {
     let spots_end = lights.suns.len() + lights.spots.len();
     let (kind, settings, resolution, views, bounds, entity) = if let Some(sun) = lights.suns.get(id) {
-        let views = sun.settings.map.sun_views();
+        // NOTE: a paged clipmap's memory is its pool, fixed by its settings
+        // (`SunLayout::pool_bytes`): the budget lowers no page.
+        let paged = matches!(sun.settings.map.layout, SunLayout::VirtualClipmap { .. });
+        let views = if paged { 0 } else { sun.settings.map.sun_views() };
         (
             LightKind::Directional,
             &sun.settings,

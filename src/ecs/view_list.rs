@@ -135,6 +135,17 @@ pub struct ViewShading {
     pub params: Vec4,
     /// The words it reads as `ShadowViewGpu::range`.
     pub range: Vec4,
+    /// A paged level's place in its page table (None for a view with its own layer).
+    pub page: Option<ViewPaging>,
+}
+
+/// Where a paged level's window lies on its page grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ViewPaging {
+    /// Grid page of the window's first page.
+    pub first_page: I64Vec2,
+    /// Texels per side of a page.
+    pub page_size: u32,
 }
 
 /// One view a shadow map is rendered from.

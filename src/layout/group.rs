@@ -6,7 +6,7 @@
 
 use std::fmt::Write;
 
-use crate::layout::ShadowStorage;
+use crate::layout::{ShadowStorage, StorageMoments};
 
 /// What one binding of the shadow group holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -35,6 +35,9 @@ pub enum Slot {
     /// The lights past the first `MAX_LIGHTS` (a storage buffer that grows with the scene);
     /// declared only in the variants of frames with more lights than that.
     MoreLights,
+    /// A paged storage's page table: per level and table entry, the physical page holding
+    /// it (a stand-in entry while no light is paged).
+    PageTable(ShadowStorage),
 }
 
 /// A binding's type, as WGSL declares it and wgpu lays it out.
@@ -89,6 +92,7 @@ impl Slot {
             Slot::Maps(storage) => storage.desc().maps_binding,
             Slot::Moments(storage) => storage.desc().moments_binding,
             Slot::MoreLights => "more_lights",
+            Slot::PageTable(_) => "page_table",
         }
     }
 
@@ -107,6 +111,7 @@ impl Slot {
             Slot::Moments(storage) if storage.desc().cube => BindingKind::FloatCubeArray,
             Slot::Moments(_) => BindingKind::FloatArray,
             Slot::MoreLights => BindingKind::StorageArray("Light"),
+            Slot::PageTable(_) => BindingKind::StorageArray("PageEntry"),
         }
     }
 
@@ -127,6 +132,7 @@ impl Slot {
             Slot::Maps(storage) => storage.desc().doc,
             Slot::Moments(_) => "Moments of the storage above (1x1 while none of its lights filters moments).",
             Slot::MoreLights => "The lights past the first MAX_LIGHTS (`frame.light_count` in all).",
+            Slot::PageTable(_) => "The page table of the storage above: level l's entry e at l * entries + e.",
         }
     }
 
@@ -151,9 +157,11 @@ const COMMON: [Slot; 7] = [
 
 /// Every binding of the shadow group; binding `i` is element `i`.
 pub fn bindings() -> impl Iterator<Item = ShadowBinding> {
-    let storages = ShadowStorage::ALL
-        .into_iter()
-        .flat_map(|s| [Slot::Maps(s), Slot::Moments(s)]);
+    let storages = ShadowStorage::ALL.into_iter().flat_map(|s| {
+        let moments = (s.desc().moments != StorageMoments::None).then_some(Slot::Moments(s));
+        let table = s.desc().paged.then_some(Slot::PageTable(s));
+        [Slot::Maps(s)].into_iter().chain(moments).chain(table)
+    });
     COMMON
         .into_iter()
         .chain(storages)
@@ -173,7 +181,7 @@ pub fn binding(slot: Slot) -> u32 {
 }
 
 /// Structs the generated module imports from `penumbra::shadows::types`.
-const IMPORTED_TYPES: &str = "Light, LightList, PoissonTaps, ShadowViewList";
+const IMPORTED_TYPES: &str = "Light, LightList, PageEntry, PoissonTaps, ShadowViewList";
 
 /// The WGSL module `penumbra::shadows::bindings`: one declaration per binding, in order.
 pub fn wgsl() -> String {
@@ -222,7 +230,12 @@ mod tests {
             assert_eq!(binding(b.slot), i as u32, "{}", b.name);
             assert_eq!(all.iter().filter(|o| o.name == b.name).count(), 1, "{}", b.name);
         }
-        assert_eq!(all.len(), COMMON.len() + 2 * ShadowStorage::COUNT + 1);
+        let tables = ShadowStorage::ALL.iter().filter(|s| s.desc().paged).count();
+        let moments = ShadowStorage::ALL
+            .iter()
+            .filter(|s| s.desc().moments != StorageMoments::None)
+            .count();
+        assert_eq!(all.len(), COMMON.len() + ShadowStorage::COUNT + moments + tables + 1);
     }
 
     #[test]

@@ -16,6 +16,10 @@ pub enum ShadowStorage {
     Spots,
     /// Every shadowed point light, six layers (a cube) each.
     Points,
+    /// A paged clipmap's levels: virtual textures whose resident pages share one pool (an
+    /// atlas, one layer), found through a page table; drawn by the page passes, not the
+    /// depth pass.
+    Pages,
 }
 
 /// What the renderer needs to know about one storage.
@@ -41,6 +45,9 @@ pub struct StorageDesc {
     /// What one of a light's views in it is called in pass labels (`cascade 2`, `face 5`), or
     /// empty for a storage with one view per light.
     pub view_word: &'static str,
+    /// Its views are virtual (a page table maps their pages into one atlas layer), drawn by
+    /// the page passes; the storage also binds its page table ([`group::Slot::PageTable`]).
+    pub paged: bool,
 }
 
 /// How a storage's moments are made from its depth.
@@ -51,11 +58,18 @@ pub enum StorageMoments {
     /// EVSM2, EVSM4 or MSM of each redrawn view, filtered into mips (the cascade moments
     /// pass).
     Baked,
+    /// None: its lights filter depth only (its moments binding holds a 1×1 stand-in).
+    None,
 }
 
 impl ShadowStorage {
     /// Every storage, in the order of the renderer's arrays.
-    pub const ALL: [ShadowStorage; 3] = [ShadowStorage::Cascades, ShadowStorage::Spots, ShadowStorage::Points];
+    pub const ALL: [ShadowStorage; 4] = [
+        ShadowStorage::Cascades,
+        ShadowStorage::Spots,
+        ShadowStorage::Points,
+        ShadowStorage::Pages,
+    ];
 
     /// Number of storages.
     pub const COUNT: usize = Self::ALL.len();
@@ -76,6 +90,7 @@ impl ShadowStorage {
             ShadowStorage::Cascades => &CASCADES,
             ShadowStorage::Spots => &SPOTS,
             ShadowStorage::Points => &POINTS,
+            ShadowStorage::Pages => &PAGES,
         }
     }
 }
@@ -90,6 +105,7 @@ const CASCADES: StorageDesc = StorageDesc {
     cube: false,
     single_pass: true,
     moments: StorageMoments::Baked,
+    paged: false,
 };
 
 const SPOTS: StorageDesc = StorageDesc {
@@ -102,6 +118,7 @@ const SPOTS: StorageDesc = StorageDesc {
     cube: false,
     single_pass: false,
     moments: StorageMoments::Vsm,
+    paged: false,
 };
 
 const POINTS: StorageDesc = StorageDesc {
@@ -114,6 +131,20 @@ const POINTS: StorageDesc = StorageDesc {
     cube: true,
     single_pass: false,
     moments: StorageMoments::Vsm,
+    paged: false,
+};
+
+const PAGES: StorageDesc = StorageDesc {
+    label: "shadow page pool",
+    moments_label: "shadow page moments",
+    view_word: "level",
+    maps_binding: "page_atlas",
+    moments_binding: "page_moments",
+    doc: "The pool of a paged clipmap: its resident pages side by side in one layer (`page_table` finds them).",
+    cube: false,
+    single_pass: false,
+    moments: StorageMoments::None,
+    paged: true,
 };
 
 #[cfg(test)]

@@ -134,14 +134,41 @@ pub struct MarkRule {
     /// Band of a window's half side, along the inner edge of the margin, where a receiver
     /// also reads the next level (it blends into it).
     pub blend: f64,
+    /// The smallest texel a receiver reads, metres per metre of its view depth (a pixel's
+    /// width at that depth): a receiver reads no level finer than its pixel. 0: any level.
+    pub pixel: f64,
 }
 
-/// Appends the pages a receiver at light-frame `xy` reads to `out`: its filter's footprint
-/// in the finest level whose window holds it with the rule's margin, and in the next level
-/// too inside the blend band. Nothing outside every level.
-pub fn mark_receiver(layout: &PageLayout, levels: &[PagedLevel], xy: DVec2, rule: &MarkRule, out: &mut Vec<PageKey>) {
+/// The width of a pixel per metre of view depth for a camera of `clip_from_world` (a
+/// perspective projection) seen in an image `height` pixels tall.
+pub fn pixel_per_depth(clip_from_world: glam::Mat4, height: u32) -> f64 {
+    // NOTE: the clip matrix's y row is the view's y axis scaled by cot(fov / 2).
+    let cot = f64::from(clip_from_world.row(1).truncate().length());
+    2.0 / (cot * f64::from(height.max(1))).max(1e-30)
+}
+
+/// The first level a receiver at view depth `view_depth` may read under `rule`: the finest
+/// whose texel is at least its pixel (the last when none is).
+pub fn density_level(levels: &[PagedLevel], view_depth: f64, rule: &MarkRule) -> usize {
+    let pixel = view_depth * rule.pixel;
+    let coarse = levels.len().saturating_sub(1);
+    levels.iter().position(|l| l.texel >= pixel).unwrap_or(coarse)
+}
+
+/// Appends the pages a receiver at light-frame `xy` and view depth `view_depth` reads to
+/// `out`: its filter's footprint in the finest level, from its [`density_level`] on, whose
+/// window holds it with the rule's margin, and in the next level too inside the blend band.
+/// Nothing outside every level.
+pub fn mark_receiver(
+    layout: &PageLayout,
+    levels: &[PagedLevel],
+    (xy, view_depth): (DVec2, f64),
+    rule: &MarkRule,
+    out: &mut Vec<PageKey>,
+) {
     let side = f64::from(layout.virtual_resolution);
-    for (i, level) in levels.iter().enumerate() {
+    let first = density_level(levels, view_depth, rule);
+    for (i, level) in levels.iter().enumerate().skip(first) {
         let lo = (level.first_texel.as_dvec2() + DVec2::splat(rule.margin)) * level.texel;
         let hi = (level.first_texel.as_dvec2() + DVec2::splat(side - rule.margin)) * level.texel;
         if xy.cmplt(lo).any() || xy.cmpgt(hi).any() {
@@ -287,9 +314,11 @@ impl VirtualPages {
         self.pool[physical as usize].drawn = false;
     }
 
-    /// Serves frame `frame`'s `needed` pages (sorted, without repeats; those outside their
-    /// level's window `windows[level]` are left out): keeps the resident ones, frees pages that left their window,
-    /// maps the others, in the order given, to free pages (lowest first), evicting the least
+    /// Serves frame `frame`'s `needed` pages (without repeats, in the order they are served:
+    /// the GPU serves the coarsest level first, so that an overflow leaves the levels a finer
+    /// one falls back to; those outside their level's window `windows[level]` are left out):
+    /// keeps the resident ones, frees pages that left their window, maps the others, in the
+    /// order given, to free pages (lowest first), evicting the least
     /// recently needed pages (ages past [`MAX_PAGE_AGE`] frames alike; ties: lowest physical
     /// page) when none is free; what still has no page overflows.
     pub fn allocate(&mut self, frame: u64, needed: &[PageKey], windows: &[PageRect]) -> Allocation {

@@ -269,9 +269,10 @@ fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
         radius: 4.0,
         margin: 8.0,
         blend: 0.1,
+        pixel: 0.0,
     };
     let mut out = Vec::new();
-    mark_receiver(&l, &levels, DVec2::splat(2112.0), &rule, &mut out);
+    mark_receiver(&l, &levels, (DVec2::splat(2112.0), 1.0), &rule, &mut out);
     assert_eq!(
         out,
         vec![PageKey::new(0, I64Vec2::splat(16))],
@@ -279,14 +280,50 @@ fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
     );
     out.clear();
     // 20 texels inside level 0's margin: inside its band (0.1 of 2048), so level 1 is read too.
-    mark_receiver(&l, &levels, DVec2::new(28.0, 2112.0), &rule, &mut out);
+    mark_receiver(&l, &levels, (DVec2::new(28.0, 2112.0), 1.0), &rule, &mut out);
     let levels_read: Vec<u32> = out.iter().map(|k| k.level).collect();
     assert_eq!(levels_read, [0, 1], "{out:?}");
     out.clear();
     // Inside level 0's margin: level 1 serves it alone.
-    mark_receiver(&l, &levels, DVec2::new(4.0, 2112.0), &rule, &mut out);
+    mark_receiver(&l, &levels, (DVec2::new(4.0, 2112.0), 1.0), &rule, &mut out);
     assert!(out.iter().all(|k| k.level == 1) && !out.is_empty(), "{out:?}");
     out.clear();
-    mark_receiver(&l, &levels, DVec2::splat(1e6), &rule, &mut out);
+    mark_receiver(&l, &levels, (DVec2::splat(1e6), 1.0), &rule, &mut out);
     assert!(out.is_empty(), "outside every level nothing is read");
+}
+
+#[test]
+fn a_receiver_reads_no_level_finer_than_its_pixel() {
+    let l = PageLayout::new(4096, 128).unwrap();
+    let levels = [
+        PagedLevel {
+            first_texel: I64Vec2::ZERO,
+            texel: 1.0,
+        },
+        PagedLevel {
+            first_texel: I64Vec2::splat(-2048),
+            texel: 2.0,
+        },
+    ];
+    let rule = MarkRule {
+        radius: 4.0,
+        margin: 8.0,
+        blend: 0.0,
+        pixel: 0.01,
+    };
+    // 1 m texels serve pixels up to 1 m: view depth 100 m.
+    assert_eq!(density_level(&levels, 100.0, &rule), 0);
+    assert_eq!(density_level(&levels, 150.0, &rule), 1);
+    assert_eq!(
+        density_level(&levels, 1e6, &rule),
+        1,
+        "the coarsest when none is coarse enough"
+    );
+    let mut out = Vec::new();
+    mark_receiver(&l, &levels, (DVec2::splat(2112.0), 150.0), &rule, &mut out);
+    assert_eq!(
+        out,
+        vec![PageKey::new(1, I64Vec2::splat(8))],
+        "level 1's page, not level 0's"
+    );
 }

@@ -12,6 +12,7 @@ use crate::ecs::origin::RenderOrigin;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_list::ShadowViews;
 use crate::render::options::RenderOptions;
+use crate::render::shadows::pages_pass::{PAGE_PASSES, has_paged_sun};
 
 /// The ECS data one frame is rendered from.
 pub struct FrameInputs<'a> {
@@ -58,5 +59,17 @@ impl<'a> FrameInputs<'a> {
             options: world.get_resource::<RenderOptions>().copied().unwrap_or_default(),
             origin: world.get_resource::<RenderOrigin>().map_or(Vec3::ZERO, |o| o.0),
         }
+    }
+
+    /// The most passes a frame of these inputs can time: one per shadow view and one more per
+    /// scrolling view (its move, then its regions), one per VSM light's moments and per
+    /// cascade's moments, the page passes, the prepass, the resolve and the lighting pass.
+    pub fn timed_passes(&self) -> usize {
+        let (views, lights) = (&self.shadow_views.views, self.lights);
+        let scrolling = views.iter().filter(|v| v.scroll.is_some()).count();
+        let cascades: usize = lights.suns.iter().map(|s| s.cascades.count).sum();
+        let pages = if has_paged_sun(lights) { PAGE_PASSES.len() } else { 0 };
+        // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
+        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 4
     }
 }

@@ -11,6 +11,7 @@ use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
 use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu,
 };
+use crate::render::shadows::page_allocate::EntryGpu;
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
@@ -86,7 +87,10 @@ pub fn shadow_binding_type(slot: Slot, kind: BindingKind) -> wgpu::BindingType {
             Slot::Views => uniform_array::<ShadowViewGpu>(MAX_SHADOW_VIEWS),
             _ => uniform::<PoissonTapsGpu>(false),
         },
-        BindingKind::StorageArray(_) => storage::<LightGpu>(),
+        BindingKind::StorageArray(_) => match slot {
+            Slot::PageTable(_) => storage::<EntryGpu>(),
+            _ => storage::<LightGpu>(),
+        },
         BindingKind::DepthArray => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2Array),
         BindingKind::DepthCubeArray => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::CubeArray),
         BindingKind::FloatArray => texture(filterable, wgpu::TextureViewDimension::D2Array),

@@ -37,5 +37,5 @@ pub use limits::{DeviceLimits, LimitError};
 pub use options::{DepthPrepass, Msaa, RenderOptions};
 pub use plugin::RenderPlugin;
 pub use renderer::Renderer;
-pub use report::FrameReport;
+pub use report::{FrameReport, PageStats};
 pub use timer::PassTiming;

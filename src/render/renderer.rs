@@ -4,6 +4,7 @@
 use bevy_ecs::resource::Resource;
 
 use crate::layout::ShadowStorage;
+use crate::math::pages::pixel_per_depth;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
 use crate::render::depth_bounds::DepthBoundsPass;
@@ -26,6 +27,7 @@ use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
+use crate::render::shadows::pages_pass::{PagesPass, has_paged_sun};
 use crate::render::target::{DEPTH_FORMAT, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
 use crate::shader::{ShaderError, ShaderLibrary};
@@ -110,6 +112,7 @@ impl Renderer {
         graph.add_node(Box::new(MomentsPass::default()));
         graph.add_node(Box::new(CascadeMomentsPass::default()));
         graph.add_node(Box::new(DepthPrepass::default()));
+        graph.add_node(Box::new(PagesPass::default()));
         graph.add_node(Box::new(VisibilityResolve::default()));
         graph.add_node(Box::new(ForwardPass::new([0.42, 0.55, 0.75])));
         graph.add_node(Box::new(DepthBoundsPass::default()));
@@ -297,7 +300,11 @@ impl Renderer {
         // prepass's normals, the resolve node and the forward pass's shadow group must agree.
         // Where the prepass's normals cannot be multisampled, an MSAA frame filters its
         // shadows in the lighting pass.
-        let prepass = prepass_runs(input, size);
+        // NOTE: a paged sun's pages are marked from the prepass's depth.
+        let prepass = prepass_runs(input, size) || has_paged_sun(input.lights);
+        if let Some((camera, _)) = input.view.camera {
+            self.shadows.page_pixel = pixel_per_depth(camera.clip_from_world(), size.1) as f32;
+        }
         let resolve = (prepass
             && input.options.visibility_resolve
             && !input.shadow_views.views.is_empty()
@@ -308,8 +315,7 @@ impl Renderer {
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)
             .and_then(|()| {
                 self.shadows.prepare(
-                    &self.gpu,
-                    &self.layouts,
+                    (&self.gpu, &self.layouts, &mut self.library),
                     input.lights,
                     input.shadow_views,
                     resolve,
@@ -338,7 +344,7 @@ impl Renderer {
         // NOTE: one timed pass per shadow view, plus the prepass, the resolve and the forward
         // pass.
         self.timer
-            .begin_frame(&self.gpu.device, self.frames, timed_passes(input));
+            .begin_frame(&self.gpu.device, self.frames, input.timed_passes());
         let mut encoder = self
             .gpu
             .device
@@ -478,14 +484,3 @@ impl Renderer {
 
 #[path = "renderer_readback.rs"]
 mod readback;
-
-/// The most passes a frame of `input` can time: one per shadow view and one more per
-/// scrolling view (its move, then its regions), one per VSM light's moments and per
-/// cascade's moments, the prepass, the resolve and the lighting pass.
-fn timed_passes(input: &FrameInputs<'_>) -> usize {
-    let views = &input.shadow_views.views;
-    let scrolling = views.iter().filter(|v| v.scroll.is_some()).count();
-    let cascades: usize = input.lights.suns.iter().map(|s| s.cascades.count).sum();
-    // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
-    views.len() + scrolling + input.lights.spots.len() + input.lights.points.len() + cascades + 4
-}

@@ -9,6 +9,8 @@ use crate::math::seen_depths::SeenDepths;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
 use crate::render::renderer::Renderer;
+use crate::render::report::PageStats;
+use crate::render::shadows::page_allocate::NONE;
 use crate::render::target::AnalysisImage;
 use crate::render::variant::forward_variant;
 
@@ -52,6 +54,23 @@ impl Renderer {
             return None;
         }
         storage.read_layer(&self.gpu.device, &self.gpu.queue, layer)
+    }
+
+    /// What the paged sun's last allocation did and how much of its pool is resident (None
+    /// without a paged sun, or when the buffers did not read back). It waits for the GPU;
+    /// for reports, tests and debugging.
+    pub fn read_page_stats(&self) -> Option<PageStats> {
+        let pool = self.shadows.pages.as_ref()?;
+        let (_, pages, allocation) = pool.allocator.read(&self.gpu.device, &self.gpu.queue)?;
+        let drawn = allocation.draws.len() as u32;
+        Some(PageStats {
+            needed: allocation.kept + drawn + allocation.overflowed,
+            resident: pages.iter().filter(|p| p.owner != NONE).count() as u32,
+            drawn,
+            evicted: allocation.evicted,
+            overflowed: allocation.overflowed,
+            pool: pool.key.pool_pages,
+        })
     }
 
     /// Reads the last rendered image back.

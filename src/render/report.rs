@@ -33,6 +33,9 @@ pub struct FrameReport {
     pub shadow_drawn_texels: u64,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
+    /// What a paged sun's pages did, where the frame was read back for it (headless renders
+    /// read every frame; None without a paged sun).
+    pub pages: Option<PageStats>,
     /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
     pub resolved_memory: u64,
     /// Fragment-shader invocations of the lighting pass, while counted
@@ -74,4 +77,21 @@ mod tests {
         };
         assert_eq!(report.shadow_ms(), 1.5);
     }
+}
+
+/// What a paged sun's pages did in one frame ([`Renderer::read_page_stats`](crate::render::Renderer::read_page_stats)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct PageStats {
+    /// Pages some visible pixel reads.
+    pub needed: u32,
+    /// Pages of the pool holding a page after the allocation.
+    pub resident: u32,
+    /// Pages drawn: newly mapped, or resident but made stale by a moving caster or the light.
+    pub drawn: u32,
+    /// Pages evicted to make room.
+    pub evicted: u32,
+    /// Needed pages the pool had no room for (their pixels read a coarser level).
+    pub overflowed: u32,
+    /// Pages of the pool.
+    pub pool: u32,
 }

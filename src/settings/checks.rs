@@ -3,6 +3,7 @@
 
 use std::fmt;
 
+use crate::math::pages::{MAX_VIRTUAL_RESOLUTION, MIN_VIRTUAL_RESOLUTION, PAGE_SIZES};
 use crate::settings::{
     MAX_CASCADES, MAX_CLIPMAP_LEVELS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION,
     ShadowSettings, SunLayout,
@@ -69,6 +70,36 @@ fn check_u32(
     }
 }
 
+/// Checks that `value` is a power of two in `lo..=hi`, else rounds it to the nearest one
+/// there (logarithmically).
+fn check_power_of_two(
+    problems: &mut Vec<SettingsProblem>,
+    field: &'static str,
+    value: &mut u32,
+    (lo, hi): (u32, u32),
+    expected: &'static str,
+) {
+    if !(value.is_power_of_two() && (lo..=hi).contains(value)) {
+        problems.push(SettingsProblem {
+            field,
+            found: value.to_string(),
+            expected,
+        });
+        let rounded = 1u32 << (f64::from((*value).max(1)).log2().round() as u32).min(31);
+        *value = rounded.clamp(lo, hi);
+    }
+}
+
+/// What a pool's page count must be.
+const POOL_PAGES_EXPECTED: &str = "from 1 to as many pages as fit an 8192² atlas (4096 of 128² pages)";
+
+/// The most pages a pool of `page_size`² pages holds: its atlas is at most 8192 texels a
+/// side (the texture size every adapter allows).
+pub fn max_pool_pages(page_size: u32) -> u32 {
+    let tiles = 8192 / page_size.clamp(1, 8192);
+    tiles * tiles
+}
+
 impl ShadowSettings {
     /// Returns a copy with every out-of-range value clamped into its range (NaN replaced by
     /// the default), and the list of values that had to change. An empty list means the
@@ -85,7 +116,11 @@ impl ShadowSettings {
             MAX_CASCADES as u32,
             "an integer from 1 to 4",
         );
-        if let SunLayout::Clipmap { levels, level0_extent } = &mut s.map.layout {
+        if let SunLayout::Clipmap { levels, level0_extent }
+        | SunLayout::VirtualClipmap {
+            levels, level0_extent, ..
+        } = &mut s.map.layout
+        {
             check_u32(
                 &mut p,
                 "layout.levels",
@@ -103,6 +138,30 @@ impl ShadowSettings {
                 32.0,
                 "metres from 0.5 to 1e5",
             );
+        }
+        if let SunLayout::VirtualClipmap {
+            virtual_resolution,
+            page_size,
+            pool_pages,
+            ..
+        } = &mut s.map.layout
+        {
+            check_power_of_two(
+                &mut p,
+                "layout.virtual_resolution",
+                virtual_resolution,
+                (MIN_VIRTUAL_RESOLUTION, MAX_VIRTUAL_RESOLUTION),
+                "a power of two from 4096 to 16384",
+            );
+            check_power_of_two(
+                &mut p,
+                "layout.page_size",
+                page_size,
+                (PAGE_SIZES[0], PAGE_SIZES[PAGE_SIZES.len() - 1]),
+                "a power of two from 64 to 512",
+            );
+            let most = max_pool_pages(*page_size);
+            check_u32(&mut p, "layout.pool_pages", pool_pages, 1, most, POOL_PAGES_EXPECTED);
         }
         check_u32(
             &mut p,

@@ -91,7 +91,9 @@ pub struct ShadowSettingsFile {
     /// warp's slope; the receiver plane's slope across a texel adds to it when
     /// `receiver_plane_bias` is on, which removes most acne without a fixed bias).
     pub moment_min_variance: f32,
-    /// A sun's layout: `Cascades` (the default) or `Clipmap(levels: 6, level0_extent: 32.0)`.
+    /// A sun's layout: `Cascades` (the default), `Clipmap(levels: 6, level0_extent: 32.0)` or
+    /// `VirtualClipmap(levels: 6, level0_extent: 32.0, virtual_resolution: 16384, page_size: 128,
+    /// pool_pages: 2048)` (experimental).
     pub layout: SunLayout,
 }
 

@@ -40,6 +40,10 @@ pub const SHADOW_FLAG_TEMPORAL: u32 = 8;
 pub const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16;
 /// `Light::flags`: the sun's views are clipmap levels (chosen by light-frame position).
 pub const SHADOW_FLAG_CLIPMAP: u32 = 32;
+/// `Light::flags`: the sun's clipmap levels are paged (read through `page_table`).
+pub const SHADOW_FLAG_PAGED: u32 = 64;
+/// `PageEntry::physical` of an entry holding no page.
+pub const PAGE_NONE: u32 = u32::MAX;
 /// `Light::resolve_layer` of a light filtered in the lighting pass (no resolved layer).
 pub const RESOLVE_NONE: u32 = u32::MAX;
 /// `Instance::flags`: the instance receives shadows.
@@ -63,7 +67,7 @@ pub enum Value {
 }
 
 /// Every shared constant: its name (the same in Rust and WGSL) and value.
-pub const CONSTANTS: [(&str, Value); 21] = [
+pub const CONSTANTS: [(&str, Value); 23] = [
     ("MAX_LIGHTS", Value::U32(MAX_LIGHTS)),
     ("MAX_SHADOW_VIEWS", Value::U32(MAX_SHADOW_VIEWS)),
     ("LIGHT_DIRECTIONAL", Value::U32(LIGHT_DIRECTIONAL)),
@@ -83,6 +87,8 @@ pub const CONSTANTS: [(&str, Value); 21] = [
     ("SHADOW_FLAG_TEMPORAL", Value::U32(SHADOW_FLAG_TEMPORAL)),
     ("SHADOW_FLAG_MOMENT_HARDENING", Value::U32(SHADOW_FLAG_MOMENT_HARDENING)),
     ("SHADOW_FLAG_CLIPMAP", Value::U32(SHADOW_FLAG_CLIPMAP)),
+    ("SHADOW_FLAG_PAGED", Value::U32(SHADOW_FLAG_PAGED)),
+    ("PAGE_NONE", Value::U32(PAGE_NONE)),
     ("RESOLVE_NONE", Value::U32(RESOLVE_NONE)),
     (
         "INSTANCE_FLAG_RECEIVE_SHADOWS",

@@ -49,7 +49,7 @@ const BINDINGS: (&str, fn() -> String) = ("shadows/bindings.wgsl (generated)", g
 const BEFORE_BINDINGS: usize = 3;
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 14] = [
+const MODULES: [ModuleSource; 15] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -73,6 +73,10 @@ const MODULES: [ModuleSource; 14] = [
     ModuleSource {
         file: "shadows/msm.wgsl",
         source: include_str!("../../shaders/shadows/msm.wgsl"),
+    },
+    ModuleSource {
+        file: "shadows/page_table.wgsl",
+        source: include_str!("../../shaders/shadows/page_table.wgsl"),
     },
     ModuleSource {
         file: "shadows/filters.wgsl",

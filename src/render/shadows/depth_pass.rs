@@ -1,5 +1,6 @@
 //! The depth pass: renders the casters of every shadow view of the frame whose layer does not
-//! already hold it into its layer of its kind's storage. A layer remembers the content
+//! already hold it into its layer of its kind's storage (a paged storage's views are drawn
+//! by the page passes, [`pages_pass`](crate::render::shadows::pages_pass)). A layer remembers the content
 //! version ([`ShadowView::version`]) it was last drawn with, the storage allocation it
 //! belongs to, and the tiles its casters wrote ([`ShadowView::footprint`]); a view whose
 //! version is already there is skipped (a still scene draws no shadow map after its first
@@ -119,7 +120,8 @@ impl RenderNode for DepthPass {
         self.maps.clear();
         self.maps.extend(frame.shadow_maps);
         let views = &inputs.shadow_views.views;
-        for storage in ShadowStorage::ALL {
+        // NOTE: a paged storage's views are drawn by the page passes.
+        for storage in ShadowStorage::ALL.into_iter().filter(|s| !s.desc().paged) {
             if views.iter().any(|v| v.kind.storage == storage) {
                 pass.write(frame.maps(storage));
             }
@@ -144,6 +146,10 @@ impl RenderNode for DepthPass {
         let most = (ctx.gpu.multiview_views as usize).min(MAX_CASCADES);
         let mut v = 0;
         while v < views.views.len() {
+            if views.views[v].kind.storage.desc().paged {
+                v += 1;
+                continue;
+            }
             let run_group = views
                 .single_pass
                 .iter()

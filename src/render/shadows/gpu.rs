@@ -15,7 +15,8 @@ use crate::settings::{ShadowMode, ShadowSettings};
 pub use crate::shader::contract::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4,
     SHADOW_FILTER_MSM, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
-    SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
+    SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_PAGED, SHADOW_FLAG_RECEIVER_PLANE,
+    SHADOW_FLAG_TEMPORAL,
 };
 
 /// Lights in the uniform light list (WGSL `MAX_LIGHTS`); the rest go to a storage buffer that
@@ -80,7 +81,8 @@ pub struct ShadowViewGpu {
     pub layer: u32,
     /// 1 / side of its map.
     pub texel_size: f32,
-    /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade.
+    /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade. A
+    /// paged level: the grid page of its window's first page (and `range.w` its page side).
     pub exponents: Vec2,
 }
 
@@ -156,6 +158,9 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
         let set = &sun.cascades;
         if set.clipmap {
             flags |= SHADOW_FLAG_CLIPMAP;
+        }
+        if sun.paged.is_some() {
+            flags |= SHADOW_FLAG_PAGED;
         }
         out.push(LightGpu {
             color: sun.light.color * sun.light.illuminance,
@@ -275,7 +280,12 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
     let baked = lights
         .sun_at(view.light)
         .and_then(|sun| cascade_moments(sun, view.kind.index as usize, support.fp32_filterable));
-    if let Some(m) = baked {
+    if let Some(page) = view.shading.page {
+        // NOTE: a paged level is its whole virtual window (`penumbra::shadows::pages`).
+        gpu.rect = Vec4::new(0.0, 0.0, 1.0, 1.0);
+        gpu.exponents = page.first_page.as_vec2();
+        gpu.range.w = page.page_size as f32;
+    } else if let Some(m) = baked {
         gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
         gpu.range.w = m.depth_start;
     }

@@ -16,8 +16,11 @@ pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
 pub mod page_allocate;
+pub mod page_changes;
 pub mod page_mark;
+pub mod page_pool;
 pub mod page_render;
+pub mod pages_pass;
 pub mod shift;
 pub mod standalone;
 pub mod storage;
@@ -43,11 +46,14 @@ use crate::render::shadows::gpu::{
     pack_lights, pack_view,
 };
 use crate::render::shadows::moment_storage::MomentArray;
+use crate::render::shadows::page_allocate::EntryGpu;
+use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur, sun_moment_mips};
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
+use crate::shader::ShaderLibrary;
 
 /// Everything the shadow passes and the materials share.
 pub struct ShadowResources {
@@ -60,6 +66,14 @@ pub struct ShadowResources {
     /// The depth layer scrolling views move their layers through
     /// ([`crate::render::shadows::shift`]), of their storage's side, while a view scrolls.
     pub shift_scratch: Option<ShiftScratch>,
+    /// The paged sun's allocator (its table is group 3's `page_table`), while a sun is paged.
+    pub pages: Option<PagePool>,
+    /// A paged sun's receivers read no level finer than their pixel: its width per metre of
+    /// view depth ([`pixel_per_depth`](crate::math::pages::pixel_per_depth)), set by the
+    /// renderer each frame (the sun's `Light::range` in WGSL).
+    pub page_pixel: f32,
+    /// The page table bound while no sun is paged: one empty entry.
+    no_page_table: wgpu::Buffer,
     lights: wgpu::Buffer,
     more_lights: GrowBuffer,
     views: wgpu::Buffer,
@@ -117,18 +131,18 @@ fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u
     true
 }
 
-/// The shadow bind group over `buffers` (lights, more lights, views, Poisson taps), each
-/// storage's depth array and moments, and the resolved `visibility`: one entry per binding
-/// of [`bindings`].
+/// The shadow bind group over `buffers` (lights, more lights, views, Poisson taps, page
+/// table), each storage's depth array and moments, and the resolved `visibility`: one entry
+/// per binding of [`bindings`].
 fn shadow_group(
     device: &wgpu::Device,
     layouts: &Layouts,
-    buffers: [&wgpu::Buffer; 4],
+    buffers: [&wgpu::Buffer; 5],
     maps: &[Arc<DepthArray>; ShadowStorage::COUNT],
     moments: &[Arc<MomentArray>; ShadowStorage::COUNT],
     visibility: &VisibilityTarget,
 ) -> wgpu::BindGroup {
-    let [lights, more_lights, views, taps] = buffers;
+    let [lights, more_lights, views, taps, page_table] = buffers;
     let entries: Vec<wgpu::BindGroupEntry> = bindings()
         .enumerate()
         .map(|(binding, b)| wgpu::BindGroupEntry {
@@ -144,6 +158,7 @@ fn shadow_group(
                 Slot::Resolved => wgpu::BindingResource::TextureView(&visibility.view),
                 Slot::Maps(s) => wgpu::BindingResource::TextureView(&maps[s.index()].array_view),
                 Slot::Moments(s) => wgpu::BindingResource::TextureView(&moments[s.index()].moments.sampled),
+                Slot::PageTable(_) => page_table.as_entire_binding(),
             },
         })
         .collect();
@@ -211,10 +226,15 @@ impl ShadowResources {
             ))
         });
         let no_visibility = VisibilityTarget::new(device, (1, 1, 1));
+        let no_page_table = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("no page table"),
+            contents: bytemuck::bytes_of(&EntryGpu::EMPTY),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let group = shadow_group(
             device,
             layouts,
-            [&lights, &more_lights.buffer, &views, &poisson_taps],
+            [&lights, &more_lights.buffer, &views, &poisson_taps, &no_page_table],
             &maps,
             &moments,
             &no_visibility,
@@ -226,6 +246,9 @@ impl ShadowResources {
             maps,
             moments,
             shift_scratch: None,
+            pages: None,
+            page_pixel: 0.0,
+            no_page_table,
             lights,
             more_lights,
             views,
@@ -288,8 +311,7 @@ impl ShadowResources {
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
-        gpu: &GpuContext,
-        layouts: &Layouts,
+        (gpu, layouts, library): (&GpuContext, &Layouts, &mut ShaderLibrary),
         lights: &FrameLights,
         views: &ShadowViews,
         resolve: Option<(u32, u32)>,
@@ -298,9 +320,22 @@ impl ShadowResources {
     ) -> Result<bool, LimitError> {
         let device = &gpu.device;
         let mut rebuild = false;
+        let pool = PoolKey::of(lights);
+        if pool != self.pages.as_ref().map(|p| p.key) {
+            if let Some(key) = pool {
+                gpu.limits.check_target(key.atlas_side(), key.atlas_side())?;
+            }
+            self.pages = pool.map(|key| PagePool::new(device, &gpu.queue, library, key));
+            rebuild = true;
+        }
         for kind in ShadowStorage::ALL {
-            let (side, layers) = views.extent(kind);
             let desc = kind.desc();
+            // NOTE: a paged storage's array is its pool's atlas, not a layer per view.
+            let (side, layers) = match (desc.paged, pool) {
+                (false, _) => views.extent(kind),
+                (true, Some(key)) => (key.atlas_side(), 1),
+                (true, None) => (0, 0),
+            };
             let storage = &mut self.maps[kind.index()];
             if storage.needs(side, layers) {
                 gpu.limits.check_target(side, side)?;
@@ -361,6 +396,11 @@ impl ShadowResources {
             }
         }
         pack_lights(lights, views, support, &mut self.light_data);
+        for (light, sun) in self.light_data.iter_mut().zip(&lights.suns) {
+            if sun.paged.is_some() {
+                light.range = self.page_pixel;
+            }
+        }
         self.view_data.clear();
         self.caster_data.clear();
         for view in &views.views {
@@ -405,7 +445,17 @@ impl ShadowResources {
             casters_sent.clear();
             casters_sent.extend_from_slice(casters);
         }
-        let buffers = [&self.lights, &self.more_lights.buffer, &self.views, &self.poisson_taps];
+        let table = self
+            .pages
+            .as_ref()
+            .map_or(&self.no_page_table, |p| p.allocator.draw_buffers().2);
+        let buffers = [
+            &self.lights,
+            &self.more_lights.buffer,
+            &self.views,
+            &self.poisson_taps,
+            table,
+        ];
         if rebuild {
             self.group = shadow_group(device, layouts, buffers, &self.maps, &self.moments, &self.no_visibility);
             counters.shadow_groups += 1;

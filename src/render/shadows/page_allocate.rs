@@ -58,6 +58,16 @@ pub struct EntryGpu {
     _pad: u32,
 }
 
+impl EntryGpu {
+    /// An entry holding no page.
+    pub const EMPTY: Self = Self {
+        physical: NONE,
+        page_x: 0,
+        page_y: 0,
+        _pad: 0,
+    };
+}
+
 /// Mirror of WGSL `Page`: a page of the pool.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
@@ -136,11 +146,11 @@ impl PageAllocator {
         let order = storage_buffer(device, "page pool order", u64::from(pool_pages) * 4);
         let counters = storage_buffer(device, "page counters", 16);
         let draws = storage_buffer(device, "pages to draw", entries * 8);
-        let empty = EntryGpu {
-            physical: NONE,
-            ..EntryGpu::default()
-        };
-        queue.write_buffer(&table, 0, bytemuck::cast_slice(&vec![empty; entries as usize]));
+        queue.write_buffer(
+            &table,
+            0,
+            bytemuck::cast_slice(&vec![EntryGpu::EMPTY; entries as usize]),
+        );
         let free = PageGpu {
             owner: NONE,
             ..PageGpu::default()
@@ -262,13 +272,19 @@ impl PageAllocator {
     }
 
     /// Records frame `frame`'s allocation with each level's window starting at grid page
-    /// `windows[level]`, from the bitset in [`needed`](Self::needed).
-    pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, frame: u32, windows: &[I64Vec2]) {
+    /// `windows[level]`, from the bitset in [`needed`](Self::needed), timed by `timestamps`.
+    pub fn record(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        (frame, windows): (u32, &[I64Vec2]),
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
         self.write_params(queue, frame, windows);
         encoder.clear_buffer(&self.counters, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("page allocation"),
-            timestamp_writes: None,
+            timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.group, &[]);

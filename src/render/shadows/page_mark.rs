@@ -29,7 +29,8 @@ struct MarkGpu {
     radius: f32,
     margin: f32,
     blend: f32,
-    _pad: [f32; 3],
+    pixel: f32,
+    _pad: [f32; 2],
     level: [[f32; 4]; MAX_PAGED_LEVELS],
 }
 
@@ -120,14 +121,14 @@ impl PageMark {
     }
 
     /// Records the marking of the depth `group` reads (`size` pixels) into its bitset
-    /// `needed` (cleared first).
+    /// `needed` (cleared first), timed by `timestamps`.
     pub fn record(
         &self,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
+        (queue, encoder): (&wgpu::Queue, &mut wgpu::CommandEncoder),
         (group, size): (&wgpu::BindGroup, UVec2),
         input: &MarkInput<'_>,
         needed: &wgpu::Buffer,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut level = [[0.0; 4]; MAX_PAGED_LEVELS];
         for (l, paged) in level.iter_mut().zip(input.levels) {
@@ -145,14 +146,15 @@ impl PageMark {
             radius: input.rule.radius as f32,
             margin: input.rule.margin as f32,
             blend: input.rule.blend as f32,
-            _pad: [0.0; 3],
+            pixel: input.rule.pixel as f32,
+            _pad: [0.0; 2],
             level,
         };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
         encoder.clear_buffer(needed, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("page marking"),
-            timestamp_writes: None,
+            timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
@@ -181,6 +183,7 @@ mod tests {
             ("radius", offset_of!(MarkGpu, radius)),
             ("margin", offset_of!(MarkGpu, margin)),
             ("blend", offset_of!(MarkGpu, blend)),
+            ("pixel", offset_of!(MarkGpu, pixel)),
             ("level", offset_of!(MarkGpu, level)),
         ]
         .iter()

@@ -17,8 +17,8 @@ use crate::render::shadows::casters::caster_bias;
 use crate::render::shadows::clear::overwrite_pipeline;
 use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
-use crate::render::shadows::storage::{DEPTH_USAGE, SHADOW_FORMAT};
-use crate::render::target::texture_2d;
+use crate::render::shadows::page_pool::atlas_tiles;
+use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
 use crate::settings::ShadowBias;
 use crate::shader::ShaderLibrary;
 
@@ -89,9 +89,8 @@ pub struct PageRenderer {
     layout: PageLayout,
     /// Tiles per side of the atlas.
     pub tiles: u32,
-    /// The pool: `Depth32Float`, `tiles · page_size` texels a side, physical page `p` at tile
-    /// `(p mod tiles, p / tiles)`.
-    pub atlas: wgpu::Texture,
+    /// The pool's atlas drawn into (`Depth32Float`, `tiles · page_size` texels a side,
+    /// physical page `p` at tile `(p mod tiles, p / tiles)`).
     atlas_view: wgpu::TextureView,
     slots: u32,
     max_casters: u32,
@@ -119,7 +118,8 @@ fn buffer(device: &wgpu::Device, label: &str, bytes: u64, usage: wgpu::BufferUsa
 }
 
 impl PageRenderer {
-    /// An atlas for `allocator`'s pool and the pipelines, for up to `max_casters` casters
+    /// The pipelines drawing `allocator`'s pages into `atlas` (one layer of
+    /// [`atlas_tiles`] tiles a side), for up to `max_casters` casters
     /// drawn with the light's `bias` (slope-scaled, clamp) as the caster pipelines draw;
     /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
     /// to it). Needs a device with clip distances.
@@ -128,16 +128,14 @@ impl PageRenderer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         library: &mut ShaderLibrary,
-        allocator: &PageAllocator,
+        (allocator, atlas): (&PageAllocator, &DepthArray),
         max_casters: u32,
         bias: &ShadowBias,
         unclipped: bool,
     ) -> Self {
         let (layout, slots) = (allocator.layout(), allocator.pool_pages());
-        let tiles = (f64::from(slots).sqrt().ceil() as u32).max(1);
-        let side = tiles * layout.page_size;
-        let atlas = texture_2d(device, "page pool atlas", (side, side, 1), SHADOW_FORMAT, DEPTH_USAGE);
-        let atlas_view = atlas.create_view(&wgpu::TextureViewDescriptor::default());
+        let tiles = atlas_tiles(slots);
+        let atlas_view = atlas.layer_views[0].clone();
         let uniforms = buffer(
             device,
             "page drawing",
@@ -278,7 +276,6 @@ impl PageRenderer {
         Self {
             layout,
             tiles,
-            atlas,
             atlas_view,
             slots,
             max_casters,
@@ -298,13 +295,14 @@ impl PageRenderer {
     }
 
     /// Records this frame's page drawing: the casters culled per listed page, the listed
-    /// pages' tiles cleared, the casters drawn into them.
+    /// pages' tiles cleared, the casters drawn into them (that render pass timed by
+    /// `timestamps`).
     pub fn record(
         &mut self,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
+        (queue, encoder): (&wgpu::Queue, &mut wgpu::CommandEncoder),
         allocator: &PageAllocator,
         scene: &PageScene<'_>,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let count = scene.casters.len().min(self.max_casters as usize);
         let casters = &scene.casters[..count];
@@ -368,7 +366,7 @@ impl PageRenderer {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes: timestamps,
             occlusion_query_set: None,
             multiview_mask: None,
         });

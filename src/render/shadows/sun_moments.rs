@@ -206,6 +206,7 @@ mod tests {
             resolution: 2048,
             cascades,
             clipmap: Default::default(),
+            paged: None,
         }
     }
 

@@ -1,0 +1,253 @@
+//! The paged clipmap's node: after the depth prepass, for the frame's paged sun, the
+//! receivers mark the pages they read ([`PageMark`]), the pages a moved caster or a turned
+//! light made stale are invalidated ([`page_changes`](crate::render::shadows::page_changes)),
+//! the allocator maps the needed pages into the pool ([`PageAllocator`]), and the listed
+//! pages are cleared and drawn into the pool's atlas ([`PageRenderer`]); the lighting pass
+//! then reads them through the page table. Everything runs on the GPU within the frame: the
+//! CPU never learns which pages were needed. Culled (nothing declared) without a paged sun,
+//! without the prepass, or with a multisampled camera depth (which marking does not read).
+
+use glam::{Mat4, UVec2};
+
+use crate::ecs::assets::MeshHandle;
+use crate::ecs::light_views::FrameLights;
+use crate::layout::ShadowStorage;
+use crate::math::pages::{MarkRule, PagedLevel, pixel_per_depth};
+use crate::render::frame::FrameContext;
+use crate::render::frame_inputs::FrameInputs;
+use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
+use crate::render::shadows::page_changes::{PagedFrame, TrackedCaster, invalidation};
+use crate::render::shadows::page_mark::{MarkInput, PageMark};
+use crate::render::shadows::page_pool::PoolKey;
+use crate::render::shadows::page_render::{PageCaster, PageRenderer, PageScene};
+use crate::render::shadows::storage::DepthArray;
+use crate::settings::{ShadowBias, ShadowMode};
+use crate::shader::contract::MAX_PENUMBRA_TEXELS;
+
+/// Names of the node's timed passes.
+pub const PAGE_PASSES: [&str; 3] = ["page marking", "page allocation", "page drawing"];
+
+/// Texels a level's window keeps clear for the receivers it serves (WGSL
+/// `LEVEL_MARGIN_TEXELS`: the widest filter and a bilinear footprint).
+const LEVEL_MARGIN_TEXELS: f64 = MAX_PENUMBRA_TEXELS as f64 + 2.0;
+
+/// What the page drawing pipelines were made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RendererKey {
+    pool: PoolKey,
+    atlas: u64,
+    max_casters: u32,
+    bias: ShadowBias,
+    unclipped: bool,
+}
+
+/// This frame's work, found in `setup`.
+struct Frame {
+    depth: TextureId,
+    atlas: TextureId,
+    size: UVec2,
+    world_from_clip: Mat4,
+    rule: MarkRule,
+    bias: ShadowBias,
+    depth_clamp: bool,
+    /// The mesh of each caster of `now`.
+    meshes: Vec<MeshHandle>,
+    now: PagedFrame,
+}
+
+/// The page passes' node.
+#[derive(Default)]
+pub struct PagesPass {
+    mark: Option<PageMark>,
+    renderer: Option<(RendererKey, PageRenderer)>,
+    frame: Option<Frame>,
+    /// What the last recorded frame's pages were drawn from (None: nothing drawn yet).
+    last: Option<(PoolKey, PagedFrame)>,
+    /// Frames allocated so far (the allocator's clock).
+    frames: u32,
+    casters: Vec<PageCaster>,
+}
+
+/// The filter footprint a paged sun's receivers mark, as `paged_level` in
+/// `penumbra::shadows::cascades` checks it: the PCF kernel (at most 5) and a bilinear tap, or
+/// PCSS's widest search.
+pub fn mark_radius(mode: ShadowMode, pcf_radius: u32) -> f64 {
+    match mode {
+        ShadowMode::Pcss => f64::from(MAX_PENUMBRA_TEXELS) + 2.0,
+        _ => f64::from(pcf_radius.min(5)) + 2.0,
+    }
+}
+
+impl RenderNode for PagesPass {
+    fn name(&self) -> &'static str {
+        "pages"
+    }
+
+    /// Reads the prepass's depth; writes the page pool.
+    fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
+        self.frame = None;
+        let lights = inputs.lights;
+        let (Some(sun), Some((camera, _)), Some(depth)) = (
+            lights.suns.iter().find(|s| s.paged.is_some() && s.cascades.count > 0),
+            inputs.view.camera,
+            frame.depth,
+        ) else {
+            return;
+        };
+        if frame.samples > 1 {
+            return;
+        }
+        let mut views: Vec<_> = inputs
+            .shadow_views
+            .views
+            .iter()
+            .filter(|v| v.kind.storage == ShadowStorage::Pages)
+            .collect();
+        views.sort_by_key(|v| v.kind.index);
+        let levels = views
+            .iter()
+            .filter_map(|v| {
+                let page = v.shading.page?;
+                let level = PagedLevel {
+                    first_texel: page.first_page * i64::from(page.page_size),
+                    texel: f64::from(v.shading.texel_world_size),
+                };
+                Some((v.clip_from_world, level))
+            })
+            .collect();
+        let instances = inputs.instances;
+        // NOTE: alpha-masked casters (after the opaque ones) are not drawn into pages.
+        let opaque = &instances.casters[..instances.opaque_casters.min(instances.casters.len())];
+        let mut meshes = Vec::with_capacity(opaque.len());
+        let mut casters = Vec::with_capacity(opaque.len());
+        for (k, &i) in opaque.iter().enumerate() {
+            let (Some(gpu), Some(key)) = (instances.gpu.get(i as usize), instances.keys.get(i as usize)) else {
+                continue;
+            };
+            meshes.push(key.mesh);
+            casters.push(TrackedCaster {
+                world_from_local: gpu.world_from_local,
+                sphere: instances.caster_centers[k].extend(instances.caster_radii[k]),
+            });
+        }
+        let s = &sun.settings;
+        pass.read(depth);
+        pass.write(frame.maps(ShadowStorage::Pages));
+        self.frame = Some(Frame {
+            depth,
+            atlas: frame.maps(ShadowStorage::Pages),
+            size: UVec2::new(frame.size.0, frame.size.1),
+            world_from_clip: camera.clip_from_world().inverse(),
+            rule: MarkRule {
+                radius: mark_radius(s.filter.mode, s.filter.pcf_radius),
+                margin: LEVEL_MARGIN_TEXELS,
+                blend: f64::from(s.map.cascades.blend_width),
+                pixel: pixel_per_depth(camera.clip_from_world(), frame.size.1),
+            },
+            bias: s.bias,
+            depth_clamp: s.map.depth_clamp,
+            meshes,
+            now: PagedFrame {
+                light_rotation: sun.cascades.light_rotation,
+                levels,
+                casters,
+            },
+        });
+    }
+
+    fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
+        let (Some(frame), Some(pool), Some((vertices, indices))) =
+            (self.frame.take(), ctx.shadows.pages.as_ref(), ctx.scene.mesh_buffers())
+        else {
+            return;
+        };
+        let (device, queue) = (&ctx.gpu.device, &ctx.gpu.queue);
+        let allocator = &pool.allocator;
+        let layout = pool.key.layout;
+        let levels: Vec<PagedLevel> = frame.now.levels.iter().map(|(_, l)| *l).collect();
+        // NOTE: a new pool holds nothing, so nothing in it is stale.
+        let last = self.last.as_ref().filter(|(key, _)| *key == pool.key).map(|(_, f)| f);
+        let stale = invalidation(&layout, last, &frame.now);
+        let mark = self.mark.get_or_insert_with(|| PageMark::new(device, ctx.library));
+        // NOTE: the depth is a transient of this frame: its group is made per frame.
+        let group = mark.group(device, resources.view(frame.depth), &allocator.needed);
+        let input = MarkInput {
+            world_from_clip: frame.world_from_clip,
+            light_rotation: frame.now.light_rotation,
+            layout,
+            levels: &levels,
+            rule: frame.rule,
+        };
+        let timestamps = ctx.timer.compute_pass(PAGE_PASSES[0]);
+        mark.record(
+            (queue, encoder),
+            (&group, frame.size),
+            &input,
+            &allocator.needed,
+            timestamps,
+        );
+        if !stale.is_empty() {
+            allocator.record_invalidation(queue, encoder, &stale.rects, stale.all);
+        }
+        self.frames += 1;
+        let windows: Vec<_> = levels.iter().map(|l| layout.page_of(l.first_texel)).collect();
+        let timestamps = ctx.timer.compute_pass(PAGE_PASSES[1]);
+        allocator.record(queue, encoder, (self.frames, &windows), timestamps);
+        self.casters.clear();
+        for (caster, mesh) in frame.now.casters.iter().zip(&frame.meshes) {
+            let Some(range) = ctx.scene.mesh_ranges.get(mesh.0 as usize) else {
+                continue;
+            };
+            self.casters.push(PageCaster {
+                world_from_local: caster.world_from_local,
+                sphere: caster.sphere,
+                indices: (range.first_index, range.index_count, range.base_vertex),
+            });
+        }
+        let atlas = resources.shared::<DepthArray>(frame.atlas);
+        let key = RendererKey {
+            pool: pool.key,
+            atlas: atlas.id,
+            max_casters: (self.casters.len() as u32).max(64).next_power_of_two(),
+            bias: frame.bias,
+            unclipped: ctx.gpu.unclipped_depth && frame.depth_clamp,
+        };
+        // NOTE: the pipelines are kept while the caster list fits them.
+        let fits = self.renderer.as_ref().is_some_and(|(k, _)| {
+            RendererKey {
+                max_casters: k.max_casters,
+                ..key
+            } == *k
+                && k.max_casters >= self.casters.len() as u32
+        });
+        if !fits {
+            let renderer = PageRenderer::new(
+                device,
+                queue,
+                ctx.library,
+                (allocator, &atlas),
+                key.max_casters,
+                &key.bias,
+                key.unclipped,
+            );
+            self.renderer = Some((key, renderer));
+        }
+        let Some((_, renderer)) = self.renderer.as_mut() else {
+            return;
+        };
+        let scene = PageScene {
+            light_rotation: frame.now.light_rotation,
+            levels: &frame.now.levels,
+            casters: &self.casters,
+            geometry: (vertices, indices),
+        };
+        let timestamps = ctx.timer.pass(PAGE_PASSES[2]);
+        renderer.record((queue, encoder), allocator, &scene, timestamps);
+        self.last = Some((pool.key, frame.now));
+    }
+}
+
+/// Whether a sun of the frame is paged (and casts shadows).
+pub fn has_paged_sun(lights: &FrameLights) -> bool {
+    lights.suns.iter().any(|s| s.paged.is_some() && s.cascades.count > 0)
+}
