@@ -3,7 +3,7 @@
 // world and into the light's frame, finds the finest level (from the first whose texel is at
 // least the pixel's width there) whose window holds it with the margin, and sets the bits of
 // the pages its filter's footprint touches there (and in the next level inside the blend
-// band). One thread per pixel; the bitset is a bit per table
+// band, and in the coarsest level, which an overflow falls back to). One thread per pixel; the bitset is a bit per table
 // entry, level by level.
 
 const MAX_LEVELS: u32 = 8u;
@@ -83,8 +83,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         mark_footprint(i, xy);
         let band = mark.blend * 0.5 * mark.virtual_resolution * texel;
         let inside = min(min(xy.x - lo.x, xy.y - lo.y), min(hi.x - xy.x, hi.y - xy.y));
-        if i + 1u < mark.levels && inside < band {
+        let blends = i + 1u < mark.levels && inside < band;
+        if blends {
             mark_footprint(i + 1u, xy);
+        }
+        // The coarsest level too, which a pool that overflowed falls back to.
+        let coarsest = mark.levels - 1u;
+        if coarsest > i + u32(blends) {
+            mark_footprint(coarsest, xy);
         }
         return;
     }

@@ -369,6 +369,16 @@ fn cascade_debug_color(light: Light, surface: Surface) -> vec3<f32> {
         return vec3<f32>(0.5);
     }
     let selection = select_view(light, surface);
+    if (light.flags & SHADOW_FLAG_PAGED) != 0u {
+        // A paged sun: the level read; half magenta where its pages overflowed the pool and a
+        // coarser level was read, magenta where no level was resident.
+        let pick = paged_level(light, selection.index, surface);
+        if pick.index >= light.view_count {
+            return vec3<f32>(1.0, 0.0, 1.0);
+        }
+        let fell_back = select(0.0, 0.5, pick.index != selection.index);
+        return mix(colors[pick.index % 4u], vec3<f32>(1.0, 0.0, 1.0), fell_back);
+    }
     let next = min(selection.index + 1u, light.view_count - 1u);
     return mix(colors[selection.index % 4u], colors[next % 4u], selection.blend);
 }

@@ -204,6 +204,22 @@ pub fn presets() -> Vec<Preset> {
                 moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
             },
         },
+        Preset {
+            name: "pages-pcf",
+            description: "a sun's virtual clipmap (6 levels of 16384², the finest 32 m; 2048 pages of 128²) with PCF 5×5",
+            apply: |s| {
+                s.map.layout = SunLayout::virtual_clipmap();
+                pcf(s, 2);
+            },
+        },
+        Preset {
+            name: "pages-pcss",
+            description: "a sun's virtual clipmap (6 levels of 16384², the finest 32 m; 2048 pages of 128²) with PCSS Medium",
+            apply: |s| {
+                s.map.layout = SunLayout::virtual_clipmap();
+                pcss(s, PcssQuality::Medium);
+            },
+        },
     ]
 }
 

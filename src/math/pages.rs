@@ -157,8 +157,9 @@ pub fn density_level(levels: &[PagedLevel], view_depth: f64, rule: &MarkRule) ->
 
 /// Appends the pages a receiver at light-frame `xy` and view depth `view_depth` reads to
 /// `out`: its filter's footprint in the finest level, from its [`density_level`] on, whose
-/// window holds it with the rule's margin, and in the next level too inside the blend band.
-/// Nothing outside every level.
+/// window holds it with the rule's margin, in the next level too inside the blend band, and
+/// in the coarsest level (what the pool serves first, so a receiver whose own pages
+/// overflowed it still reads a level). Nothing outside every level.
 pub fn mark_receiver(
     layout: &PageLayout,
     levels: &[PagedLevel],
@@ -182,8 +183,14 @@ pub fn mark_receiver(
         footprint(i);
         let band = rule.blend * 0.5 * side * level.texel;
         let inside = (xy - lo).min(hi - xy).min_element();
-        if i + 1 < levels.len() && inside < band {
+        let blends = i + 1 < levels.len() && inside < band;
+        if blends {
             footprint(i + 1);
+        }
+        // NOTE: the coarsest level too, which a pool that overflowed falls back to.
+        let coarsest = levels.len() - 1;
+        if coarsest > i + usize::from(blends) {
+            footprint(coarsest);
         }
         return;
     }

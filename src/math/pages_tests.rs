@@ -253,7 +253,7 @@ proptest! {
 }
 
 #[test]
-fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
+fn a_receiver_marks_its_level_the_next_inside_the_band_and_the_coarsest() {
     let l = layout();
     let levels = [
         PagedLevel {
@@ -263,6 +263,10 @@ fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
         PagedLevel {
             first_texel: I64Vec2::splat(-2048),
             texel: 2.0,
+        },
+        PagedLevel {
+            first_texel: I64Vec2::splat(-2048),
+            texel: 4.0,
         },
     ];
     let rule = MarkRule {
@@ -275,18 +279,20 @@ fn a_receiver_marks_its_level_and_the_next_inside_the_band() {
     mark_receiver(&l, &levels, (DVec2::splat(2112.0), 1.0), &rule, &mut out);
     assert_eq!(
         out,
-        vec![PageKey::new(0, I64Vec2::splat(16))],
-        "the middle of level 0 reads one page"
+        vec![PageKey::new(0, I64Vec2::splat(16)), PageKey::new(2, I64Vec2::splat(4))],
+        "the middle of level 0 reads one page there, and the coarsest level's"
     );
     out.clear();
     // 20 texels inside level 0's margin: inside its band (0.1 of 2048), so level 1 is read too.
     mark_receiver(&l, &levels, (DVec2::new(28.0, 2112.0), 1.0), &rule, &mut out);
     let levels_read: Vec<u32> = out.iter().map(|k| k.level).collect();
-    assert_eq!(levels_read, [0, 1], "{out:?}");
+    assert_eq!(levels_read, [0, 1, 2], "{out:?}");
     out.clear();
-    // Inside level 0's margin: level 1 serves it alone.
+    // Inside level 0's margin: level 1 serves it (and the coarsest level).
     mark_receiver(&l, &levels, (DVec2::new(4.0, 2112.0), 1.0), &rule, &mut out);
-    assert!(out.iter().all(|k| k.level == 1) && !out.is_empty(), "{out:?}");
+    let mut levels_read: Vec<u32> = out.iter().map(|k| k.level).collect();
+    levels_read.dedup();
+    assert_eq!(levels_read, [1, 2], "{out:?}");
     out.clear();
     mark_receiver(&l, &levels, (DVec2::splat(1e6), 1.0), &rule, &mut out);
     assert!(out.is_empty(), "outside every level nothing is read");

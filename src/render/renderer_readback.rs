@@ -11,6 +11,7 @@ use crate::render::probe::ProbeGpu;
 use crate::render::renderer::Renderer;
 use crate::render::report::PageStats;
 use crate::render::shadows::page_allocate::NONE;
+use crate::render::shadows::page_pool::PagePool;
 use crate::render::target::AnalysisImage;
 use crate::render::variant::forward_variant;
 
@@ -54,6 +55,12 @@ impl Renderer {
             return None;
         }
         storage.read_layer(&self.gpu.device, &self.gpu.queue, layer)
+    }
+
+    /// The paged sun's page pool (its allocator and what it was made for), while a sun is
+    /// paged.
+    pub fn page_pool(&self) -> Option<&PagePool> {
+        self.shadows.pages.as_ref()
     }
 
     /// What the paged sun's last allocation did and how much of its pool is resident (None

@@ -139,7 +139,9 @@ pub enum ShadowDebugView {
     None,
     /// Tint every pixel by the cascade it samples (red, green, blue, yellow for 0..3) — for a
     /// point light, by the cube face (+X red, −X cyan, +Y green, −Y magenta, +Z blue, −Z
-    /// yellow). Shown for the renderer's focus light.
+    /// yellow). Shown for the renderer's focus light. A paged sun's pixels are tinted by the
+    /// level they read, half magenta where the pool overflowed and a coarser level was read,
+    /// magenta where no level was resident.
     Cascades,
 }
 
@@ -482,7 +484,7 @@ pub struct MapKey {
 mod checks;
 mod file;
 
-pub use checks::SettingsProblem;
+pub use checks::{SettingsProblem, max_pool_pages};
 pub use file::ShadowSettingsFile;
 
 #[cfg(test)]

@@ -378,6 +378,8 @@ impl Viewer {
             },
         );
         publish_seen_depths(self.app.world_mut(), &state.renderer);
+        // NOTE: a paged sun's counters are read back at once (a stall, for the inspector).
+        state.renderer.last_report.pages = state.renderer.read_page_stats();
         self.inspector
             .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
         // NOTE: warnings are already logged by the renderer; errors stay on screen.

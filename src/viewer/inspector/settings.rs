@@ -6,8 +6,9 @@
 use egui::{ComboBox, Slider, Ui};
 
 use crate::settings::{
-    CascadeFit, MAX_CASCADES, MAX_CLIPMAP_LEVELS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat,
-    PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings, SunLayout,
+    CascadeFit, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MAX_CASCADES, MAX_CLIPMAP_LEVELS,
+    MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat, PcssQuality, ShadowDebugView, ShadowMode,
+    ShadowSettings, SunLayout, max_pool_pages,
 };
 
 /// The shadow-map resolutions offered (the seed's runtime table, and 256 for point-light faces).
@@ -32,35 +33,80 @@ pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     }
 }
 
-/// The sun's layout: cascades (count, fit, split λ, max distance) or a clipmap (levels and
-/// the finest level's side).
-fn layout_ui(ui: &mut Ui, s: &mut ShadowSettings) {
-    let clipmap = matches!(s.map.layout, SunLayout::Clipmap { .. });
-    let mut chosen = clipmap;
-    ComboBox::from_label("layout")
-        .selected_text(if clipmap { "Clipmap" } else { "Cascades" })
+/// A clipmap's levels and the side of its finest level.
+fn clipmap_ui(ui: &mut Ui, levels: &mut u32, level0_extent: &mut f32) {
+    ui.add(Slider::new(levels, 1..=MAX_CLIPMAP_LEVELS).text("clipmap levels"));
+    ui.add(
+        Slider::new(level0_extent, 0.5..=1000.0)
+            .logarithmic(true)
+            .text("finest level m"),
+    );
+}
+
+/// A power of two in `lo..=hi`, picked from a list.
+fn power_of_two_ui(ui: &mut Ui, value: &mut u32, (lo, hi): (u32, u32), label: &str) {
+    ComboBox::from_label(label)
+        .selected_text(value.to_string())
         .show_ui(ui, |ui| {
-            ui.selectable_value(&mut chosen, false, "Cascades");
-            ui.selectable_value(&mut chosen, true, "Clipmap");
-        });
-    if chosen != clipmap {
-        s.map.layout = if chosen {
-            SunLayout::Clipmap {
-                levels: 6,
-                level0_extent: 32.0,
+            let mut v = lo;
+            while v <= hi {
+                ui.selectable_value(value, v, v.to_string());
+                v *= 2;
             }
-        } else {
-            SunLayout::Cascades
-        };
-    }
-    if let SunLayout::Clipmap { levels, level0_extent } = &mut s.map.layout {
-        ui.add(Slider::new(levels, 1..=MAX_CLIPMAP_LEVELS).text("clipmap levels"));
-        ui.add(
-            Slider::new(level0_extent, 0.5..=1000.0)
-                .logarithmic(true)
-                .text("finest level m"),
-        );
-        return;
+        });
+}
+
+/// The sun's layout: cascades (count, fit, split λ, max distance), a clipmap (levels and
+/// the finest level's side) or a virtual clipmap (those, its virtual resolution, page size
+/// and pool, whose memory it prints).
+fn layout_ui(ui: &mut Ui, s: &mut ShadowSettings) {
+    let name = |l: &SunLayout| match l {
+        SunLayout::Cascades => "Cascades",
+        SunLayout::Clipmap { .. } => "Clipmap",
+        SunLayout::VirtualClipmap { .. } => "Virtual clipmap",
+    };
+    let current = name(&s.map.layout);
+    let (levels, level0_extent) = s.map.layout.clipmap_levels().unwrap_or((6, 32.0));
+    let choices = [
+        SunLayout::Cascades,
+        SunLayout::Clipmap { levels, level0_extent },
+        SunLayout::VirtualClipmap {
+            levels,
+            level0_extent,
+            virtual_resolution: DEFAULT_VIRTUAL_RESOLUTION,
+            page_size: DEFAULT_PAGE_SIZE,
+            pool_pages: DEFAULT_POOL_PAGES,
+        },
+    ];
+    ComboBox::from_label("layout").selected_text(current).show_ui(ui, |ui| {
+        for choice in choices {
+            if ui.selectable_label(current == name(&choice), name(&choice)).clicked() && current != name(&choice) {
+                s.map.layout = choice;
+            }
+        }
+    });
+    let pool = s.map.layout.pool_bytes();
+    match &mut s.map.layout {
+        SunLayout::Cascades => {}
+        SunLayout::Clipmap { levels, level0_extent } => {
+            clipmap_ui(ui, levels, level0_extent);
+            return;
+        }
+        SunLayout::VirtualClipmap {
+            levels,
+            level0_extent,
+            virtual_resolution,
+            page_size,
+            pool_pages,
+        } => {
+            clipmap_ui(ui, levels, level0_extent);
+            power_of_two_ui(ui, virtual_resolution, (4096, 16384), "virtual texels");
+            power_of_two_ui(ui, page_size, (64, 512), "page texels");
+            let most = max_pool_pages(*page_size);
+            ui.add(Slider::new(pool_pages, 1..=most).logarithmic(true).text("pool pages"));
+            ui.label(format!("pool memory {:.1} MiB", pool as f64 / (1024.0 * 1024.0)));
+            return;
+        }
     }
     ui.add(Slider::new(&mut s.map.cascades.count, 1..=MAX_CASCADES as u32).text("cascades"));
     ComboBox::from_label("fit")

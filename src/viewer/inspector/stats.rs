@@ -77,6 +77,12 @@ pub(crate) fn timings_ui(ui: &mut Ui, report: &FrameReport, stats: &ShadowStats,
         stats.visible_instances,
         report.shadow_memory as f64 / (1024.0 * 1024.0)
     ));
+    if let Some(p) = report.pages {
+        ui.label(format!(
+            "pages needed {}, resident {} of {}, drawn {}, evicted {}, overflowed {}",
+            p.needed, p.resident, p.pool, p.drawn, p.evicted, p.overflowed
+        ));
+    }
     let mean = history.mean();
     ui.horizontal(|ui| {
         ui.colored_label(GPU_COLOR, format!("GPU {:.2} ms", mean.gpu_ms));
