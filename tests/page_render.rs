@@ -198,6 +198,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
         coverage + edges <= 3,
         "{coverage} texels differ in coverage, {edges} in which caster they hold"
     );
-    // NOTE: depth interpolated over a moved viewport (lavapipe: up to 7.2e-7).
-    assert!(worst <= 2.2e-6, "depth differs by {worst:e}");
+    // NOTE: depth interpolated over a moved viewport, which varies with the tile a page
+    // takes (lavapipe: up to 2.3e-6 with the coarsest level's pages served first).
+    assert!(worst <= 7e-6, "depth differs by {worst:e}");
 }
