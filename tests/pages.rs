@@ -153,6 +153,12 @@ fn turn(app: &mut App, yaw: f32) {
 fn a_still_frame_and_a_view_seen_before_draw_no_page() {
     let mut app = app(layout(true, 256), ShadowMode::Pcf);
     let first = stats(&app);
+    let order = app.world().resource::<Renderer>().graph_order();
+    let at = |name: &str| order.iter().position(|n| *n == name);
+    assert!(
+        at("depth prepass") < at("pages") && at("pages") < at("visibility resolve") && at("pages").is_some(),
+        "the pages are drawn between the prepass and the resolve: {order:?}"
+    );
     app.update();
     let still = stats(&app);
     turn(&mut app, 0.4);

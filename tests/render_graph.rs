@@ -54,7 +54,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     // depth-bounds reduction are culled.
     assert_eq!(
         r.graph_culled(),
-        ["shadow moments", "shadow cascade moments", "depth bounds"]
+        ["shadow moments", "shadow cascade moments", "pages", "depth bounds"]
     );
     // Three frames of one size: the camera depth was created once and reused.
     // The camera depth and normals (for the compute resolve), each created once (MSAA is off
@@ -79,6 +79,7 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
             "shadow",
             "shadow moments",
             "shadow cascade moments",
+            "pages",
             "visibility resolve",
             "depth bounds"
         ]
@@ -179,7 +180,13 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     );
     assert_eq!(
         r.graph_culled(),
-        ["shadow moments", "shadow cascade moments", "depth bounds", "unread"]
+        [
+            "shadow moments",
+            "shadow cascade moments",
+            "pages",
+            "depth bounds",
+            "unread"
+        ]
     );
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
@@ -252,6 +259,7 @@ fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
             "shadow moments",
             "shadow cascade moments",
             "depth prepass",
+            "pages",
             "visibility resolve",
             "depth bounds"
         ]

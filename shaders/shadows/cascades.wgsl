@@ -256,22 +256,35 @@ struct PagedPick {
     sample: MapSample,
 }
 
-// The level a paged sun's receiver reads, from level `index` on: the first whose pages under
-// the filter's footprint (the PCF kernel, or PCSS's widest search) are all resident, so a
-// pool that overflowed falls back to a coarser level; `view_count` when none is, and the
-// receiver is lit.
-fn paged_level(light: Light, index: u32, surface: Surface) -> PagedPick {
+// A receiver projected into a paged sun's level `index`, if every page under its filter's
+// footprint (the PCF kernel, or PCSS's widest search) is resident there; `view_count` as the
+// index when one is not.
+fn paged_try(light: Light, index: u32, surface: Surface) -> PagedPick {
     let pcss = light.shadow_filter == SHADOW_FILTER_PCSS;
     let texels = select(f32(min(light.pcf_radius, 5u)) + 2.0, MAX_PENUMBRA_TEXELS + 2.0, pcss);
-    for (var i = index; i < light.view_count; i++) {
-        let view = shadow_views.items[light.first_view + i];
-        var p = project_to_cascade(light, i, surface.position, surface.normal);
-        p.page = vec4<f32>(view.exponents, view.range.w, 0.0);
-        if footprint_resident(p.page, p.layer, p.texel, p.uv, texels * p.texel) {
-            return PagedPick(i, p);
-        }
+    let view = shadow_views.items[light.first_view + index];
+    var p = project_to_cascade(light, index, surface.position, surface.normal);
+    p.page = vec4<f32>(view.exponents, view.range.w, 0.0);
+    let resident = footprint_resident(p.page, p.layer, p.texel, p.uv, texels * p.texel);
+    return PagedPick(select(light.view_count, index, resident), p);
+}
+
+// The level a paged sun's receiver reads: level `index` where its pages are resident, else
+// (the pool overflowed) the next coarser one, else the coarsest (every receiver marks it and
+// the pool serves it first); `view_count` when none is, and the receiver is lit.
+//
+// NOTE: three tries, not a loop over the levels (as `footprint_resident`).
+fn paged_level(light: Light, index: u32, surface: Surface) -> PagedPick {
+    let coarsest = light.view_count - 1u;
+    let next = min(index + 1u, coarsest);
+    var pick = paged_try(light, index, surface);
+    if pick.index > coarsest && next != index {
+        pick = paged_try(light, next, surface);
     }
-    return PagedPick(light.view_count, MapSample());
+    if pick.index > coarsest && coarsest != next {
+        pick = paged_try(light, coarsest, surface);
+    }
+    return pick;
 }
 
 // Shadow factor from one cascade (or clipmap level) with the light's filter; a paged sun's

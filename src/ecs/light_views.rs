@@ -140,6 +140,11 @@ impl FrameLights {
         }
     }
 
+    /// The frame's paged sun, if one casts shadows (its levels are virtual).
+    pub fn paged_sun(&self) -> Option<&SunView> {
+        self.suns.iter().find(|s| s.paged.is_some() && s.cascades.count > 0)
+    }
+
     /// The sun at `light` in the renderer's light list, if that light is a sun.
     pub fn sun_at(&self, light: u32) -> Option<&SunView> {
         self.suns.get(light as usize)

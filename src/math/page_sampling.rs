@@ -30,9 +30,10 @@ pub fn atlas_position(at: DVec2, page: DVec2, physical: u32, tiles: u32, page_si
     DVec2::new(tile.x * size + inside.x, tile.y * size + (size - inside.y))
 }
 
-/// Where a receiver at light-frame `xy` reads its depth: the first level, from the finest
-/// whose window holds it `margin` texels inside every edge, whose page holding it is
-/// resident in `pages` (atlas of `tiles` tiles a side). None when no such level has it.
+/// Where a receiver at light-frame `xy` reads its depth: the finest level whose window holds
+/// it `margin` texels inside every edge if its page holding it is resident in `pages` (atlas
+/// of `tiles` tiles a side), else the next coarser level, else the coarsest (as the shaders'
+/// `paged_level` tries them). None when none of them has it.
 pub fn resolve_texel(
     pages: &VirtualPages,
     levels: &[PagedLevel],
@@ -47,7 +48,10 @@ pub fn resolve_texel(
         let hi = (level.first_texel.as_dvec2() + DVec2::splat(side - margin)) * level.texel;
         xy.cmpge(lo).all() && xy.cmple(hi).all()
     })?;
-    levels.iter().enumerate().skip(first).find_map(|(i, level)| {
+    let coarsest = levels.len() - 1;
+    let tries = [first, (first + 1).min(coarsest), coarsest];
+    tries.into_iter().find_map(|i| {
+        let level = &levels[i];
         let at = xy / level.texel;
         let page = layout.page_of(at.floor().as_i64vec2());
         let physical = pages.lookup(PageKey::new(i as u32, page))?;

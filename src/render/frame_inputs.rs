@@ -12,7 +12,7 @@ use crate::ecs::origin::RenderOrigin;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_list::ShadowViews;
 use crate::render::options::RenderOptions;
-use crate::render::shadows::pages_pass::{PAGE_PASSES, has_paged_sun};
+use crate::render::shadows::page_pool::PAGE_PASSES;
 
 /// The ECS data one frame is rendered from.
 pub struct FrameInputs<'a> {
@@ -68,7 +68,11 @@ impl<'a> FrameInputs<'a> {
         let (views, lights) = (&self.shadow_views.views, self.lights);
         let scrolling = views.iter().filter(|v| v.scroll.is_some()).count();
         let cascades: usize = lights.suns.iter().map(|s| s.cascades.count).sum();
-        let pages = if has_paged_sun(lights) { PAGE_PASSES.len() } else { 0 };
+        let pages = if lights.paged_sun().is_some() {
+            PAGE_PASSES.len()
+        } else {
+            0
+        };
         // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
         views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 4
     }

@@ -11,7 +11,6 @@ use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu, PoissonTapsGpu};
 use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu,
 };
-use crate::render::shadows::page_allocate::EntryGpu;
 
 /// The layouts and samplers every pass builds its bind groups from.
 pub struct Layouts {
@@ -88,7 +87,8 @@ pub fn shadow_binding_type(slot: Slot, kind: BindingKind) -> wgpu::BindingType {
             _ => uniform::<PoissonTapsGpu>(false),
         },
         BindingKind::StorageArray(_) => match slot {
-            Slot::PageTable(_) => storage::<EntryGpu>(),
+            // NOTE: a `PageEntry` is four 32-bit words (`page_allocate::EntryGpu`).
+            Slot::PageTable(_) => storage::<[u32; 4]>(),
             _ => storage::<LightGpu>(),
         },
         BindingKind::DepthArray => texture(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2Array),

@@ -27,7 +27,7 @@ use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
-use crate::render::shadows::pages_pass::{PagesPass, has_paged_sun};
+use crate::render::shadows::pages_pass::PagesPass;
 use crate::render::target::{DEPTH_FORMAT, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
 use crate::shader::{ShaderError, ShaderLibrary};
@@ -301,7 +301,7 @@ impl Renderer {
         // Where the prepass's normals cannot be multisampled, an MSAA frame filters its
         // shadows in the lighting pass.
         // NOTE: a paged sun's pages are marked from the prepass's depth.
-        let prepass = prepass_runs(input, size) || has_paged_sun(input.lights);
+        let prepass = prepass_runs(input, size) || input.lights.paged_sun().is_some();
         if let Some((camera, _)) = input.view.camera {
             self.shadows.page_pixel = pixel_per_depth(camera.clip_from_world(), size.1) as f32;
         }

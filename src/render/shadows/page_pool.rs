@@ -9,6 +9,9 @@ use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::settings::SunLayout;
 use crate::shader::ShaderLibrary;
 
+/// Names of the page passes' timings, in order.
+pub const PAGE_PASSES: [&str; 3] = ["page marking", "page allocation", "page drawing"];
+
 /// What a pool is made for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PoolKey {
@@ -23,7 +26,7 @@ pub struct PoolKey {
 impl PoolKey {
     /// The pool the frame's paged sun needs (None without one).
     pub fn of(lights: &FrameLights) -> Option<Self> {
-        let sun = lights.suns.iter().find(|s| s.paged.is_some() && s.cascades.count > 0)?;
+        let sun = lights.paged_sun()?;
         let SunLayout::VirtualClipmap { pool_pages, .. } = sun.settings.map.layout else {
             return None;
         };

@@ -10,7 +10,6 @@
 use glam::{Mat4, UVec2};
 
 use crate::ecs::assets::MeshHandle;
-use crate::ecs::light_views::FrameLights;
 use crate::layout::ShadowStorage;
 use crate::math::pages::{MarkRule, PagedLevel, pixel_per_depth};
 use crate::render::frame::FrameContext;
@@ -18,14 +17,11 @@ use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::shadows::page_changes::{PagedFrame, TrackedCaster, invalidation};
 use crate::render::shadows::page_mark::{MarkInput, PageMark};
-use crate::render::shadows::page_pool::PoolKey;
+use crate::render::shadows::page_pool::{PAGE_PASSES, PoolKey};
 use crate::render::shadows::page_render::{PageCaster, PageRenderer, PageScene};
 use crate::render::shadows::storage::DepthArray;
 use crate::settings::{ShadowBias, ShadowMode};
 use crate::shader::contract::MAX_PENUMBRA_TEXELS;
-
-/// Names of the node's timed passes.
-pub const PAGE_PASSES: [&str; 3] = ["page marking", "page allocation", "page drawing"];
 
 /// Texels a level's window keeps clear for the receivers it serves (WGSL
 /// `LEVEL_MARGIN_TEXELS`: the widest filter and a bilinear footprint).
@@ -87,11 +83,7 @@ impl RenderNode for PagesPass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>) {
         self.frame = None;
         let lights = inputs.lights;
-        let (Some(sun), Some((camera, _)), Some(depth)) = (
-            lights.suns.iter().find(|s| s.paged.is_some() && s.cascades.count > 0),
-            inputs.view.camera,
-            frame.depth,
-        ) else {
+        let (Some(sun), Some((camera, _)), Some(depth)) = (lights.paged_sun(), inputs.view.camera, frame.depth) else {
             return;
         };
         if frame.samples > 1 {
@@ -245,9 +237,4 @@ impl RenderNode for PagesPass {
         renderer.record((queue, encoder), allocator, &scene, timestamps);
         self.last = Some((pool.key, frame.now));
     }
-}
-
-/// Whether a sun of the frame is paged (and casts shadows).
-pub fn has_paged_sun(lights: &FrameLights) -> bool {
-    lights.suns.iter().any(|s| s.paged.is_some() && s.cascades.count > 0)
 }
