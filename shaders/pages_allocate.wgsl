@@ -8,7 +8,8 @@
 //      and the others are counted: each thread takes a run of entries, and a prefix sum
 //      gives every missing page its rank;
 //   3. the pool is ordered: free pages (lowest first), then pages not needed this frame, the
-//      longest unneeded first (age capped at `max_age` frames), lowest first among equals;
+//      longest unneeded first (age capped at `max_age` frames), lowest first among equals —
+//      as far as the missing pages need;
 //   4. the missing page of rank r takes the r-th page of that order (evicting it from its
 //      entry if it held one), or overflows when the order is shorter.
 // The draw list holds the pages to draw this frame (their `drawn` flag is set: they are
@@ -64,6 +65,8 @@ struct Counters {
 @group(0) @binding(6) var<storage, read_write> draws: array<vec2<u32>>;
 
 var<workgroup> sums: array<u32, THREADS>;
+// 1 once the pool's order holds a page for every missing page (phase 3 stops there).
+var<workgroup> ordered_enough: u32;
 
 // Exclusive prefix sum of `value` over the workgroup, and the total (x, y). Called by every
 // thread.
@@ -187,7 +190,8 @@ fn main(@builtin(local_invocation_index) tid: u32) {
         }
         missing += u32(wanted == 2u);
     }
-    let rank = scan(tid, missing).x;
+    let ranked = scan(tid, missing);
+    let rank = ranked.x;
     storageBarrier();
     workgroupBarrier();
     // 3. Order the pool: free pages, then the candidates for eviction, oldest first.
@@ -206,6 +210,14 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     }
     var ordered = free_scan.y;
     for (var a = params.max_age; a >= 1u; a--) {
+        // NOTE: every thread holds the same totals; the order past the missing pages' count
+        // is never read, so a frame with enough free pages (a still frame) sorts no age.
+        if tid == 0u {
+            ordered_enough = u32(ordered >= ranked.y);
+        }
+        if workgroupUniformLoad(&ordered_enough) != 0u {
+            break;
+        }
         var count = 0u;
         for (var p = pages.x; p < pages.y; p++) {
             count += u32(age(p) == a);

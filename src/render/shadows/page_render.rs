@@ -103,6 +103,8 @@ pub struct PageRenderer {
     casters: wgpu::Buffer,
     args: wgpu::Buffer,
     clear_args: wgpu::Buffer,
+    /// The culling's indirect dispatch: a row of workgroups per page to draw.
+    cull_args: wgpu::Buffer,
     _ids: wgpu::Buffer,
     caster_data: Vec<CasterGpu>,
     args_data: Vec<[u32; 5]>,
@@ -153,6 +155,7 @@ impl PageRenderer {
         let indirect = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
         let args = buffer(device, "page caster draws", u64::from(max_casters) * 20, indirect);
         let clear_args = buffer(device, "page clears", 16, indirect);
+        let cull_args = buffer(device, "page culling dispatch", 16, indirect);
         let ids = buffer(
             device,
             "page caster ids",
@@ -288,6 +291,7 @@ impl PageRenderer {
             casters,
             args,
             clear_args,
+            cull_args,
             _ids: ids,
             caster_data: Vec::new(),
             args_data: Vec::new(),
@@ -344,16 +348,21 @@ impl PageRenderer {
                 .map(|c| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, 0]),
         );
         queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&self.args_data));
-        // NOTE: the clears' instance count is the allocation's count of pages to draw.
-        encoder.copy_buffer_to_buffer(allocator.draw_buffers().1, 4, &self.clear_args, 4, 4);
+        // NOTE: the clears' instance count, and the culling's rows of workgroups, are the
+        // allocation's count of pages to draw: a frame that draws no page culls nothing.
+        let listed = allocator.draw_buffers().1;
+        encoder.copy_buffer_to_buffer(listed, 4, &self.clear_args, 4, 4);
         if count > 0 {
+            let dispatch = [(count as u32).div_ceil(64), 0, 1, 0];
+            queue.write_buffer(&self.cull_args, 0, bytemuck::cast_slice(&dispatch));
+            encoder.copy_buffer_to_buffer(listed, 4, &self.cull_args, 4, 4);
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("page culling"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.cull.0);
             pass.set_bind_group(0, &self.cull.1, &[]);
-            pass.dispatch_workgroups((count as u32).div_ceil(64), self.slots, 1);
+            pass.dispatch_workgroups_indirect(&self.cull_args, 0);
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("pages"),
