@@ -252,23 +252,19 @@ proptest! {
     }
 }
 
+/// Three levels of 1, 2 and 4 m texels, the finest starting at the grid's origin.
+fn nested_levels() -> [PagedLevel; 3] {
+    let level = |first: i64, texel: f64| PagedLevel {
+        first_texel: I64Vec2::splat(first),
+        texel,
+    };
+    [level(0, 1.0), level(-2048, 2.0), level(-2048, 4.0)]
+}
+
 #[test]
 fn a_receiver_marks_its_level_the_next_inside_the_band_and_the_coarsest() {
     let l = layout();
-    let levels = [
-        PagedLevel {
-            first_texel: I64Vec2::ZERO,
-            texel: 1.0,
-        },
-        PagedLevel {
-            first_texel: I64Vec2::splat(-2048),
-            texel: 2.0,
-        },
-        PagedLevel {
-            first_texel: I64Vec2::splat(-2048),
-            texel: 4.0,
-        },
-    ];
+    let levels = nested_levels();
     let rule = MarkRule {
         radius: 4.0,
         margin: 8.0,
@@ -301,16 +297,7 @@ fn a_receiver_marks_its_level_the_next_inside_the_band_and_the_coarsest() {
 #[test]
 fn a_receiver_reads_no_level_finer_than_its_pixel() {
     let l = PageLayout::new(4096, 128).unwrap();
-    let levels = [
-        PagedLevel {
-            first_texel: I64Vec2::ZERO,
-            texel: 1.0,
-        },
-        PagedLevel {
-            first_texel: I64Vec2::splat(-2048),
-            texel: 2.0,
-        },
-    ];
+    let levels = &nested_levels()[..2];
     let rule = MarkRule {
         radius: 4.0,
         margin: 8.0,
@@ -318,15 +305,15 @@ fn a_receiver_reads_no_level_finer_than_its_pixel() {
         pixel: 0.01,
     };
     // 1 m texels serve pixels up to 1 m: view depth 100 m.
-    assert_eq!(density_level(&levels, 100.0, &rule), 0);
-    assert_eq!(density_level(&levels, 150.0, &rule), 1);
+    assert_eq!(density_level(levels, 100.0, &rule), 0);
+    assert_eq!(density_level(levels, 150.0, &rule), 1);
     assert_eq!(
-        density_level(&levels, 1e6, &rule),
+        density_level(levels, 1e6, &rule),
         1,
         "the coarsest when none is coarse enough"
     );
     let mut out = Vec::new();
-    mark_receiver(&l, &levels, (DVec2::splat(2112.0), 150.0), &rule, &mut out);
+    mark_receiver(&l, levels, (DVec2::splat(2112.0), 150.0), &rule, &mut out);
     assert_eq!(
         out,
         vec![PageKey::new(1, I64Vec2::splat(8))],

@@ -1,7 +1,8 @@
 //! The paged clipmap's node: after the depth prepass, for the frame's paged sun, the
 //! receivers mark the pages they read ([`PageMark`]), the pages a moved caster or a turned
 //! light made stale are invalidated ([`page_changes`](crate::render::shadows::page_changes)),
-//! the allocator maps the needed pages into the pool ([`PageAllocator`]), and the listed
+//! the allocator maps the needed pages into the pool
+//! ([`PageAllocator`](crate::render::shadows::page_allocate::PageAllocator)), and the listed
 //! pages are cleared and drawn into the pool's atlas ([`PageRenderer`]); the lighting pass
 //! then reads them through the page table. Everything runs on the GPU within the frame: the
 //! CPU never learns which pages were needed. Culled (nothing declared) without a paged sun,
