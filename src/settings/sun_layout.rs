@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum SunLayout {
-    /// Cascaded shadow maps ([`ShadowMapSettings::cascades`]): the view frustum cut by view
+    /// Cascaded shadow maps ([`ShadowMapSettings::cascades`](crate::settings::ShadowMapSettings::cascades)): the view frustum cut by view
     /// depth, each slice fitted with its own map.
     #[default]
     Cascades,
