@@ -24,7 +24,7 @@ use crate::export::{OutputKind, prepare_output};
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::plugin::publish_seen_depths;
 use crate::render::target::TargetViews;
-use crate::render::{GpuContext, RenderOptions, Renderer};
+use crate::render::{RenderOptions, Renderer};
 use crate::scene::{SceneDesc, load_settings};
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
@@ -131,48 +131,10 @@ pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, V
     }
 }
 
-impl Viewer {
-    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, ViewerError> {
-        let attributes = Window::default_attributes()
-            .with_title(format!("penumbra — {}", self.reload.scene_path().display()))
-            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
-        let window = Arc::new(
-            event_loop
-                .create_window(attributes)
-                .map_err(|e| ViewerError::Window(e.to_string()))?,
-        );
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let surface = instance
-            .create_surface(window.clone())
-            .map_err(|e| ViewerError::Window(e.to_string()))?;
-        let gpu = GpuContext::for_surface(instance, &surface)?;
-        let size = window.inner_size();
-        let surface = WindowSurface::new(surface, &gpu.adapter, &gpu.device, (size.width, size.height));
-        let egui_ctx = egui::Context::default();
-        let egui_state = egui_winit::State::new(
-            egui_ctx.clone(),
-            egui::ViewportId::ROOT,
-            &*window,
-            Some(window.scale_factor() as f32),
-            None,
-            None,
-        );
-        let egui_renderer = egui_wgpu::Renderer::new(
-            &gpu.device,
-            surface.config.format,
-            egui_wgpu::RendererOptions::default(),
-        );
-        self.summary.adapter = gpu.describe();
-        Ok(WindowState {
-            window,
-            surface,
-            renderer: Renderer::for_window(gpu),
-            egui_ctx,
-            egui_state,
-            egui_renderer,
-        })
-    }
+#[path = "window_open.rs"]
+mod open;
 
+impl Viewer {
     fn resize(&mut self, width: u32, height: u32) {
         let Some(state) = &mut self.window else { return };
         state.surface.resize(&state.renderer.gpu.device, width, height);
