@@ -10,7 +10,6 @@ use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
 use crate::render::renderer::Renderer;
 use crate::render::report::PageStats;
-use crate::render::shadows::page_allocate::NONE;
 use crate::render::shadows::page_pool::PagePool;
 use crate::render::target::AnalysisImage;
 use crate::render::variant::forward_variant;
@@ -68,14 +67,14 @@ impl Renderer {
     /// for reports, tests and debugging.
     pub fn read_page_stats(&self) -> Option<PageStats> {
         let pool = self.shadows.pages.as_ref()?;
-        let (_, pages, allocation) = pool.allocator.read(&self.gpu.device, &self.gpu.queue)?;
-        let drawn = allocation.draws.len() as u32;
+        let ([kept, drawn, evicted, overflowed], resident) =
+            pool.allocator.read_counts(&self.gpu.device, &self.gpu.queue)?;
         Some(PageStats {
-            needed: allocation.kept + drawn + allocation.overflowed,
-            resident: pages.iter().filter(|p| p.owner != NONE).count() as u32,
+            needed: kept + drawn + overflowed,
+            resident,
             drawn,
-            evicted: allocation.evicted,
-            overflowed: allocation.overflowed,
+            evicted,
+            overflowed,
             pool: pool.key.pool_pages,
         })
     }

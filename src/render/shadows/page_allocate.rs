@@ -307,6 +307,16 @@ impl PageAllocator {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
+    /// Reads back the last allocation's counters (kept, drawn, evicted, overflowed) and how
+    /// many pool pages hold a page: the pool and the counters only, not the tables (waits for
+    /// the GPU; None when the device failed to map them).
+    pub fn read_counts(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<([u32; 4], u32)> {
+        let pool: Vec<PageGpu> = pods(&read_storage(device, queue, &self.pool)?);
+        let counters: Vec<u32> = pods(&read_storage(device, queue, &self.counters)?);
+        let resident = pool.iter().filter(|p| p.owner != NONE).count() as u32;
+        Some(([counters[0], counters[1], counters[2], counters[3]], resident))
+    }
+
     /// Reads back the tables, the pool and the last allocation (waits for the GPU; None when
     /// the device failed to map them).
     pub fn read(

@@ -62,6 +62,9 @@ pub struct PagesPass {
     last: Option<(PoolKey, PagedFrame)>,
     /// Frames allocated so far (the allocator's clock).
     frames: u32,
+    /// Lists of an earlier frame, refilled by the next.
+    spare: PagedFrame,
+    spare_meshes: Vec<MeshHandle>,
     casters: Vec<PageCaster>,
 }
 
@@ -90,35 +93,36 @@ impl RenderNode for PagesPass {
         if frame.samples > 1 {
             return;
         }
-        let mut views: Vec<_> = inputs
+        // NOTE: the lists are the ones two frames back, refilled (their allocations kept).
+        let mut now = std::mem::take(&mut self.spare);
+        let mut meshes = std::mem::take(&mut self.spare_meshes);
+        now.levels.clear();
+        now.casters.clear();
+        meshes.clear();
+        now.light_rotation = sun.cascades.light_rotation;
+        // NOTE: the sun's layout pushes its levels in order.
+        let paged = inputs
             .shadow_views
             .views
             .iter()
-            .filter(|v| v.kind.storage == ShadowStorage::Pages)
-            .collect();
-        views.sort_by_key(|v| v.kind.index);
-        let levels = views
-            .iter()
-            .filter_map(|v| {
-                let page = v.shading.page?;
-                let level = PagedLevel {
-                    first_texel: page.first_page * i64::from(page.page_size),
-                    texel: f64::from(v.shading.texel_world_size),
-                };
-                Some((v.clip_from_world, level))
-            })
-            .collect();
+            .filter(|v| v.kind.storage == ShadowStorage::Pages);
+        now.levels.extend(paged.filter_map(|v| {
+            let page = v.shading.page?;
+            let level = PagedLevel {
+                first_texel: page.first_page * i64::from(page.page_size),
+                texel: f64::from(v.shading.texel_world_size),
+            };
+            Some((v.clip_from_world, level))
+        }));
         let instances = inputs.instances;
         // NOTE: alpha-masked casters (after the opaque ones) are not drawn into pages.
         let opaque = &instances.casters[..instances.opaque_casters.min(instances.casters.len())];
-        let mut meshes = Vec::with_capacity(opaque.len());
-        let mut casters = Vec::with_capacity(opaque.len());
         for (k, &i) in opaque.iter().enumerate() {
             let (Some(gpu), Some(key)) = (instances.gpu.get(i as usize), instances.keys.get(i as usize)) else {
                 continue;
             };
             meshes.push(key.mesh);
-            casters.push(TrackedCaster {
+            now.casters.push(TrackedCaster {
                 world_from_local: gpu.world_from_local,
                 sphere: instances.caster_centers[k].extend(instances.caster_radii[k]),
             });
@@ -140,11 +144,7 @@ impl RenderNode for PagesPass {
             bias: s.bias,
             depth_clamp: s.map.depth_clamp,
             meshes,
-            now: PagedFrame {
-                light_rotation: sun.cascades.light_rotation,
-                levels,
-                casters,
-            },
+            now,
         });
     }
 
@@ -236,6 +236,9 @@ impl RenderNode for PagesPass {
         };
         let timestamps = ctx.timer.pass(PAGE_PASSES[2]);
         renderer.record((queue, encoder), allocator, &scene, timestamps);
-        self.last = Some((pool.key, frame.now));
+        if let Some((_, old)) = self.last.replace((pool.key, frame.now)) {
+            self.spare = old;
+        }
+        self.spare_meshes = frame.meshes;
     }
 }
