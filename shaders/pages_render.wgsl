@@ -6,7 +6,8 @@
 //   `clear_vs` (an instance per slot) overwrites each listed page's tile with the far depth;
 //   `caster_vs` (an instance per listed slot of one caster) places the caster's vertices in
 //   the slot's page as its level sees them, moved onto the page's tile, and clips them to the
-//   tile (clip distances).
+//   tile (clip distances); the opaque pipeline has no fragment stage, the alpha-masked one
+//   adds `fs_masked`, which discards texels below the material's alpha cutoff.
 // A physical page p is the tile (p mod tiles, p / tiles) of the atlas, rows downwards; a page
 // keeps its level's orientation (light-frame y up), so the sampler maps a level position to
 // the atlas with the same affine step.
@@ -47,6 +48,8 @@ struct Caster {
     world_from_local: mat4x4<f32>,
     // xyz: world centre of its bounding sphere; w: radius.
     sphere: vec4<f32>,
+    // x: base colour alpha; y: alpha cutoff (0 for opaque casters).
+    material: vec4<f32>,
 }
 
 struct DrawArgs {
@@ -115,9 +118,15 @@ fn cull(@builtin(global_invocation_id) id: vec3<u32>) {
 @group(0) @binding(5) var<storage, read> lists: array<u32>;
 @group(1) @binding(0) var<uniform> caster_id: vec4<u32>;
 
+@group(2) @binding(0) var base_color_texture: texture_2d<f32>;
+@group(2) @binding(1) var base_color_sampler: sampler;
+
 struct Placed {
     @builtin(position) position: vec4<f32>,
     @builtin(clip_distances) clip: array<f32, 4>,
+    @location(0) uv: vec2<f32>,
+    // x: base colour alpha; y: alpha cutoff.
+    @location(1) @interpolate(flat) material: vec2<f32>,
 }
 
 @vertex
@@ -129,7 +138,11 @@ fn clear_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
 }
 
 @vertex
-fn caster_vs(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> Placed {
+fn caster_vs(
+    @location(0) position: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @builtin(instance_index) instance: u32,
+) -> Placed {
     let caster = caster_id.x;
     let s = slot_at(lists[caster * render.slots + instance]);
     let level = render.level[s.level];
@@ -144,6 +157,22 @@ fn caster_vs(@location(0) position: vec3<f32>, @builtin(instance_index) instance
     var out: Placed;
     out.position = vec4<f32>(xy, clip.z / clip.w, 1.0);
     out.clip = array<f32, 4>(xy.x - rect.x, rect.z - xy.x, xy.y - rect.y, rect.w - xy.y);
+    out.uv = uv;
+    out.material = casters[caster].material.xy;
     return out;
+}
+
+// What the masked fragment stage reads of `Placed`.
+struct Masked {
+    @location(0) uv: vec2<f32>,
+    @location(1) @interpolate(flat) material: vec2<f32>,
+}
+
+@fragment
+fn fs_masked(in: Masked) {
+    let alpha = textureSampleLevel(base_color_texture, base_color_sampler, in.uv, 0.0).a * in.material.x;
+    if alpha < in.material.y {
+        discard;
+    }
 }
 #endif

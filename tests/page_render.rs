@@ -3,11 +3,12 @@
 //! drawn by the engine's caster pipeline hold at those texels.
 
 use glam::I64Vec2;
+use penumbra::math::pages::atlas_tiles;
 use penumbra::math::pages::{PageKey, PageLayout, PageRect, PagedLevel, snap_to_pages};
 use penumbra::mesh::{MeshData, cuboid, plane, sphere};
 use penumbra::render::GpuContext;
+use penumbra::render::layouts::Layouts;
 use penumbra::render::shadows::page_allocate::PageAllocator;
-use penumbra::render::shadows::page_pool::atlas_tiles;
 use penumbra::render::shadows::storage::{DepthArray, read_depth_layer};
 use penumbra::shader::ShaderLibrary;
 
@@ -105,10 +106,10 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     let settings = ShadowSettings::default();
     let side = atlas_tiles(100) * 128;
     let atlas = DepthArray::new(device, "page atlas", side, 1, false);
+    let layouts = Layouts::new(device);
     let mut pages = PageRenderer::new(
-        device,
-        queue,
-        &mut library,
+        (device, queue),
+        (&mut library, &layouts.material),
         (&allocator, &atlas),
         16,
         &settings.bias,
@@ -121,6 +122,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
             world_from_local: *transform,
             sphere: b.center().extend(b.half_extents().length()),
             indices: (indices.len() as u32, mesh.indices.len() as u32, vertices.len() as i32),
+            masked: None,
         });
         vertices.extend_from_slice(&mesh.vertices);
         indices.extend_from_slice(&mesh.indices);
@@ -139,6 +141,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
         light_rotation: set.light_rotation,
         levels: &levels,
         casters: &casters,
+        materials: &[],
         geometry: (&vertex_buffer, &index_buffer),
     };
     let mut encoder = device.create_command_encoder(&Default::default());

@@ -3,7 +3,8 @@
 //! clipmap's at the same resolution; a pool too small for the frame falls back to the coarser
 //! level and says so; a still frame, and turning back to a view seen before, draw no page; a
 //! moving box draws only pages it covered or covers, and the image then equals a fresh
-//! render of the moved scene.
+//! render of the moved scene. An alpha-masked leaf card casts the same dappled shadow paged
+//! as plain, and a multisampled camera marks the pages its single-sample twin marks.
 
 mod common;
 
@@ -13,7 +14,7 @@ use glam::Vec3;
 use image::RgbaImage;
 use penumbra::app::{headless_app, spawn_scene};
 use penumbra::ecs::{Camera3d, Transform};
-use penumbra::render::{PageStats, Renderer};
+use penumbra::render::{Msaa, PageStats, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 use penumbra::settings::{ShadowMode, ShadowSettings, SunLayout};
 
@@ -59,10 +60,21 @@ fn app(layout: SunLayout, mode: ShadowMode) -> App {
 
 /// [`app`] of the scene `text`.
 fn app_of(text: &str, layout: SunLayout, mode: ShadowMode) -> App {
+    app_with(text, (layout, mode), Msaa::Off)
+}
+
+/// [`app_of`] with the camera's `msaa`.
+fn app_with(text: &str, (layout, mode): (SunLayout, ShadowMode), msaa: Msaa) -> App {
     let renderer = Renderer::headless(SIDE, SIDE)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = headless_app(renderer);
-    let desc = SceneDesc::from_str(text, "pages test").expect("the scene parses");
+    app.insert_resource(RenderOptions {
+        msaa,
+        ..RenderOptions::default()
+    });
+    let mut desc = SceneDesc::from_str(text, "pages test").expect("the scene parses");
+    // NOTE: texture paths are written as from `assets/scenes`.
+    desc.base_dir = "assets/scenes".into();
     spawn_scene(app.world_mut(), &desc).expect("the scene spawns");
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
@@ -223,4 +235,68 @@ fn ground_past_a_clipmap_levels_depth_range_is_not_shadowed_by_empty_texels() {
     assert!(lit > 30_000, "only {lit} lit pixels judged");
     // NOTE: 83 measured (the two layouts' shadow edges); 14 512 before the fix.
     assert!(phantom <= 250, "{phantom} pixels darkened where no caster is");
+}
+
+/// A leaf card (the default scene's alpha-masked foliage texture) lying flat 0.5 m above the
+/// ground in view, and the same card with the mask's cutoff written as `CUTOFF`.
+const CARD: &str = r#"Scene(
+    camera: (position: (0, 2.0, 1.2), target: (0, 0, -0.6), fov: 60, near: 0.1, far: 100),
+    sun: (direction: (-0.2, -0.95, -0.1), color: (1, 1, 1), illuminance: 3.0),
+    ambient: (0.05, 0.05, 0.05),
+    materials: {
+        "ground": (base_color: (0.6, 0.6, 0.6, 1)),
+        "leaf": (texture: "../textures/foliage.png", alpha: CUTOFF),
+    },
+    objects: [
+        (shape: Plane(size: (40, 40)), material: "ground", cast_shadows: false),
+        (shape: Cuboid(size: (1.2, 0.01, 1.2)), material: "leaf", translation: (0, 0.5, -0.6)),
+    ],
+)"#;
+
+#[test]
+fn an_alpha_masked_caster_casts_the_same_dappled_shadow_paged_as_plain() {
+    let masked = CARD.replace("CUTOFF", "Mask(0.5)");
+    let plain = image(&app_of(&masked, layout(false, 0), ShadowMode::Pcf));
+    let paged_app = app_of(&masked, layout(true, 256), ShadowMode::Pcf);
+    let paged = image(&paged_app);
+    let opaque = image(&app_of(
+        &CARD.replace("CUTOFF", "Opaque"),
+        layout(true, 256),
+        ShadowMode::Pcf,
+    ));
+    let s = stats(&paged_app);
+    let (dark, solid) = (shadowed(&plain), shadowed(&opaque));
+    let (n, most) = differences(&plain, &paged, 2);
+    println!("{s:?}: {dark} shadowed pixels (opaque card: {solid}), {n} differ by more than 2 (at most {most})");
+    // NOTE: the mask lets light through the card: its shadow covers less than the opaque
+    // card's, and is there.
+    assert!(
+        dark > 800 && dark * 10 < solid * 9,
+        "{dark} shadowed pixels, {solid} with an opaque card"
+    );
+    assert_eq!(s.overflowed, 0, "{s:?}");
+    // NOTE: 33 measured, single pixels along the dappled edges (taps at page borders clamped
+    // into their page).
+    assert!(n <= 100, "{n} pixels differ (at most {most}) of {dark} shadowed");
+}
+
+#[test]
+fn a_multisampled_camera_marks_the_pages_its_single_sample_twin_marks() {
+    let single_app = app(layout(true, 256), ShadowMode::Pcf);
+    let msaa_app = app_with(SCENE, (layout(true, 256), ShadowMode::Pcf), Msaa::Sample4);
+    let (single, msaa) = (stats(&single_app), stats(&msaa_app));
+    let (a, b) = (image(&single_app), image(&msaa_app));
+    let (dark, kept) = (shadowed(&a), shadowed(&b));
+    println!("single {single:?}, 4× {msaa:?}; {dark} and {kept} shadowed pixels");
+    assert_eq!(
+        (msaa.needed, msaa.overflowed),
+        (single.needed, 0),
+        "{msaa:?} vs {single:?}"
+    );
+    assert!(dark > 800, "only {dark} shadowed pixels judged");
+    // NOTE: only the shadows' edges differ (their coverage is resolved from 4 samples).
+    assert!(
+        kept.abs_diff(dark) * 20 <= dark,
+        "{kept} shadowed pixels with 4×, {dark} with 1×"
+    );
 }

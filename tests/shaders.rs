@@ -105,7 +105,8 @@ fn the_clipmap_shift_shader_validates() {
 fn the_page_marking_allocation_and_drawing_shaders_validate() {
     let mut library = ShaderLibrary::new().unwrap();
     let modules = [
-        (library.pages_mark(), &["main"][..]),
+        (library.pages_mark(false), &["main"][..]),
+        (library.pages_mark(true), &["main"][..]),
         (library.pages_allocate(), &["main", "invalidate"][..]),
     ];
     for (module, expected) in modules {
@@ -113,7 +114,10 @@ fn the_page_marking_allocation_and_drawing_shaders_validate() {
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(entry_points, expected);
     }
-    for (cull, expected) in [(true, &["cull"][..]), (false, &["clear_vs", "caster_vs"][..])] {
+    for (cull, expected) in [
+        (true, &["cull"][..]),
+        (false, &["clear_vs", "caster_vs", "fs_masked"][..]),
+    ] {
         let module = library
             .pages_render(cull)
             .unwrap_or_else(|e| panic!("cull {cull}: {e}"));

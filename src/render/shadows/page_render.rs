@@ -3,21 +3,22 @@
 //! page (its bounding sphere against the page's square, seen from the light) into per-caster
 //! instance lists and indirect draws; one render pass over the pool atlas then clears the
 //! listed pages' tiles to the far depth and draws each caster once per page it reaches, its
-//! vertices moved from the level's window onto the page's tile and clipped to the tile. The
-//! CPU records the same commands every frame and never learns which pages were drawn.
+//! vertices moved from the level's window onto the page's tile and clipped to the tile
+//! (alpha-masked casters after the opaque ones, with the alpha test). The CPU records the
+//! same commands every frame and never learns which pages were drawn.
 
 use std::borrow::Cow;
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat3, Mat4, Vec4};
+use glam::{Mat3, Mat4, Vec2, Vec4};
 
+use crate::math::pages::atlas_tiles;
 use crate::math::pages::{PageLayout, PagedLevel};
 use crate::render::draw::mesh_buffers;
 use crate::render::shadows::casters::caster_bias;
 use crate::render::shadows::clear::overwrite_pipeline;
 use crate::render::shadows::jobs::{buffer_group, compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
-use crate::render::shadows::page_pool::atlas_tiles;
 use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
 use crate::settings::ShadowBias;
 use crate::shader::ShaderLibrary;
@@ -56,6 +57,7 @@ struct RenderGpu {
 struct CasterGpu {
     world_from_local: Mat4,
     sphere: Vec4,
+    material: Vec4,
 }
 
 /// One caster to draw into the pages: where its triangles are in the index buffer, where it
@@ -68,6 +70,9 @@ pub struct PageCaster {
     pub sphere: Vec4,
     /// Its indices: first, count, and the vertex they count from.
     pub indices: (u32, u32, i32),
+    /// For an alpha-masked caster: its material's bind group (index into
+    /// [`PageScene::materials`]), and its base colour alpha and alpha cutoff.
+    pub masked: Option<(usize, Vec2)>,
 }
 
 /// What a frame's pages are drawn from besides the allocation.
@@ -77,8 +82,10 @@ pub struct PageScene<'a> {
     pub light_rotation: Mat3,
     /// Each level's clip space (its whole window) from world, and its window.
     pub levels: &'a [(Mat4, PagedLevel)],
-    /// The casters.
+    /// The casters, the opaque ones first.
     pub casters: &'a [PageCaster],
+    /// The material bind groups masked casters name.
+    pub materials: &'a [wgpu::BindGroup],
     /// The mesh vertices (the engine's [`Vertex`](crate::mesh::Vertex) layout) and 32-bit
     /// indices of every caster.
     pub geometry: (&'a wgpu::Buffer, &'a wgpu::Buffer),
@@ -97,7 +104,8 @@ pub struct PageRenderer {
     cull: (wgpu::ComputePipeline, wgpu::BindGroup),
     draw_group: wgpu::BindGroup,
     clear: wgpu::RenderPipeline,
-    caster: wgpu::RenderPipeline,
+    /// The opaque and the alpha-masked casters' pipelines.
+    caster: [wgpu::RenderPipeline; 2],
     id_group: wgpu::BindGroup,
     uniforms: wgpu::Buffer,
     casters: wgpu::Buffer,
@@ -124,12 +132,12 @@ impl PageRenderer {
     /// [`atlas_tiles`] tiles a side), for up to `max_casters` casters
     /// drawn with the light's `bias` (slope-scaled, clamp) as the caster pipelines draw;
     /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
-    /// to it). Needs a device with clip distances.
+    /// to it); masked casters bind their material with `material` (group 2). Needs a device
+    /// with clip distances.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        library: &mut ShaderLibrary,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        (library, material): (&mut ShaderLibrary, &wgpu::BindGroupLayout),
         (allocator, atlas): (&PageAllocator, &DepthArray),
         max_casters: u32,
         bias: &ShadowBias,
@@ -247,32 +255,47 @@ impl PageRenderer {
         };
         let clear_layout = pipeline_layout(&[Some(&draw_layout)]);
         let clear = overwrite_pipeline(device, "page clear", &clear_layout, (&shader, "clear_vs", None), 0);
-        let caster = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("page casters"),
-            layout: Some(&pipeline_layout(&[Some(&draw_layout), Some(&id_layout)])),
-            vertex: wgpu::VertexState {
+        let opaque_layout = pipeline_layout(&[Some(&draw_layout), Some(&id_layout)]);
+        let masked_layout = pipeline_layout(&[Some(&draw_layout), Some(&id_layout), Some(material)]);
+        let caster = |masked: bool| {
+            let fragment = masked.then(|| wgpu::FragmentState {
                 module: &shader,
-                entry_point: Some("caster_vs"),
+                entry_point: Some("fs_masked"),
                 compilation_options: Default::default(),
-                buffers: mesh_buffers(),
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                unclipped_depth: unclipped,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: wgpu::StencilState::default(),
-                bias: caster_bias(bias.slope_bias, bias.bias_clamp),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+                targets: &[],
+            });
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(if masked {
+                    "page casters (alpha test)"
+                } else {
+                    "page casters"
+                }),
+                layout: Some(if masked { &masked_layout } else { &opaque_layout }),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("caster_vs"),
+                    compilation_options: Default::default(),
+                    buffers: mesh_buffers(),
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    unclipped_depth: unclipped,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: SHADOW_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: wgpu::StencilState::default(),
+                    bias: caster_bias(bias.slope_bias, bias.bias_clamp),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment,
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let caster = [caster(false), caster(true)];
         queue.write_buffer(&ids, 0, &id_data);
         // NOTE: six vertices a tile; the instance count is copied in each frame.
         queue.write_buffer(&clear_args, 0, bytemuck::cast_slice(&[6u32, 0, 0, 0]));
@@ -339,6 +362,7 @@ impl PageRenderer {
         self.caster_data.extend(casters.iter().map(|c| CasterGpu {
             world_from_local: c.world_from_local,
             sphere: c.sphere,
+            material: c.masked.map_or(Vec4::ZERO, |(_, m)| m.extend(0.0).extend(0.0)),
         }));
         queue.write_buffer(&self.casters, 0, bytemuck::cast_slice(&self.caster_data));
         self.args_data.clear();
@@ -383,10 +407,24 @@ impl PageRenderer {
         pass.set_pipeline(&self.clear);
         pass.draw_indirect(&self.clear_args, 0);
         let (vertices, indices) = scene.geometry;
-        pass.set_pipeline(&self.caster);
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        for c in 0..count as u64 {
+        let (mut pipeline, mut material) = (None, None);
+        for (c, caster) in casters.iter().enumerate() {
+            let masked = caster.masked.map(|(m, _)| m);
+            if masked.is_some() && material != masked {
+                let Some(group) = masked.and_then(|m| scene.materials.get(m)) else {
+                    continue;
+                };
+                pass.set_bind_group(2, group, &[]);
+                material = masked;
+            }
+            let kind = usize::from(masked.is_some());
+            if pipeline != Some(kind) {
+                pass.set_pipeline(&self.caster[kind]);
+                pipeline = Some(kind);
+            }
+            let c = c as u64;
             pass.set_bind_group(1, &self.id_group, &[(c * ID_STRIDE) as u32]);
             pass.draw_indexed_indirect(&self.args, c * 20);
         }
@@ -428,6 +466,7 @@ mod tests {
             let caster = [
                 ("world_from_local", offset_of!(CasterGpu, world_from_local)),
                 ("sphere", offset_of!(CasterGpu, sphere)),
+                ("material", offset_of!(CasterGpu, material)),
             ];
             assert_eq!(
                 wgsl_layout(&module, "Caster"),

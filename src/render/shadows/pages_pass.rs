@@ -5,12 +5,12 @@
 //! ([`PageAllocator`](crate::render::shadows::page_allocate::PageAllocator)), and the listed
 //! pages are cleared and drawn into the pool's atlas ([`PageRenderer`]); the lighting pass
 //! then reads them through the page table. Everything runs on the GPU within the frame: the
-//! CPU never learns which pages were needed. Culled (nothing declared) without a paged sun,
-//! without the prepass, or with a multisampled camera depth (which marking does not read).
+//! CPU never learns which pages were needed. Culled (nothing declared) without a paged sun or
+//! without the prepass; a multisampled camera depth is marked from its sample 0.
 
-use glam::{Mat4, UVec2};
+use glam::{Mat4, UVec2, Vec2};
 
-use crate::ecs::assets::MeshHandle;
+use crate::ecs::assets::{MaterialHandle, MeshHandle};
 use crate::layout::ShadowStorage;
 use crate::math::pages::{MarkRule, PagedLevel, pixel_per_depth};
 use crate::render::frame::FrameContext;
@@ -38,24 +38,30 @@ struct RendererKey {
     unclipped: bool,
 }
 
+/// How a caster of the frame is drawn: its mesh, and for an alpha-masked caster its material
+/// with its base colour alpha and alpha cutoff.
+type CasterDraw = (MeshHandle, Option<(MaterialHandle, Vec2)>);
+
 /// This frame's work, found in `setup`.
 struct Frame {
     depth: TextureId,
+    multisampled: bool,
     atlas: TextureId,
     size: UVec2,
     world_from_clip: Mat4,
     rule: MarkRule,
     bias: ShadowBias,
     depth_clamp: bool,
-    /// The mesh of each caster of `now`.
-    meshes: Vec<MeshHandle>,
+    /// How each caster of `now` is drawn.
+    meshes: Vec<CasterDraw>,
     now: PagedFrame,
 }
 
 /// The page passes' node.
 #[derive(Default)]
 pub struct PagesPass {
-    mark: Option<PageMark>,
+    /// The marking, and whether it reads a multisampled depth.
+    mark: Option<(bool, PageMark)>,
     renderer: Option<(RendererKey, PageRenderer)>,
     frame: Option<Frame>,
     /// What the last recorded frame's pages were drawn from (None: nothing drawn yet).
@@ -64,7 +70,7 @@ pub struct PagesPass {
     frames: u32,
     /// Lists of an earlier frame, refilled by the next.
     spare: PagedFrame,
-    spare_meshes: Vec<MeshHandle>,
+    spare_meshes: Vec<CasterDraw>,
     casters: Vec<PageCaster>,
 }
 
@@ -90,9 +96,6 @@ impl RenderNode for PagesPass {
         let (Some(sun), Some((camera, _)), Some(depth)) = (lights.paged_sun(), inputs.view.camera, frame.depth) else {
             return;
         };
-        if frame.samples > 1 {
-            return;
-        }
         // NOTE: the lists are the ones two frames back, refilled (their allocations kept).
         let mut now = std::mem::take(&mut self.spare);
         let mut meshes = std::mem::take(&mut self.spare_meshes);
@@ -115,13 +118,14 @@ impl RenderNode for PagesPass {
             Some((v.clip_from_world, level))
         }));
         let instances = inputs.instances;
-        // NOTE: alpha-masked casters (after the opaque ones) are not drawn into pages.
-        let opaque = &instances.casters[..instances.opaque_casters.min(instances.casters.len())];
-        for (k, &i) in opaque.iter().enumerate() {
+        // NOTE: the alpha-masked casters come after the opaque ones.
+        for (k, &i) in instances.casters.iter().enumerate() {
             let (Some(gpu), Some(key)) = (instances.gpu.get(i as usize), instances.keys.get(i as usize)) else {
                 continue;
             };
-            meshes.push(key.mesh);
+            let masked = k >= instances.opaque_casters;
+            let material = Vec2::new(gpu.base_color.w, gpu.alpha_cutoff);
+            meshes.push((key.mesh, masked.then_some((key.material, material))));
             now.casters.push(TrackedCaster {
                 world_from_local: gpu.world_from_local,
                 sphere: instances.caster_centers[k].extend(instances.caster_radii[k]),
@@ -132,6 +136,7 @@ impl RenderNode for PagesPass {
         pass.write(frame.maps(ShadowStorage::Pages));
         self.frame = Some(Frame {
             depth,
+            multisampled: frame.samples > 1,
             atlas: frame.maps(ShadowStorage::Pages),
             size: UVec2::new(frame.size.0, frame.size.1),
             world_from_clip: camera.clip_from_world().inverse(),
@@ -161,7 +166,15 @@ impl RenderNode for PagesPass {
         // NOTE: a new pool holds nothing, so nothing in it is stale.
         let last = self.last.as_ref().filter(|(key, _)| *key == pool.key).map(|(_, f)| f);
         let stale = invalidation(&layout, last, &frame.now);
-        let mark = self.mark.get_or_insert_with(|| PageMark::new(device, ctx.library));
+        if self.mark.as_ref().is_none_or(|(m, _)| *m != frame.multisampled) {
+            self.mark = Some((
+                frame.multisampled,
+                PageMark::new(device, ctx.library, frame.multisampled),
+            ));
+        }
+        let Some((_, mark)) = self.mark.as_mut() else {
+            return;
+        };
         // NOTE: the depth is a transient of this frame: its group is made per frame.
         let group = mark.group(device, resources.view(frame.depth), &allocator.needed);
         let input = MarkInput {
@@ -187,7 +200,7 @@ impl RenderNode for PagesPass {
         let timestamps = ctx.timer.compute_pass(PAGE_PASSES[1]);
         allocator.record(queue, encoder, (self.frames, &windows), timestamps);
         self.casters.clear();
-        for (caster, mesh) in frame.now.casters.iter().zip(&frame.meshes) {
+        for (caster, (mesh, masked)) in frame.now.casters.iter().zip(&frame.meshes) {
             let Some(range) = ctx.scene.mesh_ranges.get(mesh.0 as usize) else {
                 continue;
             };
@@ -195,6 +208,7 @@ impl RenderNode for PagesPass {
                 world_from_local: caster.world_from_local,
                 sphere: caster.sphere,
                 indices: (range.first_index, range.index_count, range.base_vertex),
+                masked: masked.map(|(material, m)| (material.0 as usize, m)),
             });
         }
         let atlas = resources.shared::<DepthArray>(frame.atlas);
@@ -215,9 +229,8 @@ impl RenderNode for PagesPass {
         });
         if !fits {
             let renderer = PageRenderer::new(
-                device,
-                queue,
-                ctx.library,
+                (device, queue),
+                (ctx.library, &ctx.layouts.material),
                 (allocator, &atlas),
                 key.max_casters,
                 &key.bias,
@@ -232,6 +245,7 @@ impl RenderNode for PagesPass {
             light_rotation: frame.now.light_rotation,
             levels: &frame.now.levels,
             casters: &self.casters,
+            materials: &ctx.scene.material_groups,
             geometry: (vertices, indices),
         };
         let timestamps = ctx.timer.pass(PAGE_PASSES[2]);
