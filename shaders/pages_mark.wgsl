@@ -4,7 +4,8 @@
 // least the pixel's width there) whose window holds it with the margin, and sets the bits of
 // the pages its filter's footprint touches there (and in the next level inside the blend
 // band, and in the coarsest level, which an overflow falls back to). One thread per pixel; the bitset is a bit per table
-// entry, level by level.
+// entry, level by level. With MSAA (MULTISAMPLED) the depth is multisampled and each pixel is
+// read at sample 0.
 
 const MAX_LEVELS: u32 = 8u;
 
@@ -30,7 +31,11 @@ struct Mark {
     level: array<vec4<f32>, MAX_LEVELS>,
 }
 
+#ifdef MULTISAMPLED
+@group(0) @binding(0) var depth: texture_depth_multisampled_2d;
+#else
 @group(0) @binding(0) var depth: texture_depth_2d;
+#endif
 @group(0) @binding(1) var<uniform> mark: Mark;
 @group(0) @binding(2) var<storage, read_write> needed: array<atomic<u32>>;
 

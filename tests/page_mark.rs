@@ -176,7 +176,7 @@ fn the_gpu_marks_the_pages_its_cpu_mirror_marks() {
         pixel: 0.0,
     };
     let mut library = ShaderLibrary::new().unwrap();
-    let mark = PageMark::new(&gpu.device, &mut library);
+    let mark = PageMark::new(&gpu.device, &mut library, false);
     let allocator = PageAllocator::new(&gpu.device, &gpu.queue, &mut library, layout, 4, 64);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     let input = MarkInput {

@@ -296,11 +296,7 @@ impl ShaderLibrary {
     /// with `multiview`, the variant that renders several cascades in one pass (it reads
     /// `@builtin(view_index)`, so only a device with `MULTIVIEW` can build it).
     pub fn caster(&mut self, multiview: bool) -> Result<naga::Module, ShaderError> {
-        let mut defs = HashMap::new();
-        if multiview {
-            defs.insert("MULTIVIEW".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
-        }
-        self.compose(CASTER.file, CASTER.source, defs)
+        self.compose(CASTER.file, CASTER.source, defs_of([("MULTIVIEW", multiview)]))
     }
 
     /// The partial shadow-layer clear (`vs_main`, no fragment stage).
@@ -319,58 +315,45 @@ impl ShaderLibrary {
     }
 
     /// The paged clipmap's marking (`main`, a thread per pixel).
-    pub fn pages_mark(&mut self) -> Result<naga::Module, ShaderError> {
-        self.compose(PAGES_MARK.file, PAGES_MARK.source, HashMap::new())
+    pub fn pages_mark(&mut self, multisampled: bool) -> Result<naga::Module, ShaderError> {
+        self.compose(
+            PAGES_MARK.file,
+            PAGES_MARK.source,
+            defs_of([("MULTISAMPLED", multisampled)]),
+        )
     }
 
     /// The paged clipmap's page drawing: with `cull`, the compute culling of casters per page
     /// (`cull`); without, the vertex stages of the tiles' clear (`clear_vs`) and of the
     /// casters (`caster_vs`).
     pub fn pages_render(&mut self, cull: bool) -> Result<naga::Module, ShaderError> {
-        let mut defs = HashMap::new();
-        if cull {
-            defs.insert("CULL".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
-        }
-        self.compose(PAGES_RENDER.file, PAGES_RENDER.source, defs)
+        self.compose(PAGES_RENDER.file, PAGES_RENDER.source, defs_of([("CULL", cull)]))
     }
 
     /// The depth-bounds reduction (`main`) of the sample-distribution cascade fit, reading a
     /// single-sample or (`multisampled`) a multisampled camera depth.
     pub fn depth_bounds(&mut self, multisampled: bool) -> Result<naga::Module, ShaderError> {
-        let mut defs = HashMap::new();
-        if multisampled {
-            defs.insert(
-                "MULTISAMPLED".to_string(),
-                naga_oil::compose::ShaderDefValue::Bool(true),
-            );
-        }
-        self.compose(DEPTH_BOUNDS.file, DEPTH_BOUNDS.source, defs)
+        self.compose(
+            DEPTH_BOUNDS.file,
+            DEPTH_BOUNDS.source,
+            defs_of([("MULTISAMPLED", multisampled)]),
+        )
     }
 
     /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or
     /// spot lights' layers, writing `rgba32float` (`fp32`) or `rgba16float` covered moments.
     pub fn shadow_moments(&mut self, point: bool, fp32: bool) -> Result<naga::Module, ShaderError> {
-        let mut defs = HashMap::new();
-        for (name, on) in [("MOMENTS_POINT", point), ("MOMENTS_FP32", fp32)] {
-            if on {
-                defs.insert(name.to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
-            }
-        }
+        let defs = defs_of([("MOMENTS_POINT", point), ("MOMENTS_FP32", fp32)]);
         self.compose(SHADOW_MOMENTS.file, SHADOW_MOMENTS.source, defs)
     }
 
     /// The sun's moments shader (`resolve` and `blur`: EVSM2, EVSM4 or MSM from the depth
     /// cascades), writing moments in `format` (`Rgba32Float`, `Rgba16Unorm` or `Rgba16Float`).
     pub fn cascade_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
-        let mut defs = HashMap::new();
-        let def = match format {
-            wgpu::TextureFormat::Rgba32Float => Some("MOMENTS_RGBA32"),
-            wgpu::TextureFormat::Rgba16Unorm => Some("MOMENTS_RGBA16_UNORM"),
-            _ => None,
-        };
-        if let Some(name) = def {
-            defs.insert(name.to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
-        }
+        let defs = defs_of([
+            ("MOMENTS_RGBA32", format == wgpu::TextureFormat::Rgba32Float),
+            ("MOMENTS_RGBA16_UNORM", format == wgpu::TextureFormat::Rgba16Unorm),
+        ]);
         self.compose(CASCADE_MOMENTS.file, CASCADE_MOMENTS.source, defs)
     }
 
@@ -389,15 +372,7 @@ impl ShaderLibrary {
     /// (1, 2 or 4; MSAA): each pixel from its sample 0.
     pub fn resolve_multisampled(&mut self, variant: ForwardVariant, samples: u32) -> Result<naga::Module, ShaderError> {
         let mut defs = variant.shader_defs();
-        if samples > 1 {
-            defs.insert(
-                "MULTISAMPLED".to_string(),
-                naga_oil::compose::ShaderDefValue::Bool(true),
-            );
-        }
-        if samples == 2 {
-            defs.insert("MSAA_X2".to_string(), naga_oil::compose::ShaderDefValue::Bool(true));
-        }
+        defs.extend(defs_of([("MULTISAMPLED", samples > 1), ("MSAA_X2", samples == 2)]));
         self.compose(RESOLVE.file, RESOLVE.source, defs)
     }
 
@@ -405,6 +380,15 @@ impl ShaderLibrary {
     pub fn probe(&mut self, variant: ForwardVariant) -> Result<naga::Module, ShaderError> {
         self.compose(PROBE.file, PROBE.source, variant.shader_defs())
     }
+}
+
+/// The boolean shader defs of `flags` that are on.
+fn defs_of<const N: usize>(flags: [(&str, bool); N]) -> HashMap<String, naga_oil::compose::ShaderDefValue> {
+    flags
+        .into_iter()
+        .filter(|(_, on)| *on)
+        .map(|(name, _)| (name.to_string(), naga_oil::compose::ShaderDefValue::Bool(true)))
+        .collect()
 }
 
 /// What shaders may use: naga's defaults, `@builtin(view_index)` (only the multiview

@@ -57,10 +57,11 @@ pub struct PageMark {
 }
 
 impl PageMark {
-    /// The pipeline, composed from the shader library.
-    pub fn new(device: &wgpu::Device, library: &mut ShaderLibrary) -> Self {
+    /// The pipeline, composed from the shader library, reading a single-sample or
+    /// (`multisampled`) a multisampled camera depth at sample 0.
+    pub fn new(device: &wgpu::Device, library: &mut ShaderLibrary, multisampled: bool) -> Self {
         let module = library
-            .pages_mark()
+            .pages_mark(multisampled)
             .expect("the shipped marking shader composes (checked by tests)");
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("page marking"),
@@ -76,7 +77,7 @@ impl PageMark {
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
+                        multisampled,
                     },
                 ),
                 uniform_entry(1, compute, false, size_of::<MarkGpu>() as u64),
@@ -171,7 +172,7 @@ mod tests {
 
     #[test]
     fn the_uniforms_match_the_wgsl_layout() {
-        let module = ShaderLibrary::new().unwrap().pages_mark().unwrap();
+        let module = ShaderLibrary::new().unwrap().pages_mark(false).unwrap();
         let rust: Vec<(String, usize)> = [
             ("world_from_clip", offset_of!(MarkGpu, world_from_clip)),
             ("light_from_world", offset_of!(MarkGpu, light_from_world)),
