@@ -3,7 +3,8 @@
 //! screen are lowered first with one warning naming them, and a budget that cannot hold a
 //! light is an error naming it and its bytes. The scenes of the hostile-input report (two
 //! point lights with 4096² VSM; a sun with four 4096² MSM cascades and eight 4096² VSM spot
-//! lights) are checked by the budget arithmetic alone, without allocating gigabytes.
+//! lights) are checked by the budget arithmetic alone, without allocating gigabytes. A paged
+//! sun's page pool is taken from the budget before the other maps share it.
 
 mod common;
 
@@ -184,4 +185,42 @@ fn a_render_over_any_budget_fails_with_the_accounts_error() {
     };
     assert!(error.contains("point light lights[0] (7.5 MiB at 256²)"), "{error}");
     assert!(error.contains("directional light sun (1.0 MiB at 256²)"), "{error}");
+}
+
+#[test]
+fn a_paged_suns_pool_is_taken_from_the_budget_before_the_other_maps() {
+    let big = "resolution: 4096";
+    let desc = scene(
+        "layout: VirtualClipmap(pool_pages: 1000)",
+        &[spot(-4.0, big), spot(4.0, big)],
+    );
+    // NOTE: 1000 pages fill an atlas of 32² pages of 128²: 4096² texels of 4 bytes.
+    let pool = 4096 * 4096 * 4;
+    let asked = account(&desc, u64::MAX);
+    let spots = 2 * 4096 * 4096 * 4;
+    assert_eq!(
+        (asked.pages, asked.total()),
+        (pool, pool + spots),
+        "{:?}",
+        asked.lines()
+    );
+    assert_eq!(asked.lights[0].bytes, pool, "{:?}", asked.lines());
+    assert!(asked.lines()[0].contains("page pool 64.0 MiB"), "{:?}", asked.lines());
+    let fitted = account(&desc, pool + spots / 2);
+    let sides: Vec<u32> = fitted.lights.iter().map(|l| l.granted).collect();
+    assert!(fitted.total() <= pool + spots / 2, "{:?}", fitted.lines());
+    assert!(sides[1] < 4096 && sides[2] < 4096, "{:?}", fitted.lines());
+    let warning = fitted.warning.as_deref().unwrap_or_default();
+    assert!(
+        warning.contains("spot light lights[0]") && !warning.contains("page pool"),
+        "{warning}"
+    );
+    let under = account(&desc, pool / 2);
+    let warning = under.warning.as_deref().unwrap_or_default();
+    assert!(
+        warning.contains("the page pool of directional light")
+            && warning.contains("(64.0 MiB) is over the shadow-memory budget of 32.0 MiB"),
+        "{warning}"
+    );
+    assert_eq!(under.pages, pool, "the pool is kept: {:?}", under.lines());
 }

@@ -5,6 +5,10 @@
 //! [`apply_memory_budget`] from the shadowed lights before their views are made, so the
 //! renderer never allocates past the budget.
 //!
+//! A paged sun's page pool is fixed by its settings
+//! ([`SunLayout::pool_bytes`](crate::settings::SunLayout::pool_bytes)): it is taken from the
+//! budget first, and the other maps share the rest.
+//!
 //! Over budget, the lights smallest on screen have their maps halved first (suns last), never
 //! below 256² ([`fit_budget`](crate::math::shadow_memory::fit_budget)), with one warning naming
 //! them. A light that still does not fit gets no shadow, and [`ShadowMemory::error`] names it
@@ -20,7 +24,7 @@ use crate::math::shadow_memory::{
     BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
     fit_budget_into, storage_index,
 };
-use crate::settings::{ShadowMode, ShadowSettings, SunLayout};
+use crate::settings::{ShadowMode, ShadowSettings};
 use crate::text::format_bytes;
 
 /// Bytes in a mebibyte.
@@ -92,6 +96,8 @@ pub struct ShadowMemory {
     pub lights: Vec<LightMemory>,
     /// The arrays: cascades, spot lights, point lights.
     pub storages: [StorageBytes; 3],
+    /// Bytes of the paged sun's page pool (0 without one).
+    pub pages: u64,
     /// Lights lowered to fit, as one warning (None when nothing was lowered).
     pub warning: Option<String>,
     /// Lights the budget cannot hold at all, with their bytes.
@@ -99,9 +105,9 @@ pub struct ShadowMemory {
 }
 
 impl ShadowMemory {
-    /// Bytes of the three arrays together.
+    /// Bytes of the three arrays and the page pool together.
     pub fn total(&self) -> u64 {
-        self.storages.iter().map(StorageBytes::total).sum()
+        self.storages.iter().map(StorageBytes::total).sum::<u64>() + self.pages
     }
 
     /// The account as text: a line with the total, the budget and what it is made of, then
@@ -109,11 +115,14 @@ impl ShadowMemory {
     pub fn lines(&self) -> Vec<String> {
         let sum = |f: fn(&StorageBytes) -> u64| format_bytes(self.storages.iter().map(f).sum());
         let shift: u64 = self.storages.iter().map(|s| s.shift).sum();
-        let shift = if shift > 0 {
+        let mut shift = if shift > 0 {
             format!(", clipmap shift {}", format_bytes(shift))
         } else {
             String::new()
         };
+        if self.pages > 0 {
+            shift += &format!(", page pool {}", format_bytes(self.pages));
+        }
         let mut lines = vec![format!(
             "{} of a {} budget (depth {}, moments {}, blur scratch {}{shift})",
             format_bytes(self.total()),
@@ -152,6 +161,8 @@ impl ShadowMemory {
 pub struct MemoryScratch {
     requests: Vec<LightRequest>,
     entities: Vec<Entity>,
+    /// Bytes of the page pool, and the index of its sun among the requests.
+    pool: Option<(u64, usize)>,
     last: Option<(Vec<LightRequest>, Vec<Entity>, ShadowMemoryBudget, BudgetFit)>,
     fit: BudgetFit,
 }
@@ -172,13 +183,16 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
     }
 }
 
-/// The request of shadowed light `id` (the renderer's light order) and its entity.
-fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -> (LightRequest, Entity) {
+/// The request of shadowed light `id` (the renderer's light order) and its entity; `paged`
+/// says it is the sun whose levels are paged (its memory is its pool: it asks for no view).
+fn request(
+    lights: &FrameLights,
+    (id, paged): (usize, bool),
+    ranking: &RankingView,
+    fp32: bool,
+) -> (LightRequest, Entity) {
     let spots_end = lights.suns.len() + lights.spots.len();
     let (kind, settings, resolution, views, bounds, entity) = if let Some(sun) = lights.suns.get(id) {
-        // NOTE: a paged clipmap's memory is its pool, fixed by its settings
-        // (`SunLayout::pool_bytes`): the budget lowers no page.
-        let paged = matches!(sun.settings.map.layout, SunLayout::VirtualClipmap { .. });
         let views = if paged { 0 } else { sun.settings.map.sun_views() };
         (
             LightKind::Directional,
@@ -211,7 +225,7 @@ fn request(lights: &FrameLights, id: usize, ranking: &RankingView, fp32: bool) -
         views,
         moments: moment_use(kind, settings, fp32),
         coverage,
-        scrolls: kind == LightKind::Directional && matches!(settings.map.layout, SunLayout::Clipmap { .. }),
+        scrolls: kind == LightKind::Directional && !paged && settings.map.layout.clipmap_levels().is_some(),
     };
     (request, entity)
 }
@@ -230,13 +244,28 @@ pub fn apply_memory_budget(
 ) -> Option<ShadowMemory> {
     scratch.requests.clear();
     scratch.entities.clear();
+    scratch.pool = None;
     let fp32 = budget.costs.support.fp32_filterable;
-    for &id in shadowed.iter() {
-        let (request, entity) = request(lights, id, ranking, fp32);
+    for (k, &id) in shadowed.iter().enumerate() {
+        // NOTE: the first shadowed sun with a virtual clipmap is paged (as `frame_lights`
+        // chooses); another is a plain clipmap.
+        let layout = lights.suns.get(id).map(|s| s.settings.map.layout);
+        let pool = layout.map_or(0, |l| l.pool_bytes());
+        let paged = pool > 0 && scratch.pool.is_none();
+        if paged {
+            scratch.pool = Some((pool, k));
+        }
+        let (request, entity) = request(lights, (id, paged), ranking, fp32);
         scratch.requests.push(request);
         scratch.entities.push(entity);
     }
-    fit_budget_into(&scratch.requests, &budget.costs, budget.bytes, &mut scratch.fit);
+    let pool = scratch.pool.map_or(0, |(bytes, _)| bytes);
+    fit_budget_into(
+        &scratch.requests,
+        &budget.costs,
+        budget.bytes.saturating_sub(pool),
+        &mut scratch.fit,
+    );
     // NOTE: a moving light changes its screen coverage every frame; the account only changes
     // when what was asked or given does, so a moving frame allocates nothing either.
     let same = scratch.last.as_ref().is_some_and(|(r, e, b, fit)| {
@@ -257,7 +286,8 @@ pub fn apply_memory_budget(
             scratch.fit.clone(),
         );
         scratch.last = Some(last);
-        account(&scratch.requests, &scratch.entities, budget, &scratch.fit, name_of)
+        let requests = (&scratch.requests[..], &scratch.entities[..], scratch.pool);
+        account(requests, budget, &scratch.fit, name_of)
     });
     let spots_end = lights.suns.len() + lights.spots.len();
     for (&id, &granted) in shadowed.iter().zip(&scratch.fit.resolutions) {
@@ -281,10 +311,10 @@ pub fn apply_memory_budget(
     account
 }
 
-/// The account of a fit, with its warning and error.
+/// The account of a fit of `requests` (with their entities, and the page pool's bytes and
+/// sun), with its warning and error.
 fn account(
-    requests: &[LightRequest],
-    entities: &[Entity],
+    (requests, entities, pool): (&[LightRequest], &[Entity], Option<(u64, usize)>),
     budget: &ShadowMemoryBudget,
     fit: &BudgetFit,
     name_of: impl Fn(Entity) -> Option<String>,
@@ -293,10 +323,12 @@ fn account(
         .iter()
         .zip(entities)
         .zip(&fit.resolutions)
-        .map(|((r, &entity), &granted)| {
+        .enumerate()
+        .map(|(i, ((r, &entity), &granted))| {
             let named = name_of(entity).unwrap_or_else(|| entity.to_string());
             let name = format!("{} light {named}", r.kind.word());
             let per_layer = fit.storages[storage_index(r.kind)].per_layer();
+            let pages = pool.filter(|&(_, k)| k == i).map_or(0, |(bytes, _)| bytes);
             LightMemory {
                 entity,
                 name,
@@ -304,14 +336,19 @@ fn account(
                 asked: r.resolution,
                 granted,
                 views: r.views,
-                bytes: if granted > 0 { per_layer * u64::from(r.views) } else { 0 },
+                bytes: if granted > 0 {
+                    per_layer * u64::from(r.views) + pages
+                } else {
+                    0
+                },
             }
         })
         .collect();
-    let warning = (!fit.lowered.is_empty()).then(|| {
+    let pool_bytes = pool.map_or(0, |(bytes, _)| bytes);
+    let lowered = (!fit.lowered.is_empty()).then(|| {
         let asked: Vec<u32> = requests.iter().map(|r| r.resolution).collect();
         let wanted = crate::math::shadow_memory::storage_bytes(requests, &asked, &budget.costs);
-        let wanted: u64 = wanted.iter().map(StorageBytes::total).sum();
+        let wanted: u64 = wanted.iter().map(StorageBytes::total).sum::<u64>() + pool_bytes;
         let names: Vec<String> = fit
             .lowered
             .iter()
@@ -324,6 +361,19 @@ fn account(
             names.join(", ")
         )
     });
+    // NOTE: the pool is fixed by its settings: over the budget alone, it is kept and said.
+    let over = pool.filter(|&(bytes, _)| bytes > budget.bytes).map(|(bytes, k)| {
+        format!(
+            "the page pool of {} ({}) is over the shadow-memory budget of {} by itself; lower its pool_pages or raise the budget (ShadowMemoryBudget, --shadow-budget)",
+            rows[k].name,
+            format_bytes(bytes),
+            format_bytes(budget.bytes)
+        )
+    });
+    let warning = match (over, lowered) {
+        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+        (a, b) => a.or(b),
+    };
     let error = (!fit.dropped.is_empty()).then(|| {
         let names: Vec<String> = fit
             .dropped
@@ -334,7 +384,7 @@ fn account(
                 format!("{} ({} at {smallest}²)", rows[i].name, format_bytes(bytes))
             })
             .collect();
-        let kept = fit.total();
+        let kept = fit.total() + pool_bytes;
         format!(
             "the shadow-memory budget of {} cannot hold the shadows of {}: they cast none ({} is taken by the other lights at their smallest); raise the budget (ShadowMemoryBudget, --shadow-budget) or shadow fewer lights (ShadowLightBudget)",
             format_bytes(budget.bytes),
@@ -346,6 +396,7 @@ fn account(
         budget: budget.bytes,
         lights: rows,
         storages: fit.storages,
+        pages: pool_bytes,
         warning,
         error,
     }

@@ -106,6 +106,11 @@ impl PageLayout {
     }
 }
 
+/// Tiles per side of the square atlas that holds a pool of `pool_pages` pages.
+pub fn atlas_tiles(pool_pages: u32) -> u32 {
+    (f64::from(pool_pages).sqrt().ceil() as u32).max(1)
+}
+
 /// The first texel of a window of `resolution` texels centred as near as it can be on grid
 /// position `centre` (texels) while starting on a whole page.
 pub fn snap_to_pages(centre: DVec2, layout: &PageLayout) -> I64Vec2 {

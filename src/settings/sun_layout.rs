@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::math::pages::atlas_tiles;
+
 /// How a sun's shadow is divided into maps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,7 +47,8 @@ pub enum SunLayout {
         /// Texels per side of a page (128 when a file leaves it out).
         #[serde(default = "default_page_size")]
         page_size: u32,
-        /// Pages of the shared pool (2048 when a file leaves it out: 128 MiB of 128² pages).
+        /// Pages of the shared pool (2048 when a file leaves it out: an atlas of 46² pages of
+        /// 128², 132 MiB; see [`SunLayout::pool_bytes`]).
         #[serde(default = "default_pool_pages")]
         pool_pages: u32,
     },
@@ -105,14 +108,15 @@ impl SunLayout {
         }
     }
 
-    /// Bytes of the shared page pool of a paged clipmap (32-bit depth; 0 for other layouts).
+    /// Bytes of the shared page pool of a paged clipmap: its atlas, the smallest square of
+    /// pages that holds `pool_pages`, at 32-bit depth (0 for other layouts).
     pub fn pool_bytes(&self) -> u64 {
         match *self {
             SunLayout::VirtualClipmap {
                 page_size, pool_pages, ..
             } => {
-                let side = u64::from(page_size);
-                side * side * 4 * u64::from(pool_pages)
+                let side = u64::from(atlas_tiles(pool_pages) * page_size);
+                side * side * 4
             }
             _ => 0,
         }

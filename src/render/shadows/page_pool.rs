@@ -4,7 +4,7 @@
 //! virtual clipmap on, remade when its layout, levels or pool change.
 
 use crate::ecs::light_views::FrameLights;
-use crate::math::pages::PageLayout;
+use crate::math::pages::{PageLayout, atlas_tiles};
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::settings::SunLayout;
 use crate::shader::ShaderLibrary;
@@ -46,11 +46,6 @@ impl PoolKey {
     pub fn atlas_side(&self) -> u32 {
         self.tiles() * self.layout.page_size
     }
-}
-
-/// Tiles per side of the atlas of a pool of `pool_pages` pages.
-pub fn atlas_tiles(pool_pages: u32) -> u32 {
-    (f64::from(pool_pages).sqrt().ceil() as u32).max(1)
 }
 
 /// A paged sun's allocator and what it was made for.
