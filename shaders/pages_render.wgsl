@@ -4,7 +4,10 @@
 //   caster's bounding sphere reaches, seen from the light, to that caster's instance list,
 //   counting them in its indirect draw;
 //   `clear_vs` (an instance per slot) overwrites each listed page's tile with the far depth;
-//   `caster_vs` (an instance per listed slot of one caster) places the caster's vertices in
+//   `caster_vs` (an instance per listed slot of one caster, reading list entry
+//   `caster_id.x + instance_index`: the caster's list starts there, given by the caster-id
+//   uniform or, where indirect draws may start past instance 0, by the draw's first
+//   instance) places the caster's vertices in
 //   the slot's page as its level sees them, moved onto the page's tile, and clips them to the
 //   tile (clip distances); the opaque pipeline has no fragment stage, the alpha-masked one
 //   adds `fs_masked`, which discards texels below the material's alpha cutoff.
@@ -116,6 +119,7 @@ fn cull(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 #else
 @group(0) @binding(5) var<storage, read> lists: array<u32>;
+// x: the first list entry of the caster drawn (0 where the draw's first instance says it).
 @group(1) @binding(0) var<uniform> caster_id: vec4<u32>;
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
@@ -143,8 +147,9 @@ fn caster_vs(
     @location(2) uv: vec2<f32>,
     @builtin(instance_index) instance: u32,
 ) -> Placed {
-    let caster = caster_id.x;
-    let s = slot_at(lists[caster * render.slots + instance]);
+    let entry = caster_id.x + instance;
+    let caster = entry / render.slots;
+    let s = slot_at(lists[entry]);
     let level = render.level[s.level];
     let world = casters[caster].world_from_local * vec4<f32>(position, 1.0);
     let clip = level.clip_from_world * world;

@@ -1,10 +1,11 @@
 //! The paged clipmap's page drawing on a real wgpu device (lavapipe in CI): the pages of two
 //! levels, allocated and drawn on the GPU into the pool atlas, hold what the whole levels
-//! drawn by the engine's caster pipeline hold at those texels.
+//! drawn by the engine's caster pipeline hold at those texels. Each caster is drawn on its own
+//! here (the path of devices without indirect first instances); the multi-draw path is the
+//! renderer's on lavapipe (`tests/pages.rs`).
 
 use glam::I64Vec2;
-use penumbra::math::pages::atlas_tiles;
-use penumbra::math::pages::{PageKey, PageLayout, PageRect, PagedLevel, snap_to_pages};
+use penumbra::math::pages::{PageKey, PageLayout, PageRect, PagedLevel, atlas_tiles, snap_to_pages};
 use penumbra::mesh::{MeshData, cuboid, plane, sphere};
 use penumbra::render::GpuContext;
 use penumbra::render::layouts::Layouts;
@@ -108,7 +109,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     let atlas = DepthArray::new(device, "page atlas", side, 1, false);
     let layouts = Layouts::new(device);
     let mut pages = PageRenderer::new(
-        (device, queue),
+        (device, queue, false),
         (&mut library, &layouts.material),
         (&allocator, &atlas),
         16,

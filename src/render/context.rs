@@ -80,6 +80,9 @@ pub struct GpuContext {
     /// Vertex stages may write clip distances (the paged clipmap's caster confines each page
     /// to its tile with them).
     pub clip_distances: bool,
+    /// Indirect draws may start past instance 0 (the paged clipmap's casters are then drawn
+    /// with one multi-draw, each draw's instances starting at its own list).
+    pub indirect_first_instance: bool,
     /// Pipeline-statistics queries are available (fragment invocations can be counted).
     pub pipeline_statistics: bool,
     /// Most views one multiview pass may render (0: no `MULTIVIEW`, cascades are drawn one
@@ -130,6 +133,7 @@ impl GpuContext {
             | wgpu::Features::FLOAT32_FILTERABLE
             | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
             | wgpu::Features::CLIP_DISTANCES
+            | wgpu::Features::INDIRECT_FIRST_INSTANCE
             // NOTE: without it only WebGPU's guaranteed sample counts (1 and 4, and not for
             // every format) may be used.
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
@@ -174,6 +178,7 @@ impl GpuContext {
             timestamps: required_features.contains(wgpu::Features::TIMESTAMP_QUERY),
             unclipped_depth: required_features.contains(wgpu::Features::DEPTH_CLIP_CONTROL),
             clip_distances: required_features.contains(wgpu::Features::CLIP_DISTANCES),
+            indirect_first_instance: required_features.contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             pipeline_statistics: required_features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             multiview_views,
             unorm16_moments: required_features.contains(wgpu::Features::TEXTURE_FORMAT_16BIT_NORM),

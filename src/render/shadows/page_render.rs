@@ -4,8 +4,11 @@
 //! instance lists and indirect draws; one render pass over the pool atlas then clears the
 //! listed pages' tiles to the far depth and draws each caster once per page it reaches, its
 //! vertices moved from the level's window onto the page's tile and clipped to the tile
-//! (alpha-masked casters after the opaque ones, with the alpha test). The CPU records the
-//! same commands every frame and never learns which pages were drawn.
+//! (alpha-masked casters after the opaque ones, with the alpha test). Where indirect draws
+//! may start past instance 0, each caster's draw starts its instances at its own list, so the
+//! opaque casters are one multi-draw; elsewhere each caster is a draw of its own, its list's
+//! start in a dynamic uniform. The CPU records the same commands every frame and never learns
+//! which pages were drawn.
 
 use std::borrow::Cow;
 
@@ -114,6 +117,8 @@ pub struct PageRenderer {
     /// The culling's indirect dispatch: a row of workgroups per page to draw.
     cull_args: wgpu::Buffer,
     _ids: wgpu::Buffer,
+    /// The opaque casters are one multi-draw (the device has indirect first instances).
+    multi_draw: bool,
     caster_data: Vec<CasterGpu>,
     args_data: Vec<[u32; 5]>,
 }
@@ -132,11 +137,12 @@ impl PageRenderer {
     /// [`atlas_tiles`] tiles a side), for up to `max_casters` casters
     /// drawn with the light's `bias` (slope-scaled, clamp) as the caster pipelines draw;
     /// `unclipped` leaves depth unclipped (casters nearer than the level's range are clamped
-    /// to it); masked casters bind their material with `material` (group 2). Needs a device
-    /// with clip distances.
+    /// to it); masked casters bind their material with `material` (group 2); `multi_draw`
+    /// draws the opaque casters with one multi-draw (the device must have
+    /// `INDIRECT_FIRST_INSTANCE`). Needs a device with clip distances.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        (device, queue, multi_draw): (&wgpu::Device, &wgpu::Queue, bool),
         (library, material): (&mut ShaderLibrary, &wgpu::BindGroupLayout),
         (allocator, atlas): (&PageAllocator, &DepthArray),
         max_casters: u32,
@@ -173,7 +179,7 @@ impl PageRenderer {
         let id_data: Vec<u8> = (0..max_casters)
             .flat_map(|c| {
                 let mut entry = [0u8; ID_STRIDE as usize];
-                entry[..4].copy_from_slice(&c.to_le_bytes());
+                entry[..4].copy_from_slice(&(c * slots).to_le_bytes());
                 entry
             })
             .collect();
@@ -316,6 +322,7 @@ impl PageRenderer {
             clear_args,
             cull_args,
             _ids: ids,
+            multi_draw,
             caster_data: Vec::new(),
             args_data: Vec::new(),
         }
@@ -366,10 +373,12 @@ impl PageRenderer {
         }));
         queue.write_buffer(&self.casters, 0, bytemuck::cast_slice(&self.caster_data));
         self.args_data.clear();
+        let first = |c: u32| if self.multi_draw { c * self.slots } else { 0 };
         self.args_data.extend(
             casters
                 .iter()
-                .map(|c| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, 0]),
+                .zip(0..)
+                .map(|(c, k)| [c.indices.1, 0, c.indices.0, c.indices.2 as u32, first(k)]),
         );
         queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&self.args_data));
         // NOTE: the clears' instance count, and the culling's rows of workgroups, are the
@@ -409,8 +418,17 @@ impl PageRenderer {
         let (vertices, indices) = scene.geometry;
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        let opaque = casters.iter().take_while(|c| c.masked.is_none()).count();
+        let first_masked = if self.multi_draw && opaque > 0 {
+            pass.set_pipeline(&self.caster[0]);
+            pass.set_bind_group(1, &self.id_group, &[0]);
+            pass.multi_draw_indexed_indirect(&self.args, 0, opaque as u32);
+            opaque
+        } else {
+            0
+        };
         let (mut pipeline, mut material) = (None, None);
-        for (c, caster) in casters.iter().enumerate() {
+        for (c, caster) in casters.iter().enumerate().skip(first_masked) {
             let masked = caster.masked.map(|(m, _)| m);
             if masked.is_some() && material != masked {
                 let Some(group) = masked.and_then(|m| scene.materials.get(m)) else {
@@ -424,9 +442,10 @@ impl PageRenderer {
                 pass.set_pipeline(&self.caster[kind]);
                 pipeline = Some(kind);
             }
-            let c = c as u64;
-            pass.set_bind_group(1, &self.id_group, &[(c * ID_STRIDE) as u32]);
-            pass.draw_indexed_indirect(&self.args, c * 20);
+            // NOTE: with the multi-draw, the draw's first instance starts the list.
+            let id = if self.multi_draw { 0 } else { c as u64 * ID_STRIDE };
+            pass.set_bind_group(1, &self.id_group, &[id as u32]);
+            pass.draw_indexed_indirect(&self.args, c as u64 * 20);
         }
     }
 }

@@ -229,7 +229,7 @@ impl RenderNode for PagesPass {
         });
         if !fits {
             let renderer = PageRenderer::new(
-                (device, queue),
+                (device, queue, ctx.gpu.indirect_first_instance),
                 (ctx.library, &ctx.layouts.material),
                 (allocator, &atlas),
                 key.max_casters,
