@@ -5,8 +5,9 @@
 //   2. every needed page (a bit of `needed`, coarsest level first, then in table-entry
 //      order, so an overflow leaves the coarse levels a fine level falls back to) that is
 //      resident is kept (stamped with the frame; listed for drawing if it was invalidated),
-//      and the others are counted: each thread takes a run of entries, and a prefix sum
-//      gives every missing page its rank;
+//      and the others are counted: each thread takes a run of entries (whole words of the
+//      bitset, skipping a word with no bit set), and a prefix sum gives every missing page
+//      its rank;
 //   3. the pool is ordered: free pages (lowest first), then pages not needed this frame, the
 //      longest unneeded first (age capped at `max_age` frames), lowest first among equals —
 //      as far as the missing pages need;
@@ -144,6 +145,19 @@ fn run(tid: u32, total: u32) -> vec2<u32> {
     return vec2<u32>(min(tid * size, total), min((tid + 1u) * size, total));
 }
 
+// The run [start, end) of the `total` needed candidates thread `tid` takes: whole words of
+// the bitset (a level's table is a multiple of 32 entries), so a thread skips a word with no
+// bit set at once.
+fn candidate_run(tid: u32, total: u32) -> vec2<u32> {
+    let size = ((total + THREADS - 1u) / THREADS + 31u) / 32u * 32u;
+    return vec2<u32>(min(tid * size, total), min((tid + 1u) * size, total));
+}
+
+// Whether candidate table index `i` starts a word of the bitset with no bit set.
+fn empty_word(i: u32) -> bool {
+    return (i & 31u) == 0u && needed[i >> 5u] == 0u;
+}
+
 // Age class of pool page `p` (0: not a candidate for eviction).
 fn age(p: u32) -> u32 {
     let page = pool[p];
@@ -174,10 +188,14 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     workgroupBarrier();
     // 2. Keep the resident needed pages; count the missing ones.
     let total = params.levels * per_level;
-    let mine = run(tid, total);
+    let mine = candidate_run(tid, total);
     var missing = 0u;
     for (var q = mine.x; q < mine.y; q++) {
         let i = candidate(q);
+        if empty_word(i) {
+            q += 31u;
+            continue;
+        }
         let wanted = state(i);
         if wanted == 1u {
             let p = table[i].physical;
@@ -238,6 +256,10 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     var r = rank;
     for (var q = mine.x; q < mine.y; q++) {
         let i = candidate(q);
+        if empty_word(i) {
+            q += 31u;
+            continue;
+        }
         if state(i) != 2u {
             continue;
         }

@@ -54,6 +54,13 @@ pub struct BenchArgs {
     /// attributing error to resolution.
     #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
     resolution: Option<u32>,
+    /// Texels per side of each level of the paged presets' virtual clipmap (`pages-*`), a
+    /// power of two 4096-16384 (default 16384), for plotting error against memory.
+    #[arg(long)]
+    virtual_resolution: Option<u32>,
+    /// Pages of the paged presets' pool (default 2048).
+    #[arg(long)]
+    pool_pages: Option<u32>,
     /// Override how every scene's cascades are fitted: tight, stable or depth-bounds.
     #[arg(long, value_enum)]
     fit: Option<Fit>,
@@ -124,6 +131,12 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         shimmer_steps: if quick { 4 } else { 8 },
         max_probes: if quick { 4_000 } else { 20_000 },
         progress: true,
+        pages: (args.virtual_resolution.is_some() || args.pool_pages.is_some()).then_some(
+            penumbra::bench::PagesOverride {
+                virtual_resolution: args.virtual_resolution,
+                pool_pages: args.pool_pages,
+            },
+        ),
     };
     let overrides = penumbra::bench::SettingsOverrides {
         normal_offset: args.normal_offset,

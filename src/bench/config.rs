@@ -55,6 +55,18 @@ pub struct BenchConfig {
     pub max_probes: usize,
     /// Show progress bars.
     pub progress: bool,
+    /// The virtual clipmap's levels and pool in the presets that page the sun (None: the
+    /// presets' own).
+    pub pages: Option<PagesOverride>,
+}
+
+/// What the paged presets' virtual clipmap is given instead of its defaults.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PagesOverride {
+    /// Texels per side of each level.
+    pub virtual_resolution: Option<u32>,
+    /// Pages of the pool.
+    pub pool_pages: Option<u32>,
 }
 
 /// A scene's short name in progress lines and reports: its file stem.

@@ -12,6 +12,7 @@ pub mod run;
 pub mod score;
 pub mod session;
 
+pub use config::PagesOverride;
 pub use gallery::{SceneShots, write_gallery};
 pub use presets::{Preset, presets};
 pub use run::{BenchConfig, BenchError, SettingsOverrides, run_bench, run_bench_collecting, run_bench_with};

@@ -30,6 +30,7 @@ fn time_scene(
     overall: &Progress,
 ) -> Result<Vec<Timing>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
+    session.pages = config.pages;
     // NOTE: every shadow map is drawn every frame, as when the camera or the casters move;
     // a still frame's cost is measured apart (`penumbra render`). One sample per pixel: the
     // bench compares shadow techniques, and its figures stay comparable with those before
@@ -204,6 +205,11 @@ pub fn run_bench_collecting(
     ];
     notes.append(&mut scene_notes);
     notes.extend(overrides.notes());
+    notes.extend(
+        config
+            .pages
+            .map(|p| format!("The paged presets' virtual clipmap is given {p:?}.")),
+    );
     if !timestamps {
         notes.push("This adapter has no timestamp queries: GPU times are missing (NaN).".to_string());
     }

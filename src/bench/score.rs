@@ -136,6 +136,7 @@ pub(crate) fn score_scene(
     let name = path.display().to_string();
     let (w, h) = (config.analysis_width, config.analysis_height);
     let mut session = SceneSession::new(desc, w, h)?;
+    session.pages = config.pages;
     let mut renderer = Renderer::headless_with_analysis(w, h)?;
     let focus = session.focus().ok_or_else(|| BenchError::NoLight(name.clone()))?;
     renderer.set_focus_light(session.focus_light_index());

@@ -7,6 +7,7 @@ use bevy_transform::components::Transform;
 use glam::{Quat, Vec3};
 
 use crate::app::{SpawnError, spawn_scene};
+use crate::bench::config::PagesOverride;
 use crate::bench::focus::{Focus, FocusKind, choose_focus};
 use crate::ecs::assets::{AlphaMode, Images, Materials, Meshes};
 use crate::ecs::components::{Camera3d, DirectionalLight, ViewportSize};
@@ -21,7 +22,7 @@ use crate::reference::{AlphaMask, Caster, ReferenceScene, SunDisc};
 use crate::render::plugin::publish_seen_depths;
 use crate::render::renderer::Renderer;
 use crate::scene::SceneDesc;
-use crate::settings::ShadowSettings;
+use crate::settings::{ShadowSettings, SunLayout};
 
 /// A running scene.
 pub struct SceneSession {
@@ -31,6 +32,10 @@ pub struct SceneSession {
     camera: Transform,
     target: Vec3,
     focus: Option<Focus>,
+    /// Given to every preset whose sun is paged ([`BenchConfig::pages`]).
+    ///
+    /// [`BenchConfig::pages`]: crate::bench::BenchConfig::pages
+    pub pages: Option<PagesOverride>,
 }
 
 impl SceneSession {
@@ -46,6 +51,7 @@ impl SceneSession {
             camera: Transform::default(),
             target: desc.camera.target,
             focus: None,
+            pages: None,
         };
         session.camera = session.camera_transform();
         session.app.update();
@@ -116,6 +122,18 @@ impl SceneSession {
     pub fn apply_settings(&mut self, apply: fn(&mut ShadowSettings)) {
         let mut settings = self.base;
         apply(&mut settings);
+        if let (
+            Some(o),
+            SunLayout::VirtualClipmap {
+                virtual_resolution,
+                pool_pages,
+                ..
+            },
+        ) = (self.pages, &mut settings.map.layout)
+        {
+            *virtual_resolution = o.virtual_resolution.unwrap_or(*virtual_resolution);
+            *pool_pages = o.pool_pages.unwrap_or(*pool_pages);
+        }
         let world = self.app.world_mut();
         if let Some(focus) = self.focus.filter(|f| f.kind != FocusKind::Sun) {
             if let Some(mut s) = world.get_mut::<ShadowSettings>(focus.entity) {

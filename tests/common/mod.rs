@@ -53,6 +53,7 @@ pub fn small_bench(scene: &str, presets: &[&str]) -> penumbra::bench::BenchConfi
         analysis_height: 90,
         timing_frames: 1,
         warmup_frames: 0,
+        pages: None,
         reference: penumbra::reference::ReferenceSettings {
             max_samples: 32,
             min_samples: 16,
