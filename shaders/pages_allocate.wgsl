@@ -284,6 +284,15 @@ fn main(@builtin(local_invocation_index) tid: u32) {
     }
 }
 
+// A frame whose marking and allocation would repeat the last one's (the pages node skips
+// them): its counters are the last frame's, every page drawn then kept now, none evicted.
+@compute @workgroup_size(1)
+fn still() {
+    let drawn = atomicExchange(&counters.draws, 0u);
+    atomicAdd(&counters.kept, drawn);
+    atomicStore(&counters.evicted, 0u);
+}
+
 // Invalidation, before the allocation: the drawn pages a moving caster's old or new bounds
 // reach (rectangles of grid pages of one level each), or every page when the light turned,
 // are marked for drawing again; their residency stays.

@@ -1,7 +1,8 @@
 //! The paged clipmap rendered through the whole frame (lavapipe): a close view of boxes on a
 //! ground, where every receiver reads the finest level. The paged image equals the plain
 //! clipmap's at the same resolution; a pool too small for the frame falls back to the coarser
-//! level and says so; a still frame, and turning back to a view seen before, draw no page; a
+//! level and says so; a still frame (which skips the marking and allocation), and turning back
+//! to a view seen before, draw no page; a
 //! moving box draws only pages it covered or covers, and the image then equals a fresh
 //! render of the moved scene. An alpha-masked leaf card casts the same dappled shadow paged
 //! as plain, and a multisampled camera marks the pages its single-sample twin marks.
@@ -171,8 +172,11 @@ fn a_still_frame_and_a_view_seen_before_draw_no_page() {
         at("depth prepass") < at("pages") && at("pages") < at("visibility resolve") && at("pages").is_some(),
         "the pages are drawn between the prepass and the resolve: {order:?}"
     );
+    let markings = |app: &App| app.world().resource::<Renderer>().counters().page_markings;
+    let marked = markings(&app);
     app.update();
     let still = stats(&app);
+    let still_marked = markings(&app);
     turn(&mut app, 0.4);
     app.update();
     let turned = stats(&app);
@@ -182,6 +186,12 @@ fn a_still_frame_and_a_view_seen_before_draw_no_page() {
     println!("first {first:?}\nstill {still:?}\nturned {turned:?}\nback {back:?}");
     assert!(first.drawn >= 4, "{first:?}");
     assert_eq!((still.drawn, still.needed), (0, first.needed), "{still:?}");
+    assert_eq!(
+        (marked, still_marked),
+        (1, 1),
+        "the still frame marks and allocates nothing"
+    );
+    assert_eq!(markings(&app), 3, "turning marks again");
     assert_eq!(back.drawn, 0, "{back:?}");
 }
 

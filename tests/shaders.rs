@@ -107,7 +107,7 @@ fn the_page_marking_allocation_and_drawing_shaders_validate() {
     let modules = [
         (library.pages_mark(false), &["main"][..]),
         (library.pages_mark(true), &["main"][..]),
-        (library.pages_allocate(), &["main", "invalidate"][..]),
+        (library.pages_allocate(), &["main", "still", "invalidate"][..]),
     ];
     for (module, expected) in modules {
         let module = module.unwrap_or_else(|e| panic!("{e}"));

@@ -18,4 +18,7 @@ pub struct RenderCounters {
     /// Transient textures and buffers the render graph's pool created (the camera depth;
     /// again only when the target's size changes).
     pub transient_resources: u32,
+    /// Frames whose paged-sun pages were marked and allocated (a frame that would mark what
+    /// the last marked frame did skips them).
+    pub page_markings: u32,
 }

@@ -101,6 +101,8 @@ pub struct PageAllocator {
     levels: u32,
     pool_pages: u32,
     pipeline: wgpu::ComputePipeline,
+    /// The counters of a frame that repeats the last (`still`).
+    still: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     invalidate: (wgpu::ComputePipeline, wgpu::BindGroup, wgpu::Buffer),
     params: wgpu::Buffer,
@@ -180,6 +182,7 @@ impl PageAllocator {
         let buffers = [&params, &needed, &table, &pool, &order, &counters, &draws];
         let group = buffer_group(device, "page allocation", &group_layout, &buffers);
         let pipeline = compute_pipeline(device, "page allocation", &shader, &group_layout, "main");
+        let still = compute_pipeline(device, "page allocation (still)", &shader, &group_layout, "still");
         let invalidations = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("page invalidations"),
             size: size_of::<InvalidationsGpu>() as u64,
@@ -224,6 +227,7 @@ impl PageAllocator {
             levels,
             pool_pages,
             pipeline,
+            still,
             group,
             invalidate: (invalidate_pipeline, invalidate_group, invalidations),
             params,
@@ -287,6 +291,19 @@ impl PageAllocator {
             timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// Records the counters of a frame whose marking and allocation would repeat the last
+    /// one's (the caller skips them): every page drawn last frame is kept, none evicted, the
+    /// overflow the same; the tables and the pool are left as they are.
+    pub fn record_still(&self, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("page allocation (still)"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.still);
         pass.set_bind_group(0, &self.group, &[]);
         pass.dispatch_workgroups(1, 1, 1);
     }

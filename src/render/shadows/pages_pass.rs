@@ -5,7 +5,10 @@
 //! ([`PageAllocator`](crate::render::shadows::page_allocate::PageAllocator)), and the listed
 //! pages are cleared and drawn into the pool's atlas ([`PageRenderer`]); the lighting pass
 //! then reads them through the page table. Everything runs on the GPU within the frame: the
-//! CPU never learns which pages were needed. Culled (nothing declared) without a paged sun or
+//! CPU never learns which pages were needed. A frame that would mark what the last marked
+//! frame did (the same camera, view size, instances, light, levels and footprint, and no
+//! page stale) skips the marking, allocation and drawing: the pages are as they were.
+//! Culled (nothing declared) without a paged sun or
 //! without the prepass; a multisampled camera depth is marked from its sample 0.
 
 use glam::{Mat4, UVec2, Vec2};
@@ -42,14 +45,24 @@ struct RendererKey {
 /// with its base colour alpha and alpha cutoff.
 type CasterDraw = (MeshHandle, Option<(MaterialHandle, Vec2)>);
 
+/// What a frame's marking reads besides the pool, the light and the levels: a frame whose
+/// key, light and levels are the last marked frame's, with no page stale, would mark and
+/// allocate the same pages again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MarkKey {
+    world_from_clip: Mat4,
+    size: UVec2,
+    multisampled: bool,
+    rule: MarkRule,
+    /// The instances' generation (any drawable changed: the camera depth may have).
+    generation: u64,
+}
+
 /// This frame's work, found in `setup`.
 struct Frame {
     depth: TextureId,
-    multisampled: bool,
     atlas: TextureId,
-    size: UVec2,
-    world_from_clip: Mat4,
-    rule: MarkRule,
+    mark: MarkKey,
     bias: ShadowBias,
     depth_clamp: bool,
     /// How each caster of `now` is drawn.
@@ -68,6 +81,8 @@ pub struct PagesPass {
     last: Option<(PoolKey, PagedFrame)>,
     /// Frames allocated so far (the allocator's clock).
     frames: u32,
+    /// What the last marked frame read.
+    marked: Option<MarkKey>,
     /// Lists of an earlier frame, refilled by the next.
     spare: PagedFrame,
     spare_meshes: Vec<CasterDraw>,
@@ -136,15 +151,18 @@ impl RenderNode for PagesPass {
         pass.write(frame.maps(ShadowStorage::Pages));
         self.frame = Some(Frame {
             depth,
-            multisampled: frame.samples > 1,
             atlas: frame.maps(ShadowStorage::Pages),
-            size: UVec2::new(frame.size.0, frame.size.1),
-            world_from_clip: camera.clip_from_world().inverse(),
-            rule: MarkRule {
-                radius: mark_radius(s.filter.mode, s.filter.pcf_radius),
-                margin: LEVEL_MARGIN_TEXELS,
-                blend: f64::from(s.map.cascades.blend_width),
-                pixel: pixel_per_depth(camera.clip_from_world(), frame.size.1),
+            mark: MarkKey {
+                world_from_clip: camera.clip_from_world().inverse(),
+                size: UVec2::new(frame.size.0, frame.size.1),
+                multisampled: frame.samples > 1,
+                rule: MarkRule {
+                    radius: mark_radius(s.filter.mode, s.filter.pcf_radius),
+                    margin: LEVEL_MARGIN_TEXELS,
+                    blend: f64::from(s.map.cascades.blend_width),
+                    pixel: pixel_per_depth(camera.clip_from_world(), frame.size.1),
+                },
+                generation: instances.generation,
             },
             bias: s.bias,
             depth_clamp: s.map.depth_clamp,
@@ -166,11 +184,19 @@ impl RenderNode for PagesPass {
         // NOTE: a new pool holds nothing, so nothing in it is stale.
         let last = self.last.as_ref().filter(|(key, _)| *key == pool.key).map(|(_, f)| f);
         let stale = invalidation(&layout, last, &frame.now);
-        if self.mark.as_ref().is_none_or(|(m, _)| *m != frame.multisampled) {
-            self.mark = Some((
-                frame.multisampled,
-                PageMark::new(device, ctx.library, frame.multisampled),
-            ));
+        let repeat = last.is_some_and(|l| l.light_rotation == frame.now.light_rotation && l.levels == frame.now.levels)
+            && stale.is_empty()
+            && self.marked == Some(frame.mark);
+        if repeat {
+            allocator.record_still(encoder);
+            self.keep(pool.key, frame);
+            return;
+        }
+        self.marked = Some(frame.mark);
+        ctx.counters.page_markings += 1;
+        let multisampled = frame.mark.multisampled;
+        if self.mark.as_ref().is_none_or(|(m, _)| *m != multisampled) {
+            self.mark = Some((multisampled, PageMark::new(device, ctx.library, multisampled)));
         }
         let Some((_, mark)) = self.mark.as_mut() else {
             return;
@@ -178,16 +204,16 @@ impl RenderNode for PagesPass {
         // NOTE: the depth is a transient of this frame: its group is made per frame.
         let group = mark.group(device, resources.view(frame.depth), &allocator.needed);
         let input = MarkInput {
-            world_from_clip: frame.world_from_clip,
+            world_from_clip: frame.mark.world_from_clip,
             light_rotation: frame.now.light_rotation,
             layout,
             levels: &levels,
-            rule: frame.rule,
+            rule: frame.mark.rule,
         };
         let timestamps = ctx.timer.compute_pass(PAGE_PASSES[0]);
         mark.record(
             (queue, encoder),
-            (&group, frame.size),
+            (&group, frame.mark.size),
             &input,
             &allocator.needed,
             timestamps,
@@ -250,7 +276,15 @@ impl RenderNode for PagesPass {
         };
         let timestamps = ctx.timer.pass(PAGE_PASSES[2]);
         renderer.record((queue, encoder), allocator, &scene, timestamps);
-        if let Some((_, old)) = self.last.replace((pool.key, frame.now)) {
+        self.keep(pool.key, frame);
+    }
+}
+
+impl PagesPass {
+    /// Keeps what `frame`'s pages were drawn from (for `pool`) as the last frame's, and the
+    /// lists it replaces for the next frame to refill.
+    fn keep(&mut self, pool: PoolKey, frame: Frame) {
+        if let Some((_, old)) = self.last.replace((pool, frame.now)) {
             self.spare = old;
         }
         self.spare_meshes = frame.meshes;
