@@ -64,7 +64,9 @@ def svg(pts, title):
     groups = {}
     for p in pts:
         groups.setdefault((p[0], p[1]), []).append(p)
+    # NOTE: the legend sits at the bottom right, below the errors (the axis starts at 0).
     legend = 0
+    top = h - m - 16 * len(groups) - 8
     for (fam, filt), g in sorted(groups.items()):
         g.sort(key=lambda p: p[2])
         colour = COLOURS[fam]
@@ -73,7 +75,7 @@ def svg(pts, title):
         el.append(f'<polyline points="{path}" fill="none" stroke="{colour}"{dash}/>')
         for p in g:
             el.append(f'<circle cx="{fx(p[2]):.1f}" cy="{fy(p[3]):.1f}" r="4" fill="{colour}"/>')
-        y = m + 16 * legend
+        y = top + 16 * legend
         el.append(f'<line x1="{w - m - 120}" y1="{y}" x2="{w - m - 95}" y2="{y}" stroke="{colour}"{dash}/>')
         el.append(f'<text x="{w - m - 90}" y="{y + 4}">{fam} {filt}</text>')
         legend += 1
