@@ -13,8 +13,12 @@
 // EVSM2 stores its moments with their coverage, (o·w, o·w², o), o being 1 where a caster was
 // drawn and 0 in an empty texel, so the test can light a footprint's empty share.
 //
+// With PAGES, the one entry is `page_bake`: a paged sun's drawn pages (the allocation's
+// list) turned into moments and blurred in one step, each page on its own (taps past its
+// edge repeat its edge texels), into the moments atlas laid out as the pool's.
+//
 // Shader defs: MOMENTS_RGBA32 (the moments are `rgba32float`), MOMENTS_RGBA16_UNORM
-// (`rgba16unorm`: MSM only), else `rgba16float`.
+// (`rgba16unorm`: MSM only), else `rgba16float`; PAGES.
 
 #import penumbra::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4}
 #import penumbra::shadows::moments::{negative_warp, positive_warp}
@@ -50,8 +54,41 @@ struct CascadeMomentsJob {
 #else
 @group(0) @binding(1) var moments_out: texture_storage_2d_array<rgba16float, write>;
 #endif
+#ifdef PAGES
+const MAX_PAGED_LEVELS: u32 = 8u;
+
+// How one paged level's pages are baked (`CascadeMomentsJob`'s per-level fields).
+struct PageLevelMoments {
+    technique: u32,
+    c_positive: f32,
+    c_negative: f32,
+    radius: f32,
+    depth_start: f32,
+    variance_down: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+struct PageMoments {
+    // Tiles per side of the atlas; texels per page side.
+    tiles: u32,
+    page_size: u32,
+    _pad0: u32,
+    _pad1: u32,
+    level: array<PageLevelMoments, MAX_PAGED_LEVELS>,
+}
+
+@group(0) @binding(2) var<uniform> pages: PageMoments;
+// Per page drawn this frame: (level << 24 | table entry, physical page).
+@group(0) @binding(3) var<storage, read> draws: array<vec2<u32>>;
+// y: the pages drawn this frame (the allocation's counters).
+@group(0) @binding(4) var<storage, read> counters: vec4<u32>;
+// The job of the page being baked, filled from its level's entry.
+var<private> job: CascadeMomentsJob;
+#else
 @group(0) @binding(2) var<uniform> job: CascadeMomentsJob;
 @group(0) @binding(3) var moments_in: texture_2d_array<f32>;
+#endif
 
 // The moments of one texel at depth `d` (0 at the light's side); `occupied`: a caster was
 // drawn there.
@@ -113,6 +150,43 @@ fn store_moments(texel: vec2<u32>, layer: u32, m: vec4<f32>) {
 #endif
 }
 
+#ifdef PAGES
+// The moments of the drawn page of list slot `group.y`, texel by texel (workgroup `group.x`
+// of the page's 8×8 blocks): the Gaussian of radius `radius` over the page's depth, each tap
+// turned into moments (taps past the page's edge repeat its edge texels).
+@compute @workgroup_size(8, 8, 1)
+fn page_bake(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    if group.y >= counters.y {
+        return;
+    }
+    let d = draws[group.y];
+    let level = pages.level[min(d.x >> 24u, MAX_PAGED_LEVELS - 1u)];
+    let size = pages.page_size;
+    job = CascadeMomentsJob(
+        0u, 0u, size, level.technique, level.c_positive, level.c_negative, level.radius, 0u,
+        level.depth_start, level.variance_down,
+    );
+    let blocks = size / 8u;
+    let at = vec2<i32>(vec2<u32>(group.x % blocks, group.x / blocks) * 8u + local.xy);
+    let tile = vec2<i32>(vec2<u32>(d.y % pages.tiles, d.y / pages.tiles) * size);
+    let r = i32(ceil(job.radius));
+    let sigma = max(0.5 * job.radius, 0.5);
+    let last = i32(size) - 1;
+    var sum = vec4<f32>(0.0);
+    var weights = 0.0;
+    for (var y = -r; y <= r; y++) {
+        for (var x = -r; x <= r; x++) {
+            let w = exp(-0.5 * f32(x * x + y * y) / (sigma * sigma));
+            let texel = tile + clamp(at + vec2<i32>(x, y), vec2<i32>(0), vec2<i32>(last));
+            let z = clamp(textureLoad(depth_layers, texel, 0, 0), 0.0, 1.0);
+            let depth = saturate((1.0 - z - job.depth_start) / max(1.0 - job.depth_start, 1e-6));
+            sum += w * texel_moments(depth, z > 0.0);
+            weights += w;
+        }
+    }
+    store_moments(vec2<u32>(tile + at), 0u, sum / weights);
+}
+#else
 // Depth to moments: one invocation per texel of the cascade's view.
 @compute @workgroup_size(8, 8, 1)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -163,3 +237,4 @@ fn downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     store_moments(id.xy, job.dst_layer, 0.25 * sum);
 }
+#endif

@@ -153,7 +153,7 @@ fn the_moments_shader_validates_for_spot_and_point_lights_in_both_formats() {
 }
 
 #[test]
-fn the_cascade_moments_shader_validates_in_every_moments_format() {
+fn the_cascade_and_page_moments_shaders_validate_in_every_moments_format() {
     let mut library = ShaderLibrary::new().unwrap();
     for format in [
         wgpu::TextureFormat::Rg32Float,
@@ -166,6 +166,11 @@ fn the_cascade_moments_shader_validates_in_every_moments_format() {
             .unwrap_or_else(|e| panic!("{format:?}: {e}"));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(entry_points, ["resolve", "blur", "downsample"]);
+        let module = library
+            .page_moments(format)
+            .unwrap_or_else(|e| panic!("pages, {format:?}: {e}"));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(entry_points, ["page_bake"]);
     }
 }
 

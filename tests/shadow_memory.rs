@@ -223,4 +223,12 @@ fn a_paged_suns_pool_is_taken_from_the_budget_before_the_other_maps() {
         "{warning}"
     );
     assert_eq!(under.pages, pool, "the pool is kept: {:?}", under.lines());
+    // NOTE: with EVSM the pool holds 32-bit moments (16 bytes a texel) beside its depth.
+    let evsm = scene(
+        "layout: VirtualClipmap(pool_pages: 1000), mode: Evsm, moment_precision: Fp32",
+        &[],
+    );
+    let account = account(&evsm, u64::MAX);
+    assert_eq!(account.pages, pool * 5, "{:?}", account.lines());
+    assert_eq!(account.total(), pool * 5, "{:?}", account.lines());
 }

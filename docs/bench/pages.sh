@@ -3,7 +3,7 @@
 # the long field and the default scene at 1920×1080 with four 2048² cascades, a 6-level
 # clipmap of 1672² levels (the same texels) and a 6-level virtual clipmap of 16384² levels
 # (128² pages, a pool of 2048), the finest level 32 m wide; still, translating 1 m a frame and
-# turning 2° a frame, with PCF and PCSS; and the bench's errors for the three layouts.
+# turning 2° a frame, with PCF, PCSS and EVSM2; and the bench's errors for the three layouts.
 #
 #   bash docs/bench/pages.sh [PENUMBRA] [OUT] [PART]
 #
@@ -23,7 +23,7 @@ render() { "$BIN" render "$@" --width 1920 --height 1080 --out "$OUT/image.png" 
   s=$(basename "$scene" .ron)
   for layout in casc clip page; do
     case $layout in casc) L=$CASC ;; clip) L=$CLIP ;; page) L=$PAGE ;; esac
-    for m in pcf pcss; do
+    for m in pcf pcss evsm; do
       render "$scene" $L --mode $m > "$OUT/$s-$layout-$m-still.txt"
       render "$scene" $L --mode $m --camera-step 0,0,-1 > "$OUT/$s-$layout-$m-move.txt"
       render "$scene" $L --mode $m --camera-turn 2 > "$OUT/$s-$layout-$m-turn.txt"
@@ -35,4 +35,5 @@ done
 S="assets/bench/long_field.ron assets/scenes/default.ron"
 "$BIN" bench --scenes $S --presets pcf2,pcss-medium --resolution 2048 --out "$OUT/bench-casc"
 "$BIN" bench --scenes $S --presets clipmap-pcf,clipmap-pcss --resolution 1672 --out "$OUT/bench-clip"
-"$BIN" bench --scenes $S --presets pages-pcf,pages-pcss --out "$OUT/bench-page"
+"$BIN" bench --scenes $S --presets pages-pcf,pages-pcss,pages-evsm --out "$OUT/bench-page"
+"$BIN" bench --scenes $S --presets clipmap-evsm --resolution 1672 --out "$OUT/bench-clip-evsm"

@@ -16,7 +16,9 @@
     SHADOW_FLAG_RECEIVER_PLANE,
 }
 #import penumbra::shadows::clipmap::{clipmap_fade, select_level}
-#import penumbra::shadows::bindings::{cascade_maps, cascade_moments, moments_sampler, shadow_views}
+#import penumbra::shadows::bindings::{
+    cascade_maps, cascade_moments, moments_sampler, page_moments, shadow_views,
+}
 #import penumbra::shadows::common::{
     MAX_FILTER_STEP_METRES, MAX_RECEIVER_SLOPE, MAX_TRUE_SLOPE, blocker_samples, filter_samples,
     linear_row, normal_offset_metres, poisson_rotation,
@@ -28,7 +30,7 @@
     evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding,
 }
 #import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
-#import penumbra::shadows::page_table::footprint_resident
+#import penumbra::shadows::page_table::{footprint_resident, page_uv}
 #import penumbra::shadows::types::{Light, ShadowView, Surface}
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -241,10 +243,20 @@ fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: 
 
 // EVSM2, EVSM4 or MSM in a cascade with a fixed softness: one bilinear fetch of the
 // moments pre-blurred by `moment_blur` and the technique's bound at the receiver's moment
-// depth (`cascade_moment_depth`).
+// depth (`cascade_moment_depth`); a paged level's through the page table (lit where the page
+// is missing).
 fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
     let view = shadow_views.items[light.first_view + index];
-    let moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
+    var moments: vec4<f32>;
+    if p.page.z > 0.0 {
+        let at = page_uv(p.page, p.layer, p.texel, p.uv);
+        if at.x < 0.0 {
+            return 1.0;
+        }
+        moments = textureSampleLevel(page_moments, moments_sampler, at, 0, 0.0);
+    } else {
+        moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
+    }
     let depth = cascade_moment_depth(view, p.depth);
     return moments_bound(light, view, moments, depth, moments_min_variance(light, view, p));
 }
@@ -257,14 +269,18 @@ struct PagedPick {
 }
 
 // A receiver projected into a paged sun's level `index`, if every page under its filter's
-// footprint (the PCF kernel, or PCSS's widest search) is resident there; `view_count` as the
-// index when one is not.
+// footprint (the PCF kernel, PCSS's widest search, or a moment filter's bilinear tap: its
+// moments are blurred within their page) is resident there; `view_count` as the index when
+// one is not.
 fn paged_try(light: Light, index: u32, surface: Surface) -> PagedPick {
     let pcss = light.shadow_filter == SHADOW_FILTER_PCSS;
-    let texels = select(f32(min(light.pcf_radius, 5u)) + 2.0, MAX_PENUMBRA_TEXELS + 2.0, pcss);
+    var texels = select(f32(min(light.pcf_radius, 5u)) + 2.0, MAX_PENUMBRA_TEXELS + 2.0, pcss);
+    if light.shadow_filter >= SHADOW_FILTER_EVSM2 {
+        texels = 2.0;
+    }
     let view = shadow_views.items[light.first_view + index];
     var p = project_to_cascade(light, index, surface.position, surface.normal);
-    p.page = vec4<f32>(view.exponents, view.range.w, 0.0);
+    p.page = view.page;
     let resident = footprint_resident(p.page, p.layer, p.texel, p.uv, texels * p.texel);
     return PagedPick(select(light.view_count, index, resident), p);
 }

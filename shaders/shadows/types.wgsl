@@ -66,10 +66,12 @@ struct ShadowView {
     layer: u32,
     // 1 / side of the view's shadow map in texels.
     texel_size: f32,
-    // A sun's moments (EVSM): this cascade's positive and negative warp exponents. A paged
-    // clipmap level (penumbra::shadows::pages): the grid page of its window's first page,
-    // with `range.w` its page side in texels and `layer` its level in the page table.
+    // A sun's moments (EVSM): this cascade's positive and negative warp exponents.
     exponents: vec2<f32>,
+    // A paged clipmap level (penumbra::shadows::page_table): xy the grid page of its window's
+    // first page, z its page side in texels (0: not paged); `layer` is then its level in the
+    // page table.
+    page: vec4<f32>,
 }
 
 // The Poisson-disk tap patterns (unit disc), two taps per vec4 (xy, then zw). Filled from

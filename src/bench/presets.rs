@@ -220,6 +220,14 @@ pub fn presets() -> Vec<Preset> {
                 pcss(s, PcssQuality::Medium);
             },
         },
+        Preset {
+            name: "pages-evsm",
+            description: "a sun's virtual clipmap (6 levels of 16384², the finest 32 m; 2048 pages of 128²) with 32-bit EVSM2, blurred within each page",
+            apply: |s| {
+                s.map.layout = SunLayout::virtual_clipmap();
+                moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
+            },
+        },
     ]
 }
 

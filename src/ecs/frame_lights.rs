@@ -36,7 +36,7 @@ use crate::math::light_budget::{
 use crate::math::pages::{PageLayout, snap_to_pages};
 use crate::math::point::point_view;
 use crate::math::spot::spot_view;
-use crate::settings::{ShadowMode, ShadowSettings, SunLayout};
+use crate::settings::{ShadowSettings, SunLayout};
 use crate::text::echoed;
 
 /// Reused buffers of [`update_frame_lights`]. Candidates are identified by their index in
@@ -123,10 +123,10 @@ pub fn update_frame_lights(
         }
         // NOTE: every pass reads the technique the light is filtered with, not the one asked.
         settings.filter.mode = settings.filter.mode.effective(true);
-        // NOTE: pages hold depth only: a moment filter falls back to PCF.
-        let paged = matches!(settings.map.layout, SunLayout::VirtualClipmap { .. });
-        if paged && !matches!(settings.filter.mode, ShadowMode::Pcf | ShadowMode::Pcss) {
-            settings.filter.mode = ShadowMode::Pcf;
+        // NOTE: a paged sun's moments have no mips: contact hardening falls back to the
+        // fixed blur.
+        if matches!(settings.map.layout, SunLayout::VirtualClipmap { .. }) {
+            settings.filter.moments.contact_hardening = false;
         }
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {

@@ -22,7 +22,7 @@ use crate::math::evsm::MomentPrecision;
 use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
 use crate::math::shadow_memory::{
     BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
-    fit_budget_into, storage_index,
+    cascade_moment_format, fit_budget_into, storage_index,
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::text::format_bytes;
@@ -183,6 +183,20 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
     }
 }
 
+/// Bytes of a paged sun's pool with `settings` on a device with `support`: the atlas of depth
+/// and, for a moment filter, its moments laid out the same (0 for another layout).
+fn page_bytes(settings: &ShadowSettings, support: MomentSupport) -> u64 {
+    let depth = settings.map.layout.pool_bytes();
+    let moments = match moment_use(LightKind::Directional, settings, support.fp32_filterable) {
+        MomentUse::Sun { msm, fp32, .. } => {
+            cascade_moment_format([(msm, fp32)], support).map_or(0, |f| f.texel_bytes())
+        }
+        _ => 0,
+    };
+    // NOTE: the depth atlas holds 4 bytes a texel.
+    depth + depth / 4 * moments
+}
+
 /// The request of shadowed light `id` (the renderer's light order) and its entity; `paged`
 /// says it is the sun whose levels are paged (its memory is its pool: it asks for no view).
 fn request(
@@ -223,7 +237,12 @@ fn request(
         kind,
         resolution,
         views,
-        moments: moment_use(kind, settings, fp32),
+        // NOTE: a paged sun's moments are in its pool's bytes.
+        moments: if paged {
+            MomentUse::None
+        } else {
+            moment_use(kind, settings, fp32)
+        },
         coverage,
         scrolls: kind == LightKind::Directional && !paged && settings.map.layout.clipmap_levels().is_some(),
     };
@@ -249,8 +268,10 @@ pub fn apply_memory_budget(
     for (k, &id) in shadowed.iter().enumerate() {
         // NOTE: the first shadowed sun with a virtual clipmap is paged (as `frame_lights`
         // chooses); another is a plain clipmap.
-        let layout = lights.suns.get(id).map(|s| s.settings.map.layout);
-        let pool = layout.map_or(0, |l| l.pool_bytes());
+        let pool = lights
+            .suns
+            .get(id)
+            .map_or(0, |s| page_bytes(&s.settings, budget.costs.support));
         let paged = pool > 0 && scratch.pool.is_none();
         if paged {
             scratch.pool = Some((pool, k));

@@ -58,6 +58,9 @@ pub enum StorageMoments {
     /// EVSM2, EVSM4 or MSM of each redrawn view, filtered into mips (the cascade moments
     /// pass).
     Baked,
+    /// EVSM2, EVSM4 or MSM of a paged sun's drawn pages, baked by the pages node into an
+    /// atlas laid out as the pool's (no mips).
+    Paged,
     /// None: its lights filter depth only (its moments binding holds a 1×1 stand-in).
     None,
 }
@@ -140,10 +143,10 @@ const PAGES: StorageDesc = StorageDesc {
     view_word: "level",
     maps_binding: "page_atlas",
     moments_binding: "page_moments",
-    doc: "The pool of a paged clipmap: its resident pages side by side in one layer (`page_table` finds them).",
+    doc: "The pool of a paged clipmap: its resident pages side by side in one layer (`page_table` finds them); its moments (EVSM2, EVSM4 or MSM) laid out the same.",
     cube: false,
     single_pass: false,
-    moments: StorageMoments::None,
+    moments: StorageMoments::Paged,
     paged: true,
 };
 

@@ -171,6 +171,7 @@ mod tests {
                         ("layer", offset_of!(ShadowViewGpu, layer)),
                         ("texel_size", offset_of!(ShadowViewGpu, texel_size)),
                         ("exponents", offset_of!(ShadowViewGpu, exponents)),
+                        ("page", offset_of!(ShadowViewGpu, page)),
                     ],
                     size_of::<ShadowViewGpu>(),
                 ),

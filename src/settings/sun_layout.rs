@@ -32,7 +32,8 @@ pub enum SunLayout {
     /// power of two) cut into pages of `page_size`² texels (64–512, a power of two); only
     /// the pages some visible pixel reads get one of the `pool_pages` pages of a shared pool
     /// and are drawn, and a page stays drawn until a caster over it moves or the light turns.
-    /// Filtered with PCF or PCSS (a moment filter falls back to PCF). One sun per frame is
+    /// Every filter works on it; EVSM and MSM blur their moments within each page, with a
+    /// fixed blur (`moments.blur`: pages hold no mips for contact hardening). One sun per frame is
     /// paged: a second paged sun is drawn as a plain clipmap.
     VirtualClipmap {
         /// Number of levels, 1–8 (6 when a file leaves it out).

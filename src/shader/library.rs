@@ -350,9 +350,20 @@ impl ShaderLibrary {
     /// The sun's moments shader (`resolve` and `blur`: EVSM2, EVSM4 or MSM from the depth
     /// cascades), writing moments in `format` (`Rgba32Float`, `Rgba16Unorm` or `Rgba16Float`).
     pub fn cascade_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
+        self.sun_moments(format, false)
+    }
+
+    /// The paged sun's moments bake (`page_bake`: the drawn pages' moments, blurred within
+    /// each page), writing moments in `format` as [`cascade_moments`](Self::cascade_moments).
+    pub fn page_moments(&mut self, format: wgpu::TextureFormat) -> Result<naga::Module, ShaderError> {
+        self.sun_moments(format, true)
+    }
+
+    fn sun_moments(&mut self, format: wgpu::TextureFormat, pages: bool) -> Result<naga::Module, ShaderError> {
         let defs = defs_of([
             ("MOMENTS_RGBA32", format == wgpu::TextureFormat::Rgba32Float),
             ("MOMENTS_RGBA16_UNORM", format == wgpu::TextureFormat::Rgba16Unorm),
+            ("PAGES", pages),
         ]);
         self.compose(CASCADE_MOMENTS.file, CASCADE_MOMENTS.source, defs)
     }

@@ -8,7 +8,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::{ShadowView, ShadowViews};
 use crate::render::shadows::sun_moments::{
-    MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised,
+    MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised, paged_moment_format,
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 
@@ -81,9 +81,11 @@ pub struct ShadowViewGpu {
     pub layer: u32,
     /// 1 / side of its map.
     pub texel_size: f32,
-    /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade. A
-    /// paged level: the grid page of its window's first page (and `range.w` its page side).
+    /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade.
     pub exponents: Vec2,
+    /// A paged level: xy the grid page of its window's first page, z its page side in texels
+    /// (0 for a view that is not paged).
+    pub page: Vec4,
 }
 
 /// Mirror of WGSL `CasterView` in `caster.wgsl`, padded to the 256-byte dynamic-offset
@@ -151,8 +153,15 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
 /// at its views in `views`; `support`: the moment formats of the device.
 pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSupport, out: &mut Vec<LightGpu>) {
     out.clear();
-    let moments_format = cascade_moment_format(lights, support).unwrap_or(wgpu::TextureFormat::Rgba16Float);
+    let cascade_format = cascade_moment_format(lights, support).unwrap_or(wgpu::TextureFormat::Rgba16Float);
+    let paged_format = paged_moment_format(lights, support).unwrap_or(cascade_format);
     for sun in &lights.suns {
+        // NOTE: a paged sun's moments are in its pool's format.
+        let moments_format = if sun.paged.is_some() {
+            paged_format
+        } else {
+            cascade_format
+        };
         let (filter, mut flags) = filter_and_flags(&sun.settings, false);
         let s = &sun.settings;
         let set = &sun.cascades;
@@ -281,11 +290,12 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
         .sun_at(view.light)
         .and_then(|sun| cascade_moments(sun, view.kind.index as usize, support.fp32_filterable));
     if let Some(page) = view.shading.page {
-        // NOTE: a paged level is its whole virtual window (`penumbra::shadows::pages`).
+        // NOTE: a paged level is its whole virtual window (`penumbra::shadows::page_table`).
         gpu.rect = Vec4::new(0.0, 0.0, 1.0, 1.0);
-        gpu.exponents = page.first_page.as_vec2();
-        gpu.range.w = page.page_size as f32;
-    } else if let Some(m) = baked {
+        let first = page.first_page.as_vec2();
+        gpu.page = Vec4::new(first.x, first.y, page.page_size as f32, 0.0);
+    }
+    if let Some(m) = baked {
         gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
         gpu.range.w = m.depth_start;
     }

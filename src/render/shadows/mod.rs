@@ -18,6 +18,7 @@ pub mod moments_pass;
 pub mod page_allocate;
 pub mod page_changes;
 pub mod page_mark;
+pub mod page_moments;
 pub mod page_pool;
 pub mod page_render;
 pub mod pages_pass;
@@ -50,7 +51,9 @@ use crate::render::shadows::page_allocate::EntryGpu;
 use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::{cascade_moment_format, sun_moment_blur, sun_moment_mips};
+use crate::render::shadows::sun_moments::{
+    cascade_moment_format, paged_moment_format, sun_moment_blur, sun_moment_mips,
+};
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
@@ -391,6 +394,20 @@ impl ShadowResources {
                     false,
                     blur,
                 ));
+                counters.shadow_maps += 1;
+                rebuild = true;
+            }
+        }
+        // NOTE: a paged sun's moments lie as its pool's pages do, one mip, no blur scratch.
+        for kind in ShadowStorage::with_moments(StorageMoments::Paged) {
+            let (Some(format), Some(key)) = (paged_moment_format(lights, support), pool) else {
+                continue;
+            };
+            let side = key.atlas_side();
+            let moments = &mut self.moments[kind.index()];
+            if moments.needs(side, 1, false) || moments.moments.texture.format() != format {
+                let label = kind.desc().moments_label;
+                *moments = Arc::new(MomentArray::new(device, label, format, (side, 1, 1), false, false));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

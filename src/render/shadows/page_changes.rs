@@ -1,6 +1,6 @@
 //! What a paged sun's pages must be drawn again for, found on the CPU each frame by
-//! comparing the frame with the last: every page when the light turned or a level's depth
-//! range or texel changed (or the casters were rebuilt); otherwise, for each caster that moved,
+//! comparing the frame with the last: every page when the light turned, a level's depth
+//! range or texel or its moments' parameters changed (or the casters were rebuilt); otherwise, for each caster that moved,
 //! the pages of each level its bounding sphere covered before and covers now. The allocator's
 //! invalidation pass ([`PageAllocator::record_invalidation`](crate::render::shadows::page_allocate::PageAllocator::record_invalidation))
 //! then marks those of them that are resident for drawing.
@@ -9,6 +9,7 @@ use glam::{DVec2, Mat3, Mat4, Vec4};
 
 use crate::math::pages::{PageLayout, PageRect, PagedLevel};
 use crate::render::shadows::page_allocate::MAX_INVALIDATIONS;
+use crate::render::shadows::sun_moments::CascadeMoments;
 
 /// One caster as the comparison sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,6 +29,8 @@ pub struct PagedFrame {
     pub levels: Vec<(Mat4, PagedLevel)>,
     /// The casters, in instance order.
     pub casters: Vec<TrackedCaster>,
+    /// How each level's moments are baked (empty while the sun filters no moments).
+    pub moments: Vec<CascadeMoments>,
 }
 
 /// The pages to draw again this frame.
@@ -72,7 +75,12 @@ pub fn invalidation(layout: &PageLayout, last: Option<&PagedFrame>, now: &PagedF
         all: true,
         rects: Vec::new(),
     };
-    if last.light_rotation != now.light_rotation || !levels_kept || last.casters.len() != now.casters.len() {
+    let moments_kept = last.moments == now.moments;
+    if last.light_rotation != now.light_rotation
+        || !levels_kept
+        || !moments_kept
+        || last.casters.len() != now.casters.len()
+    {
         return everything;
     }
     let mut out = Invalidation::default();
@@ -118,6 +126,7 @@ mod tests {
                     sphere: c.extend(0.5),
                 })
                 .collect(),
+            moments: Vec::new(),
         }
     }
 
@@ -149,12 +158,22 @@ mod tests {
     }
 
     #[test]
-    fn a_turned_light_or_a_new_caster_count_invalidates_everything() {
+    fn a_turned_light_a_new_caster_count_or_new_moments_invalidate_everything() {
         let layout = PageLayout::new(4096, 128).unwrap();
         let a = frame(&[Vec3::ZERO]);
         let mut turned = a.clone();
         turned.light_rotation = Mat3::from_rotation_x(0.01);
         assert!(invalidation(&layout, Some(&a), &turned).all);
         assert!(invalidation(&layout, Some(&a), &frame(&[Vec3::ZERO, Vec3::X])).all);
+        let mut evsm = a.clone();
+        evsm.moments.push(CascadeMoments {
+            blur_texels: 2.0,
+            ..CascadeMoments::default()
+        });
+        assert!(invalidation(&layout, Some(&a), &evsm).all);
+        let mut blurred = evsm.clone();
+        blurred.moments[0].blur_texels = 3.0;
+        assert!(invalidation(&layout, Some(&evsm), &blurred).all);
+        assert!(invalidation(&layout, Some(&evsm), &evsm).is_empty());
     }
 }

@@ -10,7 +10,12 @@ use crate::settings::SunLayout;
 use crate::shader::ShaderLibrary;
 
 /// Names of the page passes' timings, in order.
-pub const PAGE_PASSES: [&str; 3] = ["shadow page marking", "shadow page allocation", "shadow page drawing"];
+pub const PAGE_PASSES: [&str; 4] = [
+    "shadow page marking",
+    "shadow page allocation",
+    "shadow page drawing",
+    "shadow page moments",
+];
 
 /// What a pool is made for.
 #[derive(Clone, Copy, Debug, PartialEq)]

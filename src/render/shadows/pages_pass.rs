@@ -19,11 +19,14 @@ use crate::math::pages::{MarkRule, PagedLevel, pixel_per_depth};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
+use crate::render::shadows::page_allocate::MAX_PAGED_LEVELS;
 use crate::render::shadows::page_changes::{PagedFrame, TrackedCaster, invalidation};
 use crate::render::shadows::page_mark::{MarkInput, PageMark};
+use crate::render::shadows::page_moments::PageMoments;
 use crate::render::shadows::page_pool::{PAGE_PASSES, PoolKey};
 use crate::render::shadows::page_render::{PageCaster, PageRenderer, PageScene};
 use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::sun_moments::{cascade_moments, paged_moment_format};
 use crate::settings::{ShadowBias, ShadowMode};
 use crate::shader::contract::MAX_PENUMBRA_TEXELS;
 
@@ -75,6 +78,8 @@ struct Frame {
 pub struct PagesPass {
     /// The marking, and whether it reads a multisampled depth.
     mark: Option<(bool, PageMark)>,
+    /// The moments bake of a paged sun that filters moments.
+    moments: Option<PageMoments>,
     renderer: Option<(RendererKey, PageRenderer)>,
     frame: Option<Frame>,
     /// What the last recorded frame's pages were drawn from (None: nothing drawn yet).
@@ -90,11 +95,13 @@ pub struct PagesPass {
 }
 
 /// The filter footprint a paged sun's receivers mark, as `paged_level` in
-/// `penumbra::shadows::cascades` checks it: the PCF kernel (at most 5) and a bilinear tap, or
-/// PCSS's widest search.
+/// `penumbra::shadows::cascades` checks it: the PCF kernel (at most 5) and a bilinear tap,
+/// PCSS's widest search, or a moment filter's bilinear tap.
 pub fn mark_radius(mode: ShadowMode, pcf_radius: u32) -> f64 {
     match mode {
         ShadowMode::Pcss => f64::from(MAX_PENUMBRA_TEXELS) + 2.0,
+        // NOTE: the moments are blurred within their page: a receiver reads a bilinear tap.
+        ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm | ShadowMode::Vsm => 2.0,
         _ => f64::from(pcf_radius.min(5)) + 2.0,
     }
 }
@@ -116,6 +123,7 @@ impl RenderNode for PagesPass {
         let mut meshes = std::mem::take(&mut self.spare_meshes);
         now.levels.clear();
         now.casters.clear();
+        now.moments.clear();
         meshes.clear();
         now.light_rotation = sun.cascades.light_rotation;
         // NOTE: the sun's layout pushes its levels in order.
@@ -149,6 +157,7 @@ impl RenderNode for PagesPass {
         let s = &sun.settings;
         pass.read(depth);
         pass.write(frame.maps(ShadowStorage::Pages));
+        pass.write(frame.moments(ShadowStorage::Pages));
         self.frame = Some(Frame {
             depth,
             atlas: frame.maps(ShadowStorage::Pages),
@@ -172,11 +181,18 @@ impl RenderNode for PagesPass {
     }
 
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(frame), Some(pool), Some((vertices, indices))) =
+        let (Some(mut frame), Some(pool), Some((vertices, indices))) =
             (self.frame.take(), ctx.shadows.pages.as_ref(), ctx.scene.mesh_buffers())
         else {
             return;
         };
+        let support = ctx.gpu.moment_support();
+        let format = paged_moment_format(ctx.lights, support);
+        if let (Some(sun), Some(_)) = (ctx.lights.paged_sun(), format) {
+            let count = frame.now.levels.len().min(MAX_PAGED_LEVELS);
+            let moments = (0..count).map_while(|l| cascade_moments(sun, l, support.fp32_filterable));
+            frame.now.moments.extend(moments);
+        }
         let (device, queue) = (&ctx.gpu.device, &ctx.gpu.queue);
         let allocator = &pool.allocator;
         let layout = pool.key.layout;
@@ -276,6 +292,25 @@ impl RenderNode for PagesPass {
         };
         let timestamps = ctx.timer.pass(PAGE_PASSES[2]);
         renderer.record((queue, encoder), allocator, &scene, timestamps);
+        let moments = ctx.shadows.moments(ShadowStorage::Pages);
+        if let Some(format) = format.filter(|_| moments.side == atlas.side && !frame.now.moments.is_empty()) {
+            if self.moments.as_ref().is_none_or(|m| m.format != format) {
+                self.moments = Some(PageMoments::new(device, ctx.library, format));
+            }
+            if let Some(bake) = self.moments.as_mut() {
+                let timestamps = ctx.timer.compute_pass(PAGE_PASSES[3]);
+                let size = (pool.key.tiles(), layout.page_size);
+                let levels = &frame.now.moments;
+                bake.record(
+                    (device, queue, encoder),
+                    allocator,
+                    (&atlas, moments),
+                    size,
+                    levels,
+                    timestamps,
+                );
+            }
+        }
         self.keep(pool.key, frame);
     }
 }

@@ -15,7 +15,7 @@ use crate::settings::{MAX_MOMENT_BLUR_TEXELS, ShadowMode};
 use crate::shader::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 
 /// How one cascade's moments are baked and tested.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CascadeMoments {
     /// `SHADOW_FILTER_EVSM2`, `SHADOW_FILTER_EVSM4` or `SHADOW_FILTER_MSM`.
     pub technique: u32,
@@ -60,6 +60,11 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     let technique = technique(sun)?;
     let cascades = sun.cascades.active();
     let cascade = cascades.get(index)?;
+    // NOTE: a paged sun's moments cover each level's whole depth, not its receivers' span
+    // (which moves with the camera): a page baked in an earlier frame is read with the same
+    // parameters as one baked now.
+    let paged = sun.paged.is_some();
+    let span_of = |c: &Cascade| if paged { c.depth_range } else { receiver_span(c) };
     let precision = sun_precision(sun, fp32_filterable);
     let s = &sun.settings;
     let format_max = precision.exponent();
@@ -73,10 +78,10 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
     // the scene's casters), so 16-bit moments keep enough warp to shadow contacts.
     let deepest = cascades
         .iter()
-        .map(receiver_span)
+        .map(span_of)
         .filter(|r| r.is_finite() && *r > 0.0)
         .fold(0.0, f32::max);
-    let span = receiver_span(cascade);
+    let span = span_of(cascade);
     Some(CascadeMoments {
         technique,
         c_positive: if s.filter.moments.contact_hardening {
@@ -99,7 +104,11 @@ pub fn cascade_moments(sun: &SunView, index: usize, fp32_filterable: bool) -> Op
         } else {
             cascade_blur_texels(s.filter.moments.blur, cascade.texel_world_size, MAX_MOMENT_BLUR_TEXELS)
         },
-        depth_start: cascade.receiver_start.clamp(0.0, MAX_DEPTH_START),
+        depth_start: if paged {
+            0.0
+        } else {
+            cascade.receiver_start.clamp(0.0, MAX_DEPTH_START)
+        },
         variance_down: precision == MomentPrecision::Fp16 && !s.filter.moments.contact_hardening,
     })
 }
@@ -113,13 +122,16 @@ fn receiver_span(cascade: &Cascade) -> f32 {
 /// the box's depth.
 pub const MAX_DEPTH_START: f32 = 0.999;
 
+/// The shadowed suns whose moments the cascade moments pass bakes: those with cascades or
+/// a plain clipmap (a paged sun's moments are baked per page).
+fn cascade_suns(lights: &FrameLights) -> impl Iterator<Item = &SunView> {
+    lights.suns.iter().filter(|s| s.cascades.count > 0 && s.paged.is_none())
+}
+
 /// True when a shadowed sun that filters moments blurs them (the bake then needs its scratch).
 pub fn sun_moment_blur(lights: &FrameLights) -> bool {
-    lights.suns.iter().any(|s| {
-        s.cascades.count > 0
-            && technique(s).is_some()
-            && !s.settings.filter.moments.contact_hardening
-            && s.settings.filter.moments.blur > 0.0
+    cascade_suns(lights).any(|s| {
+        technique(s).is_some() && !s.settings.filter.moments.contact_hardening && s.settings.filter.moments.blur > 0.0
     })
 }
 
@@ -134,10 +146,7 @@ pub fn msm_quantised(format: wgpu::TextureFormat) -> bool {
 /// hardening's widest filter ([`MOMENT_MIPS`]) while a shadowed sun filters MSM with it, else
 /// 1 (EVSM keeps a fixed blur).
 pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
-    let hardening = lights
-        .suns
-        .iter()
-        .any(|s| s.cascades.count > 0 && technique(s).is_some() && s.settings.filter.moments.contact_hardening);
+    let hardening = cascade_suns(lights).any(|s| technique(s).is_some() && s.settings.filter.moments.contact_hardening);
     if hardening { hardening_mips(side) } else { 1 }
 }
 
@@ -151,18 +160,28 @@ pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {
     }
 }
 
-/// True when a shadowed sun filters moments this frame (the bake has work).
+/// True when a shadowed sun with cascades (or a plain clipmap) filters moments this frame
+/// (the cascade moments pass has work).
 pub fn any_sun_moments(lights: &FrameLights) -> bool {
-    lights
-        .suns
-        .iter()
-        .any(|s| s.cascades.count > 0 && technique(s).is_some())
+    cascade_suns(lights).any(|s| technique(s).is_some())
 }
 
-/// The format of the cascades' moments this frame, None while no shadowed sun filters
-/// moments ([`shadow_memory::cascade_moment_format`] over the shadowed suns).
+/// The format of the cascades' moments this frame, None while no shadowed sun with cascades
+/// (or a plain clipmap) filters moments.
 pub fn cascade_moment_format(lights: &FrameLights, support: MomentSupport) -> Option<wgpu::TextureFormat> {
-    let suns = lights.suns.iter().filter(|s| s.cascades.count > 0).filter_map(|sun| {
+    moment_format(cascade_suns(lights), support)
+}
+
+/// The format of the paged sun's moments this frame, None without a paged sun that filters
+/// moments.
+pub fn paged_moment_format(lights: &FrameLights, support: MomentSupport) -> Option<wgpu::TextureFormat> {
+    moment_format(lights.paged_sun().into_iter(), support)
+}
+
+/// The format that holds the moments of `suns` ([`shadow_memory::cascade_moment_format`]),
+/// None while none of them filters moments.
+fn moment_format<'a>(suns: impl Iterator<Item = &'a SunView>, support: MomentSupport) -> Option<wgpu::TextureFormat> {
+    let suns = suns.filter_map(|sun| {
         let technique = technique(sun)?;
         let fp32 = sun_precision(sun, support.fp32_filterable) == MomentPrecision::Fp32;
         Some((technique == SHADOW_FILTER_MSM, fp32))

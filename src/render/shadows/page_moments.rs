@@ -1,0 +1,229 @@
+//! A paged sun's moments (EVSM2, EVSM4, MSM) on the GPU (`page_bake` of
+//! `shaders/shadow_cascade_moments.wgsl` with `PAGES`): after the pages are drawn, every page
+//! drawn this frame (the allocation's list) is turned into moments and blurred in one
+//! dispatch, indirect like the drawing (a row of workgroups per listed page), into the
+//! moments atlas laid out as the pool's. Each level is baked with the parameters the plain
+//! clipmap's level would have ([`cascade_moments`](crate::render::shadows::sun_moments::cascade_moments));
+//! a page's blur stops at its edge (taps past it repeat its edge texels), so a page never
+//! depends on a neighbour that may not be resident. A page that is not drawn again keeps its
+//! moments, as it keeps its depth.
+
+use std::borrow::Cow;
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::render::layouts::entry;
+use crate::render::shadows::jobs::{compute_pipeline, moments_out_entry, storage_entry, uniform_entry};
+use crate::render::shadows::moment_storage::MomentArray;
+use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
+use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::sun_moments::CascadeMoments;
+use crate::shader::ShaderLibrary;
+
+/// Mirror of WGSL `PageLevelMoments`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct LevelGpu {
+    technique: u32,
+    c_positive: f32,
+    c_negative: f32,
+    radius: f32,
+    depth_start: f32,
+    variance_down: u32,
+    _pad: [u32; 2],
+}
+
+/// Mirror of WGSL `PageMoments`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct PageMomentsGpu {
+    tiles: u32,
+    page_size: u32,
+    _pad: [u32; 2],
+    level: [LevelGpu; MAX_PAGED_LEVELS],
+}
+
+/// Texels per side of a workgroup of the bake.
+const BLOCK: u32 = 8;
+
+/// The bake's pipeline for one moments format, its uniforms and indirect dispatch.
+pub struct PageMoments {
+    /// The format the moments are written in.
+    pub format: wgpu::TextureFormat,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    /// The dispatch: a workgroup per 8×8 block of a page, a row per page drawn.
+    args: wgpu::Buffer,
+    /// The group and the atlas and moments it binds (their ids).
+    group: Option<((u64, u64), wgpu::BindGroup)>,
+}
+
+impl PageMoments {
+    /// The bake writing moments in `format`.
+    pub fn new(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Self {
+        let module = library
+            .page_moments(format)
+            .expect("the shipped page moments shader composes (checked by tests)");
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("page moments"),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page moments"),
+            entries: &[
+                entry(
+                    0,
+                    compute,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+                moments_out_entry(format),
+                uniform_entry(2, compute, false, size_of::<PageMomentsGpu>() as u64),
+                storage_entry(3, compute, true),
+                storage_entry(4, compute, true),
+            ],
+        });
+        let pipeline = compute_pipeline(device, "page moments", &shader, &layout, "page_bake");
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("page moments"),
+            size: size_of::<PageMomentsGpu>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let args = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("page moments dispatch"),
+            size: 16,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            format,
+            pipeline,
+            layout,
+            uniforms,
+            args,
+            group: None,
+        }
+    }
+
+    /// Records the bake of the pages `allocator` listed for drawing this frame, from `atlas`
+    /// into `moments` (both `tiles` pages of `page_size` texels a side), level `l` baked as
+    /// `levels[l]` says; timed by `timestamps`.
+    pub fn record(
+        &mut self,
+        (device, queue, encoder): (&wgpu::Device, &wgpu::Queue, &mut wgpu::CommandEncoder),
+        allocator: &PageAllocator,
+        (atlas, moments): (&DepthArray, &MomentArray),
+        (tiles, page_size): (u32, u32),
+        levels: &[CascadeMoments],
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut data = PageMomentsGpu {
+            tiles,
+            page_size,
+            _pad: [0; 2],
+            level: [LevelGpu::default(); MAX_PAGED_LEVELS],
+        };
+        for (gpu, m) in data.level.iter_mut().zip(levels) {
+            *gpu = LevelGpu {
+                technique: m.technique,
+                c_positive: m.c_positive,
+                c_negative: m.c_negative,
+                radius: m.blur_texels,
+                depth_start: m.depth_start,
+                variance_down: u32::from(m.variance_down),
+                _pad: [0; 2],
+            };
+        }
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
+        let blocks = (page_size / BLOCK).pow(2);
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&[blocks, 0, 1, 0]));
+        let (draws, counters, _) = allocator.draw_buffers();
+        // NOTE: the rows are the allocation's count of pages drawn: a frame that draws none
+        // bakes none.
+        encoder.copy_buffer_to_buffer(counters, 4, &self.args, 4, 4);
+        let key = (atlas.id, moments.id);
+        if self.group.as_ref().is_none_or(|(k, _)| *k != key) {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("page moments"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&atlas.array_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(&moments.moments.storage),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: self.uniforms.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: draws.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: counters.as_entire_binding(),
+                    },
+                ],
+            });
+            self.group = Some((key, group));
+        }
+        let Some((_, group)) = &self.group else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("page moments"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups_indirect(&self.args, 0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::*;
+    use crate::render::shadows::jobs::layout_check::wgsl_layout;
+
+    #[test]
+    fn the_uniforms_match_the_wgsl_layout() {
+        let fields = |list: &[(&str, usize)]| list.iter().map(|(n, o)| (n.to_string(), *o)).collect::<Vec<_>>();
+        let module = ShaderLibrary::new()
+            .unwrap()
+            .page_moments(wgpu::TextureFormat::Rgba32Float)
+            .unwrap();
+        let top = [
+            ("tiles", offset_of!(PageMomentsGpu, tiles)),
+            ("page_size", offset_of!(PageMomentsGpu, page_size)),
+            ("level", offset_of!(PageMomentsGpu, level)),
+        ];
+        assert_eq!(
+            wgsl_layout(&module, "PageMoments"),
+            (fields(&top), size_of::<PageMomentsGpu>())
+        );
+        let level = [
+            ("technique", offset_of!(LevelGpu, technique)),
+            ("c_positive", offset_of!(LevelGpu, c_positive)),
+            ("c_negative", offset_of!(LevelGpu, c_negative)),
+            ("radius", offset_of!(LevelGpu, radius)),
+            ("depth_start", offset_of!(LevelGpu, depth_start)),
+            ("variance_down", offset_of!(LevelGpu, variance_down)),
+        ];
+        assert_eq!(
+            wgsl_layout(&module, "PageLevelMoments"),
+            (fields(&level), size_of::<LevelGpu>())
+        );
+    }
+}
