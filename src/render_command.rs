@@ -388,7 +388,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
     }
     let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
     println!("shadow views drawn per frame [{}]", drawn.join(", "));
-    print_pages(&result.frames, s.map.layout.pool_bytes());
+    print_pages(&result.frames, result.memory.pages);
     if result.frames.iter().any(|f| f.shadow_views_scrolled > 0) {
         let texels: Vec<String> = (result.frames.iter())
             .map(|f| format!("{} ({} scrolled)", f.shadow_drawn_texels, f.shadow_views_scrolled))
@@ -422,8 +422,8 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
     Ok(())
 }
 
-/// Prints what a paged sun's pages did each frame, and its pool's memory (nothing without a
-/// paged sun).
+/// Prints what a paged sun's pages did each frame, and its pool's memory (depth and any
+/// moments; nothing without a paged sun).
 fn print_pages(frames: &[penumbra::render::FrameReport], pool_bytes: u64) {
     let pages: Vec<_> = frames.iter().filter_map(|f| f.pages).collect();
     let Some(last) = pages.last() else {

@@ -104,7 +104,10 @@ fn layout_ui(ui: &mut Ui, s: &mut ShadowSettings) {
             power_of_two_ui(ui, page_size, (64, 512), "page texels");
             let most = max_pool_pages(*page_size);
             ui.add(Slider::new(pool_pages, 1..=most).logarithmic(true).text("pool pages"));
-            ui.label(format!("pool memory {:.1} MiB", pool as f64 / (1024.0 * 1024.0)));
+            ui.label(format!(
+                "pool memory {:.1} MiB of depth (moments add theirs)",
+                pool as f64 / (1024.0 * 1024.0)
+            ));
             return;
         }
     }
