@@ -13,9 +13,12 @@
 // EVSM2 stores its moments with their coverage, (o·w, o·w², o), o being 1 where a caster was
 // drawn and 0 in an empty texel, so the test can light a footprint's empty share.
 //
-// With PAGES, the one entry is `page_bake`: a paged sun's drawn pages (the allocation's
-// list) turned into moments and blurred in one step, each page on its own (taps past its
-// edge repeat its edge texels), into the moments atlas laid out as the pool's.
+// With PAGES, the entries are `page_bake`: a paged sun's drawn pages (the allocation's list)
+// turned into moments and blurred in one step, each page on its own (taps past its edge
+// repeat its edge texels), into the moments atlas laid out as the pool's; and, with contact
+// hardening, `page_downsample`: one mip level of those pages from the level before, each
+// page's tile averaged down on its own (an atlas of pages of a power-of-two side keeps its
+// tiles aligned at every level).
 //
 // Shader defs: MOMENTS_RGBA32 (the moments are `rgba32float`), MOMENTS_RGBA16_UNORM
 // (`rgba16unorm`: MSM only), else `rgba16float`; PAGES.
@@ -83,8 +86,19 @@ struct PageMoments {
 @group(0) @binding(3) var<storage, read> draws: array<vec2<u32>>;
 // y: the pages drawn this frame (the allocation's counters).
 @group(0) @binding(4) var<storage, read> counters: vec4<u32>;
+// The level before the one `page_downsample` writes.
+@group(0) @binding(5) var moments_in: texture_2d_array<f32>;
 // The job of the page being baked, filled from its level's entry.
 var<private> job: CascadeMomentsJob;
+
+// Fills `job` for the page of list entry `d` (its level's parameters; `size` its side).
+fn page_job(d: vec2<u32>, size: u32) {
+    let level = pages.level[min(d.x >> 24u, MAX_PAGED_LEVELS - 1u)];
+    job = CascadeMomentsJob(
+        0u, 0u, size, level.technique, level.c_positive, level.c_negative, level.radius, 0u,
+        level.depth_start, level.variance_down,
+    );
+}
 #else
 @group(0) @binding(2) var<uniform> job: CascadeMomentsJob;
 @group(0) @binding(3) var moments_in: texture_2d_array<f32>;
@@ -160,12 +174,8 @@ fn page_bake(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_
         return;
     }
     let d = draws[group.y];
-    let level = pages.level[min(d.x >> 24u, MAX_PAGED_LEVELS - 1u)];
     let size = pages.page_size;
-    job = CascadeMomentsJob(
-        0u, 0u, size, level.technique, level.c_positive, level.c_negative, level.radius, 0u,
-        level.depth_start, level.variance_down,
-    );
+    page_job(d, size);
     let blocks = size / 8u;
     let at = vec2<i32>(vec2<u32>(group.x % blocks, group.x / blocks) * 8u + local.xy);
     let tile = vec2<i32>(vec2<u32>(d.y % pages.tiles, d.y / pages.tiles) * size);
@@ -185,6 +195,30 @@ fn page_bake(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_
         }
     }
     store_moments(vec2<u32>(tile + at), 0u, sum / weights);
+}
+
+// One mip level of the drawn page of list slot `group.y` (workgroup `group.x` of its 8×8
+// blocks): each texel the mean of the 2×2 texels it covers in the level before.
+@compute @workgroup_size(8, 8, 1)
+fn page_downsample(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    if group.y >= counters.y {
+        return;
+    }
+    let d = draws[group.y];
+    let size = max(textureDimensions(moments_out).x / pages.tiles, 1u);
+    page_job(d, size);
+    let blocks = max(size / 8u, 1u);
+    let at = vec2<u32>(group.x % blocks, group.x / blocks) * 8u + local.xy;
+    if any(at >= vec2<u32>(size)) {
+        return;
+    }
+    let texel = vec2<u32>(d.y % pages.tiles, d.y / pages.tiles) * size + at;
+    var sum = vec4<f32>(0.0);
+    for (var k = 0u; k < 4u; k++) {
+        let src = vec2<i32>(texel * 2u + vec2<u32>(k & 1u, k >> 1u));
+        sum += textureLoad(moments_in, src, 0, 0);
+    }
+    store_moments(texel, 0u, 0.25 * sum);
 }
 #else
 // Depth to moments: one invocation per texel of the cascade's view.

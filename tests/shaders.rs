@@ -170,7 +170,7 @@ fn the_cascade_and_page_moments_shaders_validate_in_every_moments_format() {
             .page_moments(format)
             .unwrap_or_else(|e| panic!("pages, {format:?}: {e}"));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entry_points, ["page_bake"]);
+        assert_eq!(entry_points, ["page_bake", "page_downsample"]);
     }
 }
 

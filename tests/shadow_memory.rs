@@ -223,12 +223,22 @@ fn a_paged_suns_pool_is_taken_from_the_budget_before_the_other_maps() {
         "{warning}"
     );
     assert_eq!(under.pages, pool, "the pool is kept: {:?}", under.lines());
-    // NOTE: with EVSM the pool holds 32-bit moments (16 bytes a texel) beside its depth.
-    let evsm = scene(
-        "layout: VirtualClipmap(pool_pages: 1000), mode: Evsm, moment_precision: Fp32",
-        &[],
+    // NOTE: with EVSM the pool holds 32-bit moments (16 bytes a texel) beside its depth, and
+    // with contact hardening their mips (4096² down to 64²).
+    let evsm = |hardening| {
+        let sun = format!(
+            "layout: VirtualClipmap(pool_pages: 1000), mode: Evsm, moment_precision: Fp32, moment_contact_hardening: {hardening}"
+        );
+        account(&scene(&sun, &[]), u64::MAX)
+    };
+    let fixed = evsm(false);
+    assert_eq!(
+        (fixed.pages, fixed.total()),
+        (pool * 5, pool * 5),
+        "{:?}",
+        fixed.lines()
     );
-    let account = account(&evsm, u64::MAX);
-    assert_eq!(account.pages, pool * 5, "{:?}", account.lines());
-    assert_eq!(account.total(), pool * 5, "{:?}", account.lines());
+    let mips: u64 = (0..7).map(|k| (4096u64 >> k).pow(2) * 16).sum();
+    let hardened = evsm(true);
+    assert_eq!(hardened.pages, pool + mips, "{:?}", hardened.lines());
 }

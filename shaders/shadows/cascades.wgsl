@@ -30,7 +30,7 @@
     evsm2_covered_visibility, evsm4_visibility, reduce_light_bleeding,
 }
 #import penumbra::shadows::msm::{msm_dequantize, msm_visibility}
-#import penumbra::shadows::page_table::{footprint_resident, page_uv}
+#import penumbra::shadows::page_table::{footprint_resident, page_uv_inset}
 #import penumbra::shadows::types::{Light, ShadowView, Surface}
 
 // Which cascade a fragment samples, and how far it is into the blend band towards the next.
@@ -211,6 +211,21 @@ fn moments_min_variance(light: Light, view: ShadowView, p: MapSample) -> f32 {
     return light.cone.z / (range * range) + 0.25 * dot(slope, slope);
 }
 
+// A sun's moments at `uv` (layer UV) of the receiver's cascade, filtered at mip `lod`: of the
+// cascades' array, or of a paged level's atlas through the page table, clamped inside the
+// page by half a texel of the coarser mip read (empty moments, which read as lit, where the
+// page is missing).
+fn sun_moments_at(p: MapSample, uv: vec2<f32>, lod: f32) -> vec4<f32> {
+    if p.page.z > 0.0 {
+        let at = page_uv_inset(p.page, p.layer, p.texel, uv, 0.5 * exp2(ceil(lod)));
+        if at.x < 0.0 {
+            return vec4<f32>(0.0);
+        }
+        return textureSampleLevel(page_moments, moments_sampler, at, 0, lod);
+    }
+    return textureSampleLevel(cascade_moments, moments_sampler, uv, p.layer, lod);
+}
+
 // Contact hardening for a sun's moments, sized by the sun as PCSS is: PCSS's blocker search
 // over the cascade's depth map gives the blockers' mean depth and so the penumbra's radius;
 // the moments are then filtered over that radius in one fetch per quarter of it (four
@@ -235,7 +250,7 @@ fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: 
     for (var i = 0u; i < 4u; i++) {
         let corner = vec2<f32>(select(-0.4, 0.4, (i & 1u) == 1u), select(-0.4, 0.4, i >= 2u));
         let offset = search.rotation * corner * radius * search.aspect;
-        sum += textureSampleLevel(cascade_moments, moments_sampler, p.uv + offset, p.layer, lod);
+        sum += sun_moments_at(p, p.uv + offset, lod);
     }
     let depth = cascade_moment_depth(view, p.depth);
     return moments_bound(light, view, 0.25 * sum, depth, moments_min_variance(light, view, p));
@@ -243,20 +258,10 @@ fn cascade_moments_hardened(light: Light, index: u32, p: MapSample, frag_coord: 
 
 // EVSM2, EVSM4 or MSM in a cascade with a fixed softness: one bilinear fetch of the
 // moments pre-blurred by `moment_blur` and the technique's bound at the receiver's moment
-// depth (`cascade_moment_depth`); a paged level's through the page table (lit where the page
-// is missing).
+// depth (`cascade_moment_depth`).
 fn cascade_moments_visibility(light: Light, index: u32, p: MapSample) -> f32 {
     let view = shadow_views.items[light.first_view + index];
-    var moments: vec4<f32>;
-    if p.page.z > 0.0 {
-        let at = page_uv(p.page, p.layer, p.texel, p.uv);
-        if at.x < 0.0 {
-            return 1.0;
-        }
-        moments = textureSampleLevel(page_moments, moments_sampler, at, 0, 0.0);
-    } else {
-        moments = textureSampleLevel(cascade_moments, moments_sampler, p.uv, p.layer, 0.0);
-    }
+    let moments = sun_moments_at(p, p.uv, 0.0);
     let depth = cascade_moment_depth(view, p.depth);
     return moments_bound(light, view, moments, depth, moments_min_variance(light, view, p));
 }
@@ -269,14 +274,17 @@ struct PagedPick {
 }
 
 // A receiver projected into a paged sun's level `index`, if every page under its filter's
-// footprint (the PCF kernel, PCSS's widest search, or a moment filter's bilinear tap: its
-// moments are blurred within their page) is resident there; `view_count` as the index when
+// footprint (the PCF kernel, PCSS's widest search, which contact hardening makes too, or a
+// fixed-blur moment filter's bilinear tap: its moments are blurred within their page) is
+// resident there; `view_count` as the index when
 // one is not.
 fn paged_try(light: Light, index: u32, surface: Surface) -> PagedPick {
     let pcss = light.shadow_filter == SHADOW_FILTER_PCSS;
     var texels = select(f32(min(light.pcf_radius, 5u)) + 2.0, MAX_PENUMBRA_TEXELS + 2.0, pcss);
     if light.shadow_filter >= SHADOW_FILTER_EVSM2 {
-        texels = 2.0;
+        // NOTE: contact hardening searches as PCSS does; a fixed blur reads one bilinear tap.
+        let hardening = (light.flags & SHADOW_FLAG_MOMENT_HARDENING) != 0u;
+        texels = select(2.0, MAX_PENUMBRA_TEXELS + 2.0, hardening);
     }
     let view = shadow_views.items[light.first_view + index];
     var p = project_to_cascade(light, index, surface.position, surface.normal);

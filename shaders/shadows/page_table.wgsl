@@ -14,6 +14,12 @@
 // resident. `page`: xy the grid page of the window's first page, z the page side in texels;
 // `level`: the level's place in the table; `texel`: 1 / the level's side in texels.
 fn page_uv(page: vec4<f32>, level: u32, texel: f32, uv: vec2<f32>) -> vec2<f32> {
+    return page_uv_inset(page, level, texel, uv, 0.5);
+}
+
+// `page_uv` clamped `inset` texels of the level inside the page: half a texel of the mip
+// level a bilinear tap reads (2^lod / 2) keeps it within the page's tile there.
+fn page_uv_inset(page: vec4<f32>, level: u32, texel: f32, uv: vec2<f32>, inset: f32) -> vec2<f32> {
     let side = round(1.0 / texel);
     let size = page.z;
     let n = side / size;
@@ -31,7 +37,7 @@ fn page_uv(page: vec4<f32>, level: u32, texel: f32, uv: vec2<f32>) -> vec2<f32> 
     let atlas = f32(textureDimensions(page_atlas).x);
     let tiles = u32(atlas / size);
     let tile = vec2<f32>(f32(entry.physical % tiles), f32(entry.physical / tiles));
-    let inside = clamp(t - local * size, vec2<f32>(0.5), vec2<f32>(size - 0.5));
+    let inside = clamp(t - local * size, vec2<f32>(inset), vec2<f32>(size - inset));
     return vec2<f32>(tile.x * size + inside.x, tile.y * size + size - inside.y) / atlas;
 }
 

@@ -123,11 +123,6 @@ pub fn update_frame_lights(
         }
         // NOTE: every pass reads the technique the light is filtered with, not the one asked.
         settings.filter.mode = settings.filter.mode.effective(true);
-        // NOTE: a paged sun's moments have no mips: contact hardening falls back to the
-        // fixed blur.
-        if matches!(settings.map.layout, SunLayout::VirtualClipmap { .. }) {
-            settings.filter.moments.contact_hardening = false;
-        }
         if light.shadows_enabled {
             scratch.candidates.push(LightCandidate {
                 id: lights.suns.len(),

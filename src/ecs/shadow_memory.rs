@@ -21,8 +21,8 @@ use crate::ecs::light_views::FrameLights;
 use crate::math::evsm::MomentPrecision;
 use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
 use crate::math::shadow_memory::{
-    BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MemoryCosts, MomentSupport, MomentUse, StorageBytes, alone_bytes,
-    cascade_moment_format, fit_budget_into, storage_index,
+    BudgetFit, LightRequest, MIN_BUDGET_RESOLUTION, MOMENT_MIPS, MemoryCosts, MomentSupport, MomentUse, StorageBytes,
+    alone_bytes, cascade_moment_format, fit_budget_into, storage_index,
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::text::format_bytes;
@@ -184,17 +184,24 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
 }
 
 /// Bytes of a paged sun's pool with `settings` on a device with `support`: the atlas of depth
-/// and, for a moment filter, its moments laid out the same (0 for another layout).
+/// and, for a moment filter, its moments laid out the same (with [`MOMENT_MIPS`] levels for
+/// contact hardening; 0 for another layout).
 fn page_bytes(settings: &ShadowSettings, support: MomentSupport) -> u64 {
-    let depth = settings.map.layout.pool_bytes();
-    let moments = match moment_use(LightKind::Directional, settings, support.fp32_filterable) {
-        MomentUse::Sun { msm, fp32, .. } => {
-            cascade_moment_format([(msm, fp32)], support).map_or(0, |f| f.texel_bytes())
+    let side = u64::from(settings.map.layout.pool_side());
+    let (texel, mips) = match moment_use(LightKind::Directional, settings, support.fp32_filterable) {
+        MomentUse::Sun {
+            msm, fp32, hardening, ..
+        } => {
+            let format = cascade_moment_format([(msm, fp32)], support);
+            (
+                format.map_or(0, |f| f.texel_bytes()),
+                if hardening { MOMENT_MIPS } else { 1 },
+            )
         }
-        _ => 0,
+        _ => (0, 1),
     };
-    // NOTE: the depth atlas holds 4 bytes a texel.
-    depth + depth / 4 * moments
+    let texels: u64 = (0..mips).map(|k| (side >> k).max(1).pow(2)).sum();
+    side * side * 4 + texels * texel
 }
 
 /// The request of shadowed light `id` (the renderer's light order) and its entity; `paged`

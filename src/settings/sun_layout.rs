@@ -32,8 +32,8 @@ pub enum SunLayout {
     /// power of two) cut into pages of `page_size`² texels (64–512, a power of two); only
     /// the pages some visible pixel reads get one of the `pool_pages` pages of a shared pool
     /// and are drawn, and a page stays drawn until a caster over it moves or the light turns.
-    /// Every filter works on it; EVSM and MSM blur their moments within each page, with a
-    /// fixed blur (`moments.blur`: pages hold no mips for contact hardening). One sun per frame is
+    /// Every filter works on it; EVSM and MSM bake their moments page by page (a fixed blur
+    /// stops at a page's edge; contact hardening averages each page down its own mips). One sun per frame is
     /// paged: a second paged sun is drawn as a plain clipmap.
     VirtualClipmap {
         /// Number of levels, 1–8 (6 when a file leaves it out).
@@ -112,13 +112,16 @@ impl SunLayout {
     /// Bytes of the shared page pool of a paged clipmap: its atlas, the smallest square of
     /// pages that holds `pool_pages`, at 32-bit depth (0 for other layouts).
     pub fn pool_bytes(&self) -> u64 {
+        let side = u64::from(self.pool_side());
+        side * side * 4
+    }
+
+    /// Texels per side of a paged clipmap's pool atlas (0 for other layouts).
+    pub fn pool_side(&self) -> u32 {
         match *self {
             SunLayout::VirtualClipmap {
                 page_size, pool_pages, ..
-            } => {
-                let side = u64::from(atlas_tiles(pool_pages) * page_size);
-                side * side * 4
-            }
+            } => atlas_tiles(pool_pages) * page_size,
             _ => 0,
         }
     }

@@ -52,7 +52,7 @@ use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::{
-    cascade_moment_format, paged_moment_format, sun_moment_blur, sun_moment_mips,
+    cascade_moment_format, paged_moment_format, paged_moment_mips, sun_moment_blur, sun_moment_mips,
 };
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
@@ -398,16 +398,19 @@ impl ShadowResources {
                 rebuild = true;
             }
         }
-        // NOTE: a paged sun's moments lie as its pool's pages do, one mip, no blur scratch.
+        // NOTE: a paged sun's moments lie as its pool's pages do, no blur scratch, with mips
+        // for contact hardening.
         for kind in ShadowStorage::with_moments(StorageMoments::Paged) {
             let (Some(format), Some(key)) = (paged_moment_format(lights, support), pool) else {
                 continue;
             };
             let side = key.atlas_side();
+            let mips = paged_moment_mips(lights);
             let moments = &mut self.moments[kind.index()];
-            if moments.needs(side, 1, false) || moments.moments.texture.format() != format {
+            let other = moments.moments.texture.format() != format || moments.mips() != mips;
+            if moments.needs(side, 1, false) || other {
                 let label = kind.desc().moments_label;
-                *moments = Arc::new(MomentArray::new(device, label, format, (side, 1, 1), false, false));
+                *moments = Arc::new(MomentArray::new(device, label, format, (side, 1, mips), false, false));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

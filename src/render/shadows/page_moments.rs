@@ -5,8 +5,10 @@
 //! moments atlas laid out as the pool's. Each level is baked with the parameters the plain
 //! clipmap's level would have ([`cascade_moments`](crate::render::shadows::sun_moments::cascade_moments));
 //! a page's blur stops at its edge (taps past it repeat its edge texels), so a page never
-//! depends on a neighbour that may not be resident. A page that is not drawn again keeps its
-//! moments, as it keeps its depth.
+//! depends on a neighbour that may not be resident. With contact hardening the moments are
+//! unblurred and each drawn page is averaged down the atlas's mip levels (`page_downsample`,
+//! a dispatch per level), tile by tile. A page that is not drawn again keeps its moments, as
+//! it keeps its depth.
 
 use std::borrow::Cow;
 
@@ -17,7 +19,7 @@ use crate::render::shadows::jobs::{compute_pipeline, moments_out_entry, storage_
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::CascadeMoments;
+use crate::render::shadows::sun_moments::{CascadeMoments, MOMENT_MIPS};
 use crate::shader::ShaderLibrary;
 
 /// Mirror of WGSL `PageLevelMoments`.
@@ -52,12 +54,18 @@ pub struct PageMoments {
     pub format: wgpu::TextureFormat,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    downsample: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     uniforms: wgpu::Buffer,
-    /// The dispatch: a workgroup per 8×8 block of a page, a row per page drawn.
+    /// The dispatches, one per mip level: a workgroup per 8×8 block of a page at that level,
+    /// a row per page drawn.
     args: wgpu::Buffer,
-    /// The group and the atlas and moments it binds (their ids).
-    group: Option<((u64, u64), wgpu::BindGroup)>,
+    /// The bake's group, then one per mip level past the first, and the atlas and moments
+    /// they bind (their ids).
+    groups: Option<((u64, u64), Vec<wgpu::BindGroup>)>,
 }
+
+/// Bytes of one indirect dispatch.
+const DISPATCH_BYTES: u64 = 16;
 
 impl PageMoments {
     /// The bake writing moments in `format`.
@@ -89,6 +97,31 @@ impl PageMoments {
             ],
         });
         let pipeline = compute_pipeline(device, "page moments", &shader, &layout, "page_bake");
+        let downsample_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("page moments mips"),
+            entries: &[
+                moments_out_entry(format),
+                uniform_entry(2, compute, false, size_of::<PageMomentsGpu>() as u64),
+                storage_entry(3, compute, true),
+                storage_entry(4, compute, true),
+                entry(
+                    5,
+                    compute,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+            ],
+        });
+        let downsample = compute_pipeline(
+            device,
+            "page moments mips",
+            &shader,
+            &downsample_layout,
+            "page_downsample",
+        );
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("page moments"),
             size: size_of::<PageMomentsGpu>() as u64,
@@ -97,7 +130,7 @@ impl PageMoments {
         });
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("page moments dispatch"),
-            size: 16,
+            size: DISPATCH_BYTES * u64::from(MOMENT_MIPS),
             usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -105,15 +138,17 @@ impl PageMoments {
             format,
             pipeline,
             layout,
+            downsample: (downsample, downsample_layout),
             uniforms,
             args,
-            group: None,
+            groups: None,
         }
     }
 
     /// Records the bake of the pages `allocator` listed for drawing this frame, from `atlas`
     /// into `moments` (both `tiles` pages of `page_size` texels a side), level `l` baked as
-    /// `levels[l]` says; timed by `timestamps`.
+    /// `levels[l]` says, then averaged down each of the moments' mip levels; timed by
+    /// `timestamps`.
     pub fn record(
         &mut self,
         (device, queue, encoder): (&wgpu::Device, &wgpu::Queue, &mut wgpu::CommandEncoder),
@@ -141,15 +176,20 @@ impl PageMoments {
             };
         }
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
-        let blocks = (page_size / BLOCK).pow(2);
-        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&[blocks, 0, 1, 0]));
+        let mips = moments.mips().min(MOMENT_MIPS);
+        let args: Vec<u32> = (0..mips)
+            .flat_map(|m| [((page_size >> m) / BLOCK).max(1).pow(2), 0, 1, 0])
+            .collect();
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&args));
         let (draws, counters, _) = allocator.draw_buffers();
         // NOTE: the rows are the allocation's count of pages drawn: a frame that draws none
         // bakes none.
-        encoder.copy_buffer_to_buffer(counters, 4, &self.args, 4, 4);
+        for m in 0..u64::from(mips) {
+            encoder.copy_buffer_to_buffer(counters, 4, &self.args, m * DISPATCH_BYTES + 4, 4);
+        }
         let key = (atlas.id, moments.id);
-        if self.group.as_ref().is_none_or(|(k, _)| *k != key) {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        if self.groups.as_ref().is_none_or(|(k, _)| *k != key) {
+            let bake = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("page moments"),
                 layout: &self.layout,
                 entries: &[
@@ -175,9 +215,37 @@ impl PageMoments {
                     },
                 ],
             });
-            self.group = Some((key, group));
+            let levels = moments.moments.levels.iter().map(|(write, read)| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("page moments mip"),
+                    layout: &self.downsample.1,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(write),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: self.uniforms.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: draws.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: counters.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: wgpu::BindingResource::TextureView(read),
+                        },
+                    ],
+                })
+            });
+            self.groups = Some((key, std::iter::once(bake).chain(levels).collect()));
         }
-        let Some((_, group)) = &self.group else {
+        let Some((_, groups)) = &self.groups else {
             return;
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -185,8 +253,14 @@ impl PageMoments {
             timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(0, &groups[0], &[]);
         pass.dispatch_workgroups_indirect(&self.args, 0);
+        // NOTE: each level reads the one before, written by the dispatch before it.
+        pass.set_pipeline(&self.downsample.0);
+        for (m, group) in groups.iter().enumerate().take(mips as usize).skip(1) {
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups_indirect(&self.args, m as u64 * DISPATCH_BYTES);
+        }
     }
 }
 

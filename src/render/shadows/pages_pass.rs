@@ -96,10 +96,13 @@ pub struct PagesPass {
 
 /// The filter footprint a paged sun's receivers mark, as `paged_level` in
 /// `penumbra::shadows::cascades` checks it: the PCF kernel (at most 5) and a bilinear tap,
-/// PCSS's widest search, or a moment filter's bilinear tap.
-pub fn mark_radius(mode: ShadowMode, pcf_radius: u32) -> f64 {
+/// PCSS's widest search (which a moment filter's contact `hardening` makes too), or a
+/// fixed-blur moment filter's bilinear tap.
+pub fn mark_radius(mode: ShadowMode, pcf_radius: u32, hardening: bool) -> f64 {
+    let search = f64::from(MAX_PENUMBRA_TEXELS) + 2.0;
     match mode {
-        ShadowMode::Pcss => f64::from(MAX_PENUMBRA_TEXELS) + 2.0,
+        ShadowMode::Pcss => search,
+        ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm | ShadowMode::Vsm if hardening => search,
         // NOTE: the moments are blurred within their page: a receiver reads a bilinear tap.
         ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm | ShadowMode::Vsm => 2.0,
         _ => f64::from(pcf_radius.min(5)) + 2.0,
@@ -166,7 +169,7 @@ impl RenderNode for PagesPass {
                 size: UVec2::new(frame.size.0, frame.size.1),
                 multisampled: frame.samples > 1,
                 rule: MarkRule {
-                    radius: mark_radius(s.filter.mode, s.filter.pcf_radius),
+                    radius: mark_radius(s.filter.mode, s.filter.pcf_radius, s.filter.moments.contact_hardening),
                     margin: LEVEL_MARGIN_TEXELS,
                     blend: f64::from(s.map.cascades.blend_width),
                     pixel: pixel_per_depth(camera.clip_from_world(), frame.size.1),

@@ -150,6 +150,16 @@ pub fn sun_moment_mips(lights: &FrameLights, side: u32) -> u32 {
     if hardening { hardening_mips(side) } else { 1 }
 }
 
+/// Mip levels of a paged sun's moments: [`MOMENT_MIPS`] with contact hardening (each page's
+/// tile averaged down on its own: a page of 64 texels or more still has a texel at the last),
+/// else 1.
+pub fn paged_moment_mips(lights: &FrameLights) -> u32 {
+    let hardening = lights
+        .paged_sun()
+        .is_some_and(|s| technique(s).is_some() && s.settings.filter.moments.contact_hardening);
+    if hardening { MOMENT_MIPS } else { 1 }
+}
+
 /// MSM's moment bias for moments stored in `format` (what keeps the Hankel matrix
 /// invertible after rounding).
 pub fn msm_bias(format: wgpu::TextureFormat) -> f32 {
