@@ -188,6 +188,9 @@ fn moment_use(kind: LightKind, s: &ShadowSettings, fp32_filterable: bool) -> Mom
 /// contact hardening; 0 for another layout).
 fn page_bytes(settings: &ShadowSettings, support: MomentSupport) -> u64 {
     let side = u64::from(settings.map.layout.pool_side());
+    if side == 0 {
+        return 0;
+    }
     let (texel, mips) = match moment_use(LightKind::Directional, settings, support.fp32_filterable) {
         MomentUse::Sun {
             msm, fp32, hardening, ..

@@ -1,6 +1,7 @@
 //! What a paged sun's pages must be drawn again for, found on the CPU each frame by
 //! comparing the frame with the last: every page when the light turned, a level's depth
-//! range or texel or its moments' parameters changed (or the casters were rebuilt); otherwise, for each caster that moved,
+//! range or texel, the depth bias or clamping, or the moments' parameters changed (or the
+//! casters were rebuilt); otherwise, for each caster that moved,
 //! the pages of each level its bounding sphere covered before and covers now. The allocator's
 //! invalidation pass ([`PageAllocator::record_invalidation`](crate::render::shadows::page_allocate::PageAllocator::record_invalidation))
 //! then marks those of them that are resident for drawing.
@@ -31,6 +32,8 @@ pub struct PagedFrame {
     pub casters: Vec<TrackedCaster>,
     /// How each level's moments are baked (empty while the sun filters no moments).
     pub moments: Vec<CascadeMoments>,
+    /// How casters are rasterised: slope-scaled depth bias, its clamp, depth clamping.
+    pub raster: (f32, f32, bool),
 }
 
 /// The pages to draw again this frame.
@@ -75,7 +78,7 @@ pub fn invalidation(layout: &PageLayout, last: Option<&PagedFrame>, now: &PagedF
         all: true,
         rects: Vec::new(),
     };
-    let moments_kept = last.moments == now.moments;
+    let moments_kept = last.moments == now.moments && last.raster == now.raster;
     if last.light_rotation != now.light_rotation
         || !levels_kept
         || !moments_kept
@@ -127,6 +130,7 @@ mod tests {
                 })
                 .collect(),
             moments: Vec::new(),
+            raster: (1.0, 0.0, true),
         }
     }
 
@@ -158,7 +162,7 @@ mod tests {
     }
 
     #[test]
-    fn a_turned_light_a_new_caster_count_or_new_moments_invalidate_everything() {
+    fn a_turned_light_a_new_caster_count_new_moments_or_a_new_bias_invalidate_everything() {
         let layout = PageLayout::new(4096, 128).unwrap();
         let a = frame(&[Vec3::ZERO]);
         let mut turned = a.clone();
@@ -175,5 +179,8 @@ mod tests {
         blurred.moments[0].blur_texels = 3.0;
         assert!(invalidation(&layout, Some(&evsm), &blurred).all);
         assert!(invalidation(&layout, Some(&evsm), &evsm).is_empty());
+        let mut biased = a.clone();
+        biased.raster.0 = 2.0;
+        assert!(invalidation(&layout, Some(&a), &biased).all);
     }
 }

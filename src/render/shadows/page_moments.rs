@@ -189,61 +189,35 @@ impl PageMoments {
         }
         let key = (atlas.id, moments.id);
         if self.groups.as_ref().is_none_or(|(k, _)| *k != key) {
-            let bake = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("page moments"),
-                layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&atlas.array_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&moments.moments.storage),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: self.uniforms.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: draws.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: counters.as_entire_binding(),
-                    },
-                ],
-            });
-            let levels = moments.moments.levels.iter().map(|(write, read)| {
+            // NOTE: binding 1 is the level written; the bake reads the depth (binding 0), a
+            // mip level the level before (binding 5).
+            let uniforms = &self.uniforms;
+            let group = |label: &str,
+                         layout: &wgpu::BindGroupLayout,
+                         write: &wgpu::TextureView,
+                         (binding, read): (u32, &wgpu::TextureView)| {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("page moments mip"),
-                    layout: &self.downsample.1,
+                    label: Some(label),
+                    layout,
                     entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(write),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: self.uniforms.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: draws.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: counters.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: wgpu::BindingResource::TextureView(read),
-                        },
+                        texture_entry(binding, read),
+                        texture_entry(1, write),
+                        buffer_entry(2, uniforms),
+                        buffer_entry(3, draws),
+                        buffer_entry(4, counters),
                     ],
                 })
-            });
-            self.groups = Some((key, std::iter::once(bake).chain(levels).collect()));
+            };
+            let bake = group(
+                "page moments",
+                &self.layout,
+                &moments.moments.storage,
+                (0, &atlas.array_view),
+            );
+            let levels = moments.moments.levels.iter();
+            let levels = levels.map(|(write, read)| group("page moments mip", &self.downsample.1, write, (5, read)));
+            let groups = std::iter::once(bake).chain(levels).collect();
+            self.groups = Some((key, groups));
         }
         let Some((_, groups)) = &self.groups else {
             return;
@@ -261,6 +235,20 @@ impl PageMoments {
             pass.set_bind_group(0, group, &[]);
             pass.dispatch_workgroups_indirect(&self.args, m as u64 * DISPATCH_BYTES);
         }
+    }
+}
+
+fn texture_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(view),
+    }
+}
+
+fn buffer_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
     }
 }
 

@@ -129,6 +129,8 @@ impl RenderNode for PagesPass {
         now.moments.clear();
         meshes.clear();
         now.light_rotation = sun.cascades.light_rotation;
+        let s = &sun.settings;
+        now.raster = (s.bias.slope_bias, s.bias.bias_clamp, s.map.depth_clamp);
         // NOTE: the sun's layout pushes its levels in order.
         let paged = inputs
             .shadow_views
@@ -157,7 +159,6 @@ impl RenderNode for PagesPass {
                 sphere: instances.caster_centers[k].extend(instances.caster_radii[k]),
             });
         }
-        let s = &sun.settings;
         pass.read(depth);
         pass.write(frame.maps(ShadowStorage::Pages));
         pass.write(frame.moments(ShadowStorage::Pages));
