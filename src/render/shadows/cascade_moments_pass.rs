@@ -16,8 +16,9 @@ use crate::layout::ShadowStorage;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
-use crate::render::layouts::entry;
-use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
+use crate::render::shadows::jobs::{
+    JobBuffer, array_texture_entry, compute_pipeline, job_binding, job_entry, moments_out_entry,
+};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::{CascadeMoments, any_sun_moments, cascade_moments};
@@ -108,30 +109,21 @@ pub struct CascadeMomentsPass {
 }
 
 fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: wgpu::TextureFormat) -> Pipelines {
-    let compute = wgpu::ShaderStages::COMPUTE;
     let storage = moments_out_entry(format);
     let job = job_entry::<JobGpu>();
-    let texture = |binding, sample_type| {
-        entry(
-            binding,
-            compute,
-            wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-        )
-    };
     let layout = |label, first| {
         device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(label),
             entries: &[first, storage, job],
         })
     };
-    let resolve_layout = layout("cascade moments resolve", texture(0, wgpu::TextureSampleType::Depth));
+    let resolve_layout = layout(
+        "cascade moments resolve",
+        array_texture_entry(0, wgpu::TextureSampleType::Depth),
+    );
     let blur_layout = layout(
         "cascade moments blur",
-        texture(3, wgpu::TextureSampleType::Float { filterable: false }),
+        array_texture_entry(3, wgpu::TextureSampleType::Float { filterable: false }),
     );
     let module = library
         .cascade_moments(format)

@@ -65,6 +65,20 @@ pub fn compute_pipeline(
     })
 }
 
+/// A compute pass's 2D-array texture (single-sample) at `binding`, read as `sample_type`:
+/// the depth a moments pass turns into moments, or the moments level it reads.
+pub fn array_texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        },
+    )
+}
+
 /// The moments passes' binding 1: the moments written, a 2D-array storage texture of
 /// `format`.
 pub fn moments_out_entry(format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {

@@ -51,9 +51,7 @@ use crate::render::shadows::page_allocate::EntryGpu;
 use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
-use crate::render::shadows::sun_moments::{
-    cascade_moment_format, paged_moment_format, paged_moment_mips, sun_moment_blur, sun_moment_mips,
-};
+use crate::render::shadows::sun_moments::sun_moment_need;
 use crate::render::shadows::visibility::VisibilityTarget;
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
@@ -374,43 +372,16 @@ impl ShadowResources {
             }
         }
         let support = gpu.moment_support();
-        // NOTE: baked moments are the suns' (EVSM or MSM), in the format they need.
-        for kind in ShadowStorage::with_moments(StorageMoments::Baked) {
-            let Some(format) = cascade_moment_format(lights, support) else {
+        // NOTE: the suns' moments (EVSM or MSM), in the format, size and mips they need.
+        for kind in ShadowStorage::ALL {
+            let Some(need) = sun_moment_need(kind, lights, views, pool, support) else {
                 continue;
             };
-            let (side, layers) = views.extent(kind);
-            let blur = sun_moment_blur(lights);
-            let mips = sun_moment_mips(lights, side);
-            let label = kind.desc().moments_label;
             let moments = &mut self.moments[kind.index()];
-            let other = moments.moments.texture.format() != format || moments.mips() != mips;
-            if moments.needs(side, layers, blur) || other {
-                *moments = Arc::new(MomentArray::new(
-                    device,
-                    label,
-                    format,
-                    (side, layers, mips),
-                    false,
-                    blur,
-                ));
-                counters.shadow_maps += 1;
-                rebuild = true;
-            }
-        }
-        // NOTE: a paged sun's moments lie as its pool's pages do, no blur scratch, with mips
-        // for contact hardening.
-        for kind in ShadowStorage::with_moments(StorageMoments::Paged) {
-            let (Some(format), Some(key)) = (paged_moment_format(lights, support), pool) else {
-                continue;
-            };
-            let side = key.atlas_side();
-            let mips = paged_moment_mips(lights);
-            let moments = &mut self.moments[kind.index()];
-            let other = moments.moments.texture.format() != format || moments.mips() != mips;
-            if moments.needs(side, 1, false) || other {
-                let label = kind.desc().moments_label;
-                *moments = Arc::new(MomentArray::new(device, label, format, (side, 1, mips), false, false));
+            let other = moments.moments.texture.format() != need.format || moments.mips() != need.mips;
+            if moments.needs(need.side, need.layers, need.blur) || other {
+                let (label, extent) = (kind.desc().moments_label, (need.side, need.layers, need.mips));
+                *moments = Arc::new(MomentArray::new(device, label, need.format, extent, false, need.blur));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }

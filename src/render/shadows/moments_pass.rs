@@ -20,7 +20,9 @@ use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
 use crate::render::layouts::entry;
 use crate::render::shadows::depth_pass::short_word;
-use crate::render::shadows::jobs::{JobBuffer, compute_pipeline, job_binding, job_entry, moments_out_entry};
+use crate::render::shadows::jobs::{
+    JobBuffer, array_texture_entry, compute_pipeline, job_binding, job_entry, moments_out_entry,
+};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::vsm_use;
@@ -106,19 +108,7 @@ fn create_pipelines(device: &wgpu::Device, library: &mut ShaderLibrary, format: 
     let job = job_entry::<MomentsJobGpu>();
     let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("shadow moments resolve"),
-        entries: &[
-            entry(
-                0,
-                compute,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2Array,
-                    multisampled: false,
-                },
-            ),
-            storage,
-            job,
-        ],
+        entries: &[array_texture_entry(0, wgpu::TextureSampleType::Depth), storage, job],
     });
     let blur_layout = |dimension| {
         device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

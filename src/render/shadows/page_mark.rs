@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4, UVec2};
 
 use crate::math::pages::{MarkRule, PageLayout, PagedLevel};
-use crate::render::layouts::entry;
+use crate::render::layouts::camera_texture_entry;
 use crate::render::shadows::jobs::{compute_pipeline, storage_entry, uniform_entry};
 use crate::render::shadows::page_allocate::MAX_PAGED_LEVELS;
 use crate::shader::ShaderLibrary;
@@ -71,15 +71,7 @@ impl PageMark {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("page marking"),
             entries: &[
-                entry(
-                    0,
-                    compute,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled,
-                    },
-                ),
+                camera_texture_entry(0, wgpu::TextureSampleType::Depth, multisampled),
                 uniform_entry(1, compute, false, size_of::<MarkGpu>() as u64),
                 storage_entry(2, compute, false),
             ],

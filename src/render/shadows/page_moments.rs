@@ -14,8 +14,9 @@ use std::borrow::Cow;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::render::layouts::entry;
-use crate::render::shadows::jobs::{compute_pipeline, moments_out_entry, storage_entry, uniform_entry};
+use crate::render::shadows::jobs::{
+    array_texture_entry, compute_pipeline, moments_out_entry, storage_entry, uniform_entry,
+};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::{MAX_PAGED_LEVELS, PageAllocator};
 use crate::render::shadows::storage::DepthArray;
@@ -59,6 +60,8 @@ pub struct PageMoments {
     /// The dispatches, one per mip level: a workgroup per 8×8 block of a page at that level,
     /// a row per page drawn.
     args: wgpu::Buffer,
+    /// The uniforms and mip count last written.
+    written: Option<(PageMomentsGpu, u32)>,
     /// The bake's group, then one per mip level past the first, and the atlas and moments
     /// they bind (their ids).
     groups: Option<((u64, u64), Vec<wgpu::BindGroup>)>,
@@ -78,50 +81,25 @@ impl PageMoments {
             source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
         });
         let compute = wgpu::ShaderStages::COMPUTE;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("page moments"),
-            entries: &[
-                entry(
-                    0,
-                    compute,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-                moments_out_entry(format),
-                uniform_entry(2, compute, false, size_of::<PageMomentsGpu>() as u64),
-                storage_entry(3, compute, true),
-                storage_entry(4, compute, true),
-            ],
-        });
-        let pipeline = compute_pipeline(device, "page moments", &shader, &layout, "page_bake");
-        let downsample_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("page moments mips"),
-            entries: &[
-                moments_out_entry(format),
-                uniform_entry(2, compute, false, size_of::<PageMomentsGpu>() as u64),
-                storage_entry(3, compute, true),
-                storage_entry(4, compute, true),
-                entry(
-                    5,
-                    compute,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-            ],
-        });
-        let downsample = compute_pipeline(
-            device,
-            "page moments mips",
-            &shader,
-            &downsample_layout,
-            "page_downsample",
-        );
+        // NOTE: both stages write binding 1 from the list; the bake reads the depth (binding
+        // 0), a mip level the level before (binding 5).
+        let layout = |label, texture| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &[
+                    texture,
+                    moments_out_entry(format),
+                    uniform_entry(2, compute, false, size_of::<PageMomentsGpu>() as u64),
+                    storage_entry(3, compute, true),
+                    storage_entry(4, compute, true),
+                ],
+            })
+        };
+        let bake_layout = layout("page moments", array_texture_entry(0, wgpu::TextureSampleType::Depth));
+        let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+        let mip_layout = layout("page moments mips", array_texture_entry(5, unfiltered));
+        let pipeline = compute_pipeline(device, "page moments", &shader, &bake_layout, "page_bake");
+        let downsample = compute_pipeline(device, "page moments mips", &shader, &mip_layout, "page_downsample");
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("page moments"),
             size: size_of::<PageMomentsGpu>() as u64,
@@ -137,10 +115,11 @@ impl PageMoments {
         Self {
             format,
             pipeline,
-            layout,
-            downsample: (downsample, downsample_layout),
+            layout: bake_layout,
+            downsample: (downsample, mip_layout),
             uniforms,
             args,
+            written: None,
             groups: None,
         }
     }
@@ -175,12 +154,22 @@ impl PageMoments {
                 _pad: [0; 2],
             };
         }
-        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
         let mips = moments.mips().min(MOMENT_MIPS);
-        let args: Vec<u32> = (0..mips)
-            .flat_map(|m| [((page_size >> m) / BLOCK).max(1).pow(2), 0, 1, 0])
-            .collect();
-        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&args));
+        // NOTE: the uniforms and the dispatches' widths are written only when they change (the
+        // rows are copied in below every frame).
+        let same = self
+            .written
+            .as_ref()
+            .is_some_and(|(d, m)| bytemuck::bytes_of(d) == bytemuck::bytes_of(&data) && *m == mips);
+        if !same {
+            queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&data));
+            let mut args = [0u32; 4 * MOMENT_MIPS as usize];
+            for (m, dispatch) in args.chunks_exact_mut(4).enumerate().take(mips as usize) {
+                dispatch.copy_from_slice(&[((page_size >> m) / BLOCK).max(1).pow(2), 0, 1, 0]);
+            }
+            queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&args));
+            self.written = Some((data, mips));
+        }
         let (draws, counters, _) = allocator.draw_buffers();
         // NOTE: the rows are the allocation's count of pages drawn: a frame that draws none
         // bakes none.

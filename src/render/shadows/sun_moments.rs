@@ -6,11 +6,14 @@
 //! same values from here, so what is baked is what is tested.
 
 use crate::ecs::light_views::{FrameLights, SunView};
+use crate::ecs::view_list::ShadowViews;
+use crate::layout::{ShadowStorage, StorageMoments};
 use crate::math::cascades::Cascade;
 use crate::math::evsm::{MomentPrecision, cascade_blur_texels, cascade_exponent};
 use crate::math::msm::{MSM_BIAS_16, MSM_BIAS_32};
 use crate::math::shadow_memory::{self, CascadeMomentFormat, hardening_mips};
 pub use crate::math::shadow_memory::{MOMENT_MIPS, MomentSupport};
+use crate::render::shadows::page_pool::PoolKey;
 use crate::settings::{MAX_MOMENT_BLUR_TEXELS, ShadowMode};
 use crate::shader::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 
@@ -158,6 +161,55 @@ pub fn paged_moment_mips(lights: &FrameLights) -> u32 {
         .paged_sun()
         .is_some_and(|s| technique(s).is_some() && s.settings.filter.moments.contact_hardening);
     if hardening { MOMENT_MIPS } else { 1 }
+}
+
+/// The sun moments a storage must hold this frame: their format, side, layers, mips, and
+/// whether the bake needs a blur scratch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MomentNeed {
+    /// The moments' format.
+    pub format: wgpu::TextureFormat,
+    /// Texels per side.
+    pub side: u32,
+    /// Layers.
+    pub layers: u32,
+    /// Mip levels.
+    pub mips: u32,
+    /// A blur scratch.
+    pub blur: bool,
+}
+
+/// What `storage`'s sun moments must hold this frame (None while none of its suns filters
+/// moments, or for a storage of VSM or no moments): the cascades' a layer per view with a
+/// blur scratch and mips for contact hardening; a paged sun's laid out as its pool's atlas
+/// (`pool`), one layer, no scratch, mips for contact hardening.
+pub fn sun_moment_need(
+    storage: ShadowStorage,
+    lights: &FrameLights,
+    views: &ShadowViews,
+    pool: Option<PoolKey>,
+    support: MomentSupport,
+) -> Option<MomentNeed> {
+    match storage.desc().moments {
+        StorageMoments::Baked => {
+            let (side, layers) = views.extent(storage);
+            Some(MomentNeed {
+                format: cascade_moment_format(lights, support)?,
+                side,
+                layers,
+                mips: sun_moment_mips(lights, side),
+                blur: sun_moment_blur(lights),
+            })
+        }
+        StorageMoments::Paged => Some(MomentNeed {
+            format: paged_moment_format(lights, support)?,
+            side: pool?.atlas_side(),
+            layers: 1,
+            mips: paged_moment_mips(lights),
+            blur: false,
+        }),
+        StorageMoments::Vsm | StorageMoments::None => None,
+    }
 }
 
 /// MSM's moment bias for moments stored in `format` (what keeps the Hankel matrix
