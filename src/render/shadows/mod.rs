@@ -374,7 +374,7 @@ impl ShadowResources {
         let support = gpu.moment_support();
         // NOTE: the suns' moments (EVSM or MSM), in the format, size and mips they need.
         for kind in ShadowStorage::ALL {
-            let Some(need) = sun_moment_need(kind, lights, views, pool, support) else {
+            let Some(need) = sun_moment_need(kind, lights, views, pool.map(|k| k.atlas_side()), support) else {
                 continue;
             };
             let moments = &mut self.moments[kind.index()];

@@ -7,9 +7,9 @@
 //! then reads them through the page table. Everything runs on the GPU within the frame: the
 //! CPU never learns which pages were needed. A frame that would mark what the last marked
 //! frame did (the same camera, view size, instances, light, levels and footprint, and no
-//! page stale) skips the marking, allocation and drawing: the pages are as they were.
-//! Culled (nothing declared) without a paged sun or
-//! without the prepass; a multisampled camera depth is marked from its sample 0.
+//! page stale) skips the marking, allocation and drawing: the pages are as they were. Culled
+//! (nothing declared) without a paged sun or without the prepass; a multisampled camera
+//! depth is marked from its sample 0.
 
 use glam::{Mat4, UVec2, Vec2};
 
@@ -67,7 +67,6 @@ struct Frame {
     atlas: TextureId,
     mark: MarkKey,
     bias: ShadowBias,
-    depth_clamp: bool,
     /// How each caster of `now` is drawn.
     meshes: Vec<CasterDraw>,
     now: PagedFrame,
@@ -178,7 +177,6 @@ impl RenderNode for PagesPass {
                 generation: instances.generation,
             },
             bias: s.bias,
-            depth_clamp: s.map.depth_clamp,
             meshes,
             now,
         });
@@ -263,7 +261,7 @@ impl RenderNode for PagesPass {
             atlas: atlas.id,
             max_casters: (self.casters.len() as u32).max(64).next_power_of_two(),
             bias: frame.bias,
-            unclipped: ctx.gpu.unclipped_depth && frame.depth_clamp,
+            unclipped: ctx.gpu.unclipped_depth && frame.now.raster.2,
         };
         // NOTE: the pipelines are kept while the caster list fits them.
         let fits = self.renderer.as_ref().is_some_and(|(k, _)| {

@@ -13,7 +13,6 @@ use crate::math::evsm::{MomentPrecision, cascade_blur_texels, cascade_exponent};
 use crate::math::msm::{MSM_BIAS_16, MSM_BIAS_32};
 use crate::math::shadow_memory::{self, CascadeMomentFormat, hardening_mips};
 pub use crate::math::shadow_memory::{MOMENT_MIPS, MomentSupport};
-use crate::render::shadows::page_pool::PoolKey;
 use crate::settings::{MAX_MOMENT_BLUR_TEXELS, ShadowMode};
 use crate::shader::contract::{SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4, SHADOW_FILTER_MSM};
 
@@ -182,12 +181,12 @@ pub struct MomentNeed {
 /// What `storage`'s sun moments must hold this frame (None while none of its suns filters
 /// moments, or for a storage of VSM or no moments): the cascades' a layer per view with a
 /// blur scratch and mips for contact hardening; a paged sun's laid out as its pool's atlas
-/// (`pool`), one layer, no scratch, mips for contact hardening.
+/// (`pool_side` texels a side), one layer, no scratch, mips for contact hardening.
 pub fn sun_moment_need(
     storage: ShadowStorage,
     lights: &FrameLights,
     views: &ShadowViews,
-    pool: Option<PoolKey>,
+    pool_side: Option<u32>,
     support: MomentSupport,
 ) -> Option<MomentNeed> {
     match storage.desc().moments {
@@ -203,7 +202,7 @@ pub fn sun_moment_need(
         }
         StorageMoments::Paged => Some(MomentNeed {
             format: paged_moment_format(lights, support)?,
-            side: pool?.atlas_side(),
+            side: pool_side?,
             layers: 1,
             mips: paged_moment_mips(lights),
             blur: false,
