@@ -3,17 +3,18 @@
 // with the flipped normal, which also offsets their shadow lookups. Shader defs: ALPHA_MASK
 // (discard below the cutoff; with ALPHA_TO_COVERAGE, under MSAA, no discard: the alpha,
 // sharpened around the cutoff, sets the pixel's sample coverage),
-// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or a point light's cube face),
+// SHADOW_DEBUG_CASCADES (tint by the focus light's cascade, or a point light's cube face; the
+// contact-shadow debug view is chosen at run time, `frame.debug_contact`),
 // ANALYSIS_OUTPUTS (also write the focus light's shadow factor, world position and normal of
 // every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
 // point-light shadows) and the filter defs of penumbra::shadows.
 #import penumbra::contract::{
-    INSTANCE_FLAG_RECEIVE_SHADOWS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS,
+    INSTANCE_FLAG_RECEIVE_SHADOWS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE,
 }
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
-#import penumbra::shadows::bindings::lights
+#import penumbra::shadows::bindings::{lights, resolved_visibility}
 #ifdef MANY_LIGHTS
 #import penumbra::shadows::bindings::more_lights
 #endif
@@ -153,6 +154,15 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
         color = mix(color, color * tint * 1.6, 0.6);
     }
 #endif
+    if frame.debug_contact != 0u {
+        // The focus light's layer holds its contact shadows alone (1 where none ran).
+        let light = get_light(frame.focus_light);
+        var contact = 1.0;
+        if light.resolve_layer != RESOLVE_NONE {
+            contact = textureLoad(resolved_visibility, vec2<i32>(surface.frag_coord), i32(light.resolve_layer), 0).r;
+        }
+        color = vec3<f32>(contact * 0.8);
+    }
     var out: FragmentOutput;
     out.color = vec4<f32>(tonemap(color), 1.0);
 #ifdef ALPHA_TO_COVERAGE

@@ -17,7 +17,9 @@ struct FrameUniforms {
     // The light analysis outputs and debug views report (an index below light_count, or
     // light_count when there is none).
     focus_light: u32,
-    padding_a: u32,
+    // 1 when the focus light's debug view shows its contact shadows alone (its resolved
+    // layer, which then holds them).
+    debug_contact: u32,
     padding_b: u32,
 }
 

@@ -19,7 +19,7 @@
 // casts, SHADOW_POINT when a point light does, the PCSS defs when a light filters with PCSS); a material only forwards them.
 #define_import_path penumbra::lights
 
-#import penumbra::contract::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE}
+#import penumbra::contract::{LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE, SHADOW_FLAG_CONTACT_ONLY}
 #import penumbra::frame::frame
 #import penumbra::shadows::bindings::{lights, resolved_visibility}
 #ifdef MANY_LIGHTS
@@ -93,12 +93,17 @@ fn light_incidence(light: Light, position: vec3<f32>) -> Incidence {
 // technique the light uses; 1 for a light without a shadow. When the frame resolved the
 // light's visibility before the lighting pass, this reads it at the surface's pixel (unless
 // the variant is UNRESOLVED_SHADOWS: alpha-to-coverage materials, which the prepass does not
-// draw, filter their own).
+// draw, filter their own, without contact shadows); where the resolve wrote the light's
+// contact shadows alone (SHADOW_FLAG_CONTACT_ONLY), they multiply the filtered shadow.
 fn shadow_visibility(light: Light, surface: Surface) -> f32 {
 #ifndef UNRESOLVED_SHADOWS
     if light.resolve_layer != RESOLVE_NONE {
         let pixel = vec2<i32>(surface.frag_coord);
-        return textureLoad(resolved_visibility, pixel, i32(light.resolve_layer), 0).r;
+        let resolved = textureLoad(resolved_visibility, pixel, i32(light.resolve_layer), 0).r;
+        if (light.flags & SHADOW_FLAG_CONTACT_ONLY) != 0u {
+            return resolved * filtered_visibility(light, surface);
+        }
+        return resolved;
     }
 #endif
     return filtered_visibility(light, surface);

@@ -1,8 +1,12 @@
 // Compute visibility resolve: for every pixel the depth prepass covered, rebuild the surface
 // (world position from depth, normal and receiver flag from the prepass's normals) and write
-// each resolved light's filtered shadow into its layer of the resolved visibility, which the
-// lighting pass then reads through penumbra::lights::shadow_visibility. The filters are the
-// same functions the lighting pass would run; only where they run changes.
+// each resolved light's filtered shadow, times its contact shadows (penumbra::contact, marched
+// over the prepass's depth), into its layer of the resolved visibility, which the lighting
+// pass then reads through penumbra::lights::shadow_visibility. The filters are the same
+// functions the lighting pass would run; only where they run changes. When the frame does
+// not resolve its filters (RenderOptions::visibility_resolve off), a light with contact
+// shadows still gets a layer, holding them alone (SHADOW_FLAG_CONTACT_ONLY), which the
+// lighting pass multiplies into the shadow it filters.
 //
 // With MSAA (MULTISAMPLED: 4 samples, or 2 with MSAA_X2) the prepass's depth and normals are
 // multisampled: each pixel is resolved from its sample 0. Its depth is rebuilt at that
@@ -10,7 +14,8 @@
 // surface's plane to the pixel centre, where the lighting pass shades: a pixel covered by one
 // surface resolves what the lighting pass would filter. A lighting-pass fragment on an edge
 // pixel whose sample 0 saw another surface reads that surface's shadow.
-#import penumbra::contract::{MAX_LIGHTS, RESOLVE_NONE}
+#import penumbra::contact::{SAMPLE_POSITION, camera_depth, camera_normals, contact_visibility, world_at}
+#import penumbra::contract::{MAX_LIGHTS, RESOLVE_NONE, SHADOW_FLAG_CONTACT_ONLY}
 #import penumbra::frame::frame
 #import penumbra::lights::{filtered_visibility, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::{packed_transmits, unpack_normal}
@@ -20,41 +25,32 @@
 #endif
 #import penumbra::shadows::types::{Light, Surface}
 
-#ifdef MULTISAMPLED
-@group(1) @binding(0) var camera_depth: texture_depth_multisampled_2d;
-@group(1) @binding(1) var camera_normals: texture_multisampled_2d<u32>;
-#ifdef MSAA_X2
-const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.75, 0.75);
-#else
-const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.375, 0.125);
-#endif
-#else
-@group(1) @binding(0) var camera_depth: texture_depth_2d;
-@group(1) @binding(1) var camera_normals: texture_2d<u32>;
-const SAMPLE_POSITION: vec2<f32> = vec2<f32>(0.5, 0.5);
-#endif
 @group(1) @binding(2) var visibility: texture_storage_2d_array<r32float, write>;
 
-// The world point at `pixel` (in pixels, from the top left) and reverse-Z `depth`.
-fn world_at(pixel: vec2<f32>, depth: f32, size: vec2<u32>) -> vec3<f32> {
-    let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
-    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
-    return h.xyz / h.w;
-}
-
-// Writes `light`'s filtered shadow at `surface` into its layer of the resolved visibility at
-// `pixel` (1 where the pixel holds no shadow receiver); nothing for a light that is not
-// resolved.
-fn resolve_light(light: Light, surface: Surface, receiver: bool, transmits: bool, pixel: vec2<i32>) {
+// Writes `light`'s filtered shadow at `surface`, times its contact shadows, into its layer of
+// the resolved visibility at `pixel` (1 where the pixel holds no shadow receiver); its contact
+// shadows alone for a light with SHADOW_FLAG_CONTACT_ONLY (the lighting pass filters its
+// maps); nothing for a light that is not resolved. `depth`: the prepass's at the pixel;
+// `march`: whether contact shadows are marched (for the uniform list's lights only: the
+// storage list's loop stays free of the march's loop, which nested there stopped lavapipe's
+// loop limiter on scenes of thousands of lights; the CPU packs no contact shadows past it).
+fn resolve_light(light: Light, surface: Surface, receiver: bool, transmits: bool, pixel: vec2<i32>, depth: f32, march: bool) {
     if light.resolve_layer == RESOLVE_NONE {
         return;
     }
     var shadow = 1.0;
     if receiver {
+        let contact_only = (light.flags & SHADOW_FLAG_CONTACT_ONLY) != 0u;
         let to_light = light_incidence(light, surface.position).to_light;
         if dot(surface.normal, to_light) > 0.0 {
-            shadow = filtered_visibility(light, surface);
-        } else if transmits {
+            if !contact_only {
+                shadow = filtered_visibility(light, surface);
+            }
+            if march && shadow > 0.0 && light.contact_steps > 0u {
+                let size = textureDimensions(camera_depth);
+                shadow *= contact_visibility(light, surface.position, surface.normal, to_light, surface.frag_coord, depth, size);
+            }
+        } else if transmits && !contact_only {
             shadow = filtered_visibility(light, make_surface(surface.position, -surface.normal, surface.view_depth, surface.frag_coord));
         }
     }
@@ -96,11 +92,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let receiver = covered && normal_flag.w > 0.5;
     let count = light_count();
     for (var i = 0u; i < min(count, MAX_LIGHTS); i++) {
-        resolve_light(lights.items[i], surface, receiver, transmits, pixel);
+        resolve_light(lights.items[i], surface, receiver, transmits, pixel, depth, true);
     }
 #ifdef MANY_LIGHTS
     for (var i = MAX_LIGHTS; i < count; i++) {
-        resolve_light(more_lights[i - MAX_LIGHTS], surface, receiver, transmits, pixel);
+        resolve_light(more_lights[i - MAX_LIGHTS], surface, receiver, transmits, pixel, depth, false);
     }
 #endif
 }

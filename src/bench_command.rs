@@ -7,9 +7,10 @@ use std::path::PathBuf;
 use clap::Args;
 
 use penumbra::export::{OutputKind, prepare_output};
+use penumbra::settings::ContactShadows;
 
 use super::cli_values::Fit;
-use crate::render_command::{side, sun_degrees};
+use crate::render_command::{contact_values, side, sun_degrees};
 
 /// Options of `penumbra bench`.
 #[derive(Args)]
@@ -54,6 +55,10 @@ pub struct BenchArgs {
     /// attributing error to resolution.
     #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
     resolution: Option<u32>,
+    /// Contact shadows for every light, `LENGTH,STEPS,THICKNESS,INTENSITY` (as `render
+    /// --contact-shadows`); the `-contact` presets use them instead of the defaults.
+    #[arg(long, value_parser = contact_values)]
+    contact_shadows: Option<ContactShadows>,
     /// Texels per side of each level of the paged presets' virtual clipmap (`pages-*`), a
     /// power of two 4096-16384 (default 16384), for plotting error against memory.
     #[arg(long)]
@@ -144,6 +149,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         sun_diameter: args.sun_diameter,
         fit: args.fit.map(Into::into),
         resolution: args.resolution,
+        contact: args.contact_shadows,
     };
     if !args.sun_diameters.is_empty() {
         for name in ["sweep.md", "sweep.png"] {

@@ -17,6 +17,6 @@ pub use crate::mesh::{cuboid, plane, sphere};
 pub use crate::render::{DepthPrepass, GpuContext, Msaa, RenderOptions, RenderPlugin, Renderer};
 pub use crate::scene::SceneDesc;
 pub use crate::settings::{
-    CascadeFit, CascadeSettings, MomentFormat, MomentSettings, PcssQuality, ShadowBias, ShadowDebugView,
-    ShadowFilterSettings, ShadowMapSettings, ShadowMode, ShadowSettings, VsmSettings,
+    CascadeFit, CascadeSettings, ContactShadows, MomentFormat, MomentSettings, PcssQuality, ShadowBias,
+    ShadowDebugView, ShadowFilterSettings, ShadowMapSettings, ShadowMode, ShadowSettings, VsmSettings,
 };

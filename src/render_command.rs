@@ -18,8 +18,8 @@ use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{
-    DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality, ShadowDebugView,
-    ShadowMode, ShadowSettings, SunLayout,
+    ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality,
+    ShadowDebugView, ShadowMode, ShadowSettings, SunLayout,
 };
 use penumbra::text::format_bytes;
 
@@ -89,6 +89,13 @@ pub struct RenderArgs {
     /// Tint pixels by the cascade (or clipmap level) they sample.
     #[arg(long)]
     debug_cascades: bool,
+    /// Contact shadows for every light: `LENGTH,STEPS,THICKNESS,INTENSITY` (metres, 0-64,
+    /// metres, 0-1); alone, the defaults `0.3,16,0.05,1`; `0,0,0,0` turns them off.
+    #[arg(long, value_parser = contact_values, num_args = 0..=1, default_missing_value = "0.3,16,0.05,1")]
+    contact_shadows: Option<ContactShadows>,
+    /// Show the contact shadows of the sun (or the first light) alone, in grey.
+    #[arg(long)]
+    debug_contact: bool,
     /// Folder every file the scene names must stay inside (default: the nearest enclosing
     /// folder named `assets`, else the scene's folder).
     #[arg(long)]
@@ -179,6 +186,39 @@ pub fn sun_degrees(text: &str) -> Result<f32, String> {
     }
 }
 
+/// Contact shadows on the command line: `length,steps,thickness,intensity`, each in its
+/// range (`0,0,0,0`: off).
+pub fn contact_values(text: &str) -> Result<ContactShadows, String> {
+    let expected = || {
+        format!(
+            "expected `length,steps,thickness,intensity` (metres 0.01-5, 0-64, metres 0.001-2, 0-1), found `{text}`"
+        )
+    };
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [length, steps, thickness, intensity] = parts[..] else {
+        return Err(expected());
+    };
+    let float = |t: &str| t.parse::<f32>().ok().filter(|v| v.is_finite());
+    let contact = match (float(length), steps.parse::<u32>(), float(thickness), float(intensity)) {
+        (Some(length), Ok(steps), Some(thickness), Some(intensity)) => ContactShadows {
+            length,
+            steps,
+            thickness,
+            intensity,
+        },
+        _ => return Err(expected()),
+    };
+    if !contact.enabled() {
+        return Ok(ContactShadows::OFF);
+    }
+    let mut settings = ShadowSettings::default();
+    settings.filter.contact = contact;
+    match settings.problems().first() {
+        Some(problem) => Err(problem.to_string()),
+        None => Ok(contact),
+    }
+}
+
 /// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
 fn clipmap_extent(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
@@ -208,6 +248,8 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         page_size,
         pool_pages,
         debug_cascades,
+        contact_shadows,
+        debug_contact,
         asset_root,
         max_instances,
         frames,
@@ -290,6 +332,12 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         };
         if debug_cascades {
             s.filter.debug_view = ShadowDebugView::Cascades;
+        }
+        if let Some(contact) = contact_shadows {
+            s.filter.contact = contact;
+        }
+        if debug_contact {
+            s.filter.debug_view = ShadowDebugView::Contact;
         }
     };
     let request = RenderRequest {

@@ -473,3 +473,27 @@ fn check_and_render_print_the_shadow_memory_and_fit_it_to_the_budget() {
         "{text}"
     );
 }
+
+#[test]
+fn contact_shadows_on_the_command_line_say_what_they_expect() {
+    let out = small_render(&["--contact-shadows", "0.3,16"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains(
+            "expected `length,steps,thickness,intensity` (metres 0.01-5, 0-64, metres 0.001-2, 0-1), found `0.3,16`"
+        ),
+        "{err}"
+    );
+    let out = small_render(&["--contact-shadows", "0.3,100,0.05,1"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("`contact_shadows.steps` is 100, expected an integer from 0 (off) to 64"),
+        "{err}"
+    );
+    let png = scratch("contact").join("contact.png");
+    let out = small_render(&["--contact-shadows", "--debug-contact", "--out", png.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(png.is_file(), "no image written");
+}

@@ -13,7 +13,7 @@ use penumbra::ecs::components::DirectionalLight;
 use penumbra::layout::ShadowStorage;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
-use penumbra::settings::{ShadowMode, ShadowSettings};
+use penumbra::settings::{ContactShadows, ShadowDebugView, ShadowMode, ShadowSettings};
 use penumbra::viewer::{FrameInfo, Inspector};
 
 struct State {
@@ -100,6 +100,31 @@ fn mode_and_pcss_switches_reach_the_settings_and_the_renderer() {
 }
 
 #[test]
+fn contact_shadows_turn_on_with_their_controls() {
+    let mut h = harness(state("contact"));
+    h.run();
+    assert!(!settings(&mut h).filter.contact.enabled());
+    assert!(
+        h.query_by_label("contact steps").is_none(),
+        "contact controls shown while off"
+    );
+    h.get_by_label("contact shadows").click();
+    h.run();
+    assert_eq!(settings(&mut h).filter.contact, ContactShadows::ON);
+    slider(&h, "contact steps").set_value_accesskit(8.0);
+    h.run();
+    assert_eq!(settings(&mut h).filter.contact.steps, 8);
+    choose(&mut h, "debug view", "contact shadows alone");
+    assert_eq!(settings(&mut h).filter.debug_view, ShadowDebugView::Contact);
+    // The frame renders with them (the prepass and the resolve turned on for the march).
+    h.state_mut().app.update();
+    assert!(
+        renderer(&h).last_report.resolved_memory > 0,
+        "no resolve target for the march"
+    );
+}
+
+#[test]
 fn resolution_recreates_the_shadow_map_and_cascade_count_nothing() {
     let mut h = harness(state("resolution"));
     h.run();
@@ -181,7 +206,8 @@ fn statistics_errors_and_save_are_shown() {
     assert!(h.query_by_label("cascade 3").is_some());
     assert!(h.query_by_label("scene.ron:3:7: expected a number").is_some());
 
-    h.get_by_label("debug: cascade colours").click();
+    choose(&mut h, "debug view", "cascade colours");
+    assert_eq!(settings(&mut h).filter.debug_view, ShadowDebugView::Cascades);
     h.get_by_label("save settings").click();
     h.run();
     let path = h.state().inspector.settings_path.clone();

@@ -460,3 +460,23 @@ fn scenes_in_the_format_doc_load() {
     }
     assert!(count >= 1);
 }
+
+#[test]
+fn contact_shadows_name_their_fields_and_load_with_defaults() {
+    let msg = error(&[(
+        "resolution: 2048",
+        "resolution: 2048, contact_shadows: (steps: 16, depth: 0.1)",
+    )]);
+    assert!(msg.starts_with("scenes/test.ron:4:"), "{msg}");
+    assert!(
+        msg.ends_with(
+            "expected one of the fields `length`, `steps`, `thickness`, `intensity` of `ContactShadows`, \
+             found unknown field `depth`"
+        ),
+        "{msg}"
+    );
+    let text = edited(&[("resolution: 2048", "resolution: 2048, contact_shadows: (steps: 8)")]);
+    let scene = SceneDesc::from_str(&text, ORIGIN).expect("contact shadows load");
+    let c = scene.shadows.filter.contact;
+    assert_eq!((c.steps, c.length, c.thickness, c.intensity), (8, 0.3, 0.05, 1.0));
+}

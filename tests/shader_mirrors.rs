@@ -1,5 +1,6 @@
 //! WGSL functions run on a real wgpu device (lavapipe in CI) against their CPU mirrors: the
-//! EVSM, moment and MSM bounds, and the PCSS sample counts each light's quality packs.
+//! EVSM, moment and MSM bounds, the PCSS sample counts each light's quality packs, and the
+//! contact march's jitter.
 
 use penumbra::shader::ShaderLibrary;
 
@@ -288,4 +289,31 @@ fn each_light_samples_the_pcss_taps_of_its_own_quality() {
         .flat_map(|q| [q.blocker_samples() as f32, q.filter_samples() as f32])
         .collect();
     assert_eq!(counts, expected);
+}
+
+#[test]
+fn the_contact_march_jitter_in_wgsl_matches_its_cpu_mirror() {
+    use penumbra::math::contact::interleaved_gradient_noise;
+    let pixels: Vec<glam::Vec2> = [(0, 0), (1, 0), (0, 1), (17, 5), (639, 359), (1919, 1079), (3840, 2160)]
+        .iter()
+        .map(|&(x, y)| glam::Vec2::new(x as f32, y as f32))
+        .collect();
+    let body: String = pixels
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            format!(
+                "    out[{i}] = interleaved_gradient_noise(vec2<f32>({:?}, {:?}));\n",
+                p.x, p.y
+            )
+        })
+        .collect();
+    let gpu = run_wgsl(
+        "contact_jitter.wgsl",
+        "#import penumbra::shadows::common::interleaved_gradient_noise",
+        &body,
+        pixels.len(),
+    );
+    let cpu: Vec<f32> = pixels.iter().map(|&p| interleaved_gradient_noise(p)).collect();
+    assert_close(&gpu, &cpu, 1e-3);
 }

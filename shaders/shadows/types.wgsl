@@ -6,7 +6,7 @@
 
 #import penumbra::contract::{MAX_LIGHTS, MAX_SHADOW_VIEWS}
 
-// One light of the frame (112 bytes). Positions are relative to the render origin.
+// One light of the frame (128 bytes). Positions are relative to the render origin.
 struct Light {
     // Linear RGB colour times intensity (illuminance for a sun).
     color: vec3<f32>,
@@ -44,7 +44,10 @@ struct Light {
     resolve_layer: u32,
     // PCSS sample counts: blocker-search taps in bits 0–7, filter taps in bits 8–15.
     pcss_samples: u32,
-    padding_c: u32,
+    // Contact shadows (penumbra::contact): steps of the march, 0 when off.
+    contact_steps: u32,
+    // Contact shadows: x = length of the march (metres), y = thickness (metres), z = intensity.
+    contact: vec3<f32>,
 }
 
 // One view a shadow map was rendered from: a cascade of a sun, or a spot light's view

@@ -172,6 +172,8 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
         }
     }
 
+    write_contact_band(out, r)?;
+
     if let Some(plot) = plot_file {
         writeln!(out, "\n## GPU time against penumbra error\n")?;
         writeln!(out, "![GPU time against penumbra MAE, one point per preset]({plot})")?;
@@ -182,6 +184,42 @@ fn write_markdown(out: &mut String, r: &BenchReport, plot_file: Option<&str>) ->
         writeln!(out, "\n## Notes\n")?;
         for n in notes {
             writeln!(out, "- {}", cell(&n))?;
+        }
+    }
+    Ok(())
+}
+
+/// The image's own errors (contact shadows included), over the whole frame and over the
+/// contact band: per preset and scene.
+fn write_contact_band(out: &mut String, r: &BenchReport) -> fmt::Result {
+    writeln!(out, "\n## Contact band\n")?;
+    writeln!(
+        out,
+        "Scored from the image's own shadow factor (the filter times contact shadows), over every point and over the contact band: the points within 0.3 m of a caster (on the side their normal faces), where casters meet their receivers. `—`: no such point.\n"
+    )?;
+    writeln!(
+        out,
+        "| Preset | Scene | Penumbra MAE | Acne % | Leak % | Band points | Band MAE | Band penumbra MAE | Band acne % | Band leak % |"
+    )?;
+    writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")?;
+    for p in &r.presets {
+        for s in &p.scenes {
+            let (f, c) = (&s.image_errors, &s.contact_band);
+            let band = |v: f64| if c.pixels == 0 { f64::NAN } else { v };
+            writeln!(
+                out,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                cell(&p.preset),
+                cell(&s.scene),
+                number(f.penumbra_mae, Unit::Error),
+                number(f.acne_rate, Unit::Percent),
+                number(f.leak_rate, Unit::Percent),
+                c.pixels,
+                number(band(c.mae), Unit::Error),
+                number(band(c.penumbra_mae), Unit::Error),
+                number(band(c.acne_rate), Unit::Percent),
+                number(band(c.leak_rate), Unit::Percent),
+            )?;
         }
     }
     Ok(())
@@ -278,6 +316,8 @@ pub(crate) mod tests {
                 ..Shimmer::default()
             },
             edges: EdgeSplit::default(),
+            image_errors: errors,
+            contact_band: errors,
         }
     }
 

@@ -102,6 +102,12 @@ pub struct SceneResult {
     /// The acne and leak rates split by their distance to a shadow edge of the reference:
     /// a shadow a texel off, or a surface shadowing itself.
     pub edges: EdgeSplit,
+    /// The error of the image's own shadow factor (the resolved filter times contact
+    /// shadows; [`errors`](Self::errors) filters the maps at the same points, without them).
+    pub image_errors: ErrorMetrics,
+    /// [`image_errors`](Self::image_errors) over the contact band: the analysed points within
+    /// 0.3 m of a caster (on the side their normal faces), where a caster meets its receiver.
+    pub contact_band: ErrorMetrics,
 }
 
 /// One shadow technique preset's results on every scene.

@@ -4,7 +4,7 @@
 //! a sun with EVSM2 and the EVSM and MSM presets render spot and point lights with VSM (each
 //! kind's own moment technique, [`ShadowMode::effective`]).
 
-use crate::settings::{MomentFormat, PcssQuality, ShadowMode, ShadowSettings, SunLayout};
+use crate::settings::{ContactShadows, MomentFormat, PcssQuality, ShadowMode, ShadowSettings, SunLayout};
 
 /// One named configuration of the shadow filter.
 #[derive(Clone, Copy, Debug)]
@@ -41,7 +41,8 @@ fn moments(s: &mut ShadowSettings, mode: ShadowMode, precision: MomentFormat) {
 /// cascade blending switched off on the mid presets, VSM with contact hardening (the default)
 /// without and with pre-blur and VSM with a fixed blur, the suns' EVSM2 (16 and 32 bits),
 /// EVSM4 and MSM (16 and 32 bits) with contact hardening, and EVSM2 and MSM with a fixed blur
-/// instead; and a sun's clipmap with PCF, PCSS and EVSM2.
+/// instead; PCF 3×3, PCSS Medium and 32-bit EVSM2 with contact shadows; and a sun's clipmap
+/// with PCF, PCSS and EVSM2.
 pub fn presets() -> Vec<Preset> {
     vec![
         Preset {
@@ -91,6 +92,14 @@ pub fn presets() -> Vec<Preset> {
             },
         },
         Preset {
+            name: "pcf1-contact",
+            description: "PCF 3×3 with contact shadows (the light's own, else 16 steps over 0.3 m)",
+            apply: |s| {
+                pcf(s, 1);
+                contact(s);
+            },
+        },
+        Preset {
             name: "pcss-low",
             description: "PCSS 16 blocker / 16 filter taps",
             apply: |s| pcss(s, PcssQuality::Low),
@@ -104,6 +113,14 @@ pub fn presets() -> Vec<Preset> {
             name: "pcss-high",
             description: "PCSS 32 blocker / 49 filter taps",
             apply: |s| pcss(s, PcssQuality::High),
+        },
+        Preset {
+            name: "pcss-medium-contact",
+            description: "PCSS Medium with contact shadows (the light's own, else 16 steps over 0.3 m)",
+            apply: |s| {
+                pcss(s, PcssQuality::Medium);
+                contact(s);
+            },
         },
         Preset {
             name: "pcss-medium-no-rpb",
@@ -148,6 +165,14 @@ pub fn presets() -> Vec<Preset> {
             name: "evsm-fp32",
             description: "EVSM2, 32-bit moments (exponent 42), suns",
             apply: |s| moments(s, ShadowMode::Evsm, MomentFormat::Fp32),
+        },
+        Preset {
+            name: "evsm-fp32-contact",
+            description: "EVSM2, 32-bit moments, suns, with contact shadows (the light's own, else 16 steps over 0.3 m)",
+            apply: |s| {
+                moments(s, ShadowMode::Evsm, MomentFormat::Fp32);
+                contact(s);
+            },
         },
         Preset {
             name: "evsm4",
@@ -229,6 +254,14 @@ pub fn presets() -> Vec<Preset> {
             },
         },
     ]
+}
+
+/// The light's own contact shadows where it has some, else the defaults
+/// ([`ContactShadows::ON`]).
+fn contact(s: &mut ShadowSettings) {
+    if !s.filter.contact.enabled() {
+        s.filter.contact = ContactShadows::ON;
+    }
 }
 
 /// A sun's clipmap of the presets: 6 levels, the finest 32 m wide (spot and point lights

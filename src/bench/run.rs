@@ -17,7 +17,7 @@ use crate::render::frame_inputs::FrameInputs;
 use crate::render::timer::median;
 use crate::render::{FrameReport, Msaa, RenderOptions, Renderer};
 use crate::scene::SceneDesc;
-use crate::settings::{CascadeFit, ShadowSettings};
+use crate::settings::{CascadeFit, ContactShadows, ShadowSettings};
 
 /// One preset's cost on one scene: GPU times, CPU ms per frame, and the last frame's report.
 type Timing = (GpuTimes, f64, FrameReport);
@@ -102,6 +102,9 @@ pub struct SettingsOverrides {
     pub fit: Option<CascadeFit>,
     /// Every scene's shadow-map resolution (texels per side).
     pub resolution: Option<u32>,
+    /// Every light's contact shadows (the `-contact` presets use them instead of the
+    /// defaults).
+    pub contact: Option<ContactShadows>,
 }
 
 impl SettingsOverrides {
@@ -125,6 +128,9 @@ impl SettingsOverrides {
         }
         if let Some(resolution) = self.resolution {
             s.map.resolution = resolution;
+        }
+        if let Some(contact) = self.contact {
+            s.filter.contact = contact;
         }
     }
 
@@ -185,6 +191,8 @@ pub fn run_bench_collecting(
                 shimmer_translation: score.shimmer_translation,
                 shimmer_rotation: score.shimmer_rotation,
                 edges: score.edges,
+                image_errors: score.image,
+                contact_band: score.contact_band,
             });
         }
         scene_notes.extend(scene_light_notes(&short(path), &scores));

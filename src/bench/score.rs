@@ -16,7 +16,7 @@ use crate::bench::focus::FocusKind;
 use crate::bench::gallery::SceneShots;
 use crate::bench::progress::Progress;
 use crate::bench::session::SceneSession;
-use crate::reference::ReferencePoint;
+use crate::reference::{ReferencePoint, near_casters};
 use crate::render::Renderer;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
@@ -111,7 +111,15 @@ pub(crate) struct PresetScore {
     pub shimmer_rotation: Shimmer,
     /// Acne and leaks split by their distance to a shadow edge.
     pub edges: EdgeSplit,
+    /// Error of the image's own shadow factor (what the material multiplied in: the resolved
+    /// filter times contact shadows) over every scored point.
+    pub image: ErrorMetrics,
+    /// The same over the contact band: the points within [`CONTACT_BAND`] of a caster.
+    pub contact_band: ErrorMetrics,
 }
+
+/// Largest distance from a caster of a point in the contact band, metres.
+pub const CONTACT_BAND: f32 = 0.3;
 
 /// Errors and stability of every preset on one scene.
 pub(crate) struct SceneScores {
@@ -164,6 +172,7 @@ pub(crate) fn score_scene(
     progress.finish_and_clear();
     overall.advance(config.presets.len().max(1) as u64);
     let reference_values: Vec<f32> = reference.iter().map(|v| v.value).collect();
+    let near = near_casters(&reference_scene, &points.reference, CONTACT_BAND);
     let mut shots = gallery
         .is_some()
         .then(|| SceneShots::new(short(path), (w, h), &points.pixels, &reference_values));
@@ -199,9 +208,6 @@ pub(crate) fn score_scene(
         session.apply_settings(preset.apply);
         let image = analysis_frame(&mut session, &mut renderer);
         let technique = renderer.evaluate_probes(&FrameInputs::from_world(session.app.world(), 0), &points.probes);
-        if let Some(shots) = shots.as_mut() {
-            shots.take(preset.name, &renderer.read_image(), &technique);
-        }
         // NOTE: a point light's faces are reported together, as its one view.
         let cascade: Vec<u8> = points
             .pixels
@@ -211,6 +217,12 @@ pub(crate) fn score_scene(
                 _ => image.cascade[i],
             })
             .collect();
+        // NOTE: the probes filter the shadow maps at the points; contact shadows exist only in
+        // the image, which is scored on its own.
+        let shaded: Vec<f32> = points.pixels.iter().map(|&i| image.shadow[i]).collect();
+        if let Some(shots) = shots.as_mut() {
+            shots.take(preset.name, &renderer.read_image(), &shaded);
+        }
         let all = |_: usize| true;
         let errors = error_metrics(&technique, &reference_values, all, &thresholds);
         let per_cascade = per_cascade(&technique, &reference_values, &cascade, all, &thresholds);
@@ -222,6 +234,8 @@ pub(crate) fn score_scene(
             shimmer_translation: shimmer(&moved),
             shimmer_rotation: shimmer(&turned),
             edges: edge_split(&technique, &reference_values, &points.pixels, (w, h), &thresholds),
+            image: error_metrics(&shaded, &reference_values, all, &thresholds),
+            contact_band: error_metrics(&shaded, &reference_values, |k| near[k], &thresholds),
         });
         progress.inc(1);
         overall.advance(1);

@@ -170,4 +170,23 @@ impl FrameLights {
         let index = (light as usize).checked_sub(self.suns.len() + self.spots.len())?;
         self.points.get(index)
     }
+
+    /// The settings of the light at `light` in the renderer's light list.
+    pub fn settings_at(&self, light: u32) -> Option<&ShadowSettings> {
+        let sun = self.sun_at(light).map(|s| &s.settings);
+        sun.or_else(|| self.spot_at(light).map(|s| &s.settings))
+            .or_else(|| self.point_at(light).map(|p| &p.settings))
+    }
+
+    /// The settings of every light, in the renderer's order (suns, spots, points).
+    pub fn all_settings(&self) -> impl Iterator<Item = &ShadowSettings> {
+        let suns = self.suns.iter().map(|s| &s.settings);
+        suns.chain(self.spots.iter().map(|s| &s.settings))
+            .chain(self.points.iter().map(|p| &p.settings))
+    }
+
+    /// True when a light asks for contact shadows (they need the depth prepass).
+    pub fn any_contact_shadows(&self) -> bool {
+        self.all_settings().any(|s| s.filter.contact.enabled())
+    }
 }

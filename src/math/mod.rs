@@ -13,6 +13,7 @@ pub mod cascades;
 pub mod chunks;
 pub mod clip;
 pub mod clipmap;
+pub mod contact;
 pub mod culling;
 pub mod evsm;
 pub mod footprint;

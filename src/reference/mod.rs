@@ -14,11 +14,13 @@
 //! - ray origins are offset by an amount that grows with the distance from the world origin,
 //!   so points far from it (1e5 m) do not shadow themselves.
 
+mod proximity;
 mod sampling;
 mod scene;
 mod sphere;
 mod triangle;
 
+pub use proximity::near_casters;
 pub use scene::ReferenceScene;
 pub use sphere::{SphereLight, sphere_light_visibility};
 

@@ -260,9 +260,12 @@ impl RenderNode for ForwardPass {
                 transmission: ctx.scene.any_transmission,
                 ..forward_variant(lights, alpha_mask).with_samples(samples)
             };
+            // NOTE: a light whose layer holds its contact shadows alone filters its own
+            // shadow maps in this pass.
+            let filters_resolved = ctx.shadows.resolved.as_ref().is_some_and(|r| r.filters);
             let variant = match visibility {
-                Some(_) => variant.reading_resolved(),
-                None => variant,
+                Some(_) if filters_resolved => variant.reading_resolved(),
+                _ => variant,
             };
             self.pipeline(
                 ctx,

@@ -86,8 +86,10 @@ pub struct FrameUniformsGpu {
     pub light_count: u32,
     /// The light analysis outputs and debug views report (`light_count` for none).
     pub focus_light: u32,
+    /// 1 when the focus light's debug view shows its contact shadows alone.
+    pub debug_contact: u32,
     /// Padding to the WGSL struct size.
-    pub _padding: [u32; 2],
+    pub _padding: u32,
 }
 
 pub use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
@@ -157,7 +159,8 @@ mod tests {
                         ("pcf_radius", offset_of!(LightGpu, pcf_radius)),
                         ("resolve_layer", offset_of!(LightGpu, resolve_layer)),
                         ("pcss_samples", offset_of!(LightGpu, pcss_samples)),
-                        ("padding_c", offset_of!(LightGpu, _pad)),
+                        ("contact_steps", offset_of!(LightGpu, contact_steps)),
+                        ("contact", offset_of!(LightGpu, contact)),
                     ],
                     size_of::<LightGpu>(),
                 ),
@@ -198,8 +201,8 @@ mod tests {
                         ("frame_index", offset_of!(FrameUniformsGpu, frame_index)),
                         ("light_count", offset_of!(FrameUniformsGpu, light_count)),
                         ("focus_light", offset_of!(FrameUniformsGpu, focus_light)),
-                        ("padding_a", offset_of!(FrameUniformsGpu, _padding)),
-                        ("padding_b", offset_of!(FrameUniformsGpu, _padding) + 4),
+                        ("debug_contact", offset_of!(FrameUniformsGpu, debug_contact)),
+                        ("padding_b", offset_of!(FrameUniformsGpu, _padding)),
                     ],
                     size_of::<FrameUniformsGpu>(),
                 ),

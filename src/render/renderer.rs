@@ -16,7 +16,7 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
-use crate::render::options::Msaa;
+use crate::render::options::{DepthPrepass as PrepassMode, Msaa};
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
 use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
@@ -28,8 +28,10 @@ use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
 use crate::render::shadows::pages_pass::PagesPass;
+use crate::render::shadows::visibility::ResolvePlan;
 use crate::render::target::{DEPTH_FORMAT, HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
+use crate::settings::ShadowDebugView;
 use crate::shader::{ShaderError, ShaderLibrary};
 
 /// A headless renderer; insert it as a resource next to [`RenderPlugin`](crate::render::RenderPlugin).
@@ -289,7 +291,13 @@ impl Renderer {
                 frame_index: input.frame_index,
                 light_count: light_count as u32,
                 focus_light: self.focus_light.min(light_count) as u32,
-                _padding: [0; 2],
+                debug_contact: u32::from(
+                    input
+                        .lights
+                        .settings_at(self.focus_light as u32)
+                        .is_some_and(|s| s.filter.debug_view == ShadowDebugView::Contact),
+                ),
+                _padding: 0,
             },
             None => FrameUniformsGpu::default(),
         };
@@ -300,16 +308,23 @@ impl Renderer {
         // prepass's normals, the resolve node and the forward pass's shadow group must agree.
         // Where the prepass's normals cannot be multisampled, an MSAA frame filters its
         // shadows in the lighting pass.
-        // NOTE: a paged sun's pages are marked from the prepass's depth.
-        let prepass = prepass_runs(input, size) || input.lights.paged_sun().is_some();
+        // NOTE: a paged sun's pages are marked from the prepass's depth; contact shadows
+        // march over it (unless the prepass is off).
+        let contact = input.lights.any_contact_shadows();
+        let prepass = prepass_runs(input, size)
+            || input.lights.paged_sun().is_some()
+            || (contact && input.options.depth_prepass != PrepassMode::Off);
         if let Some((camera, _)) = input.view.camera {
             self.shadows.page_pixel = pixel_per_depth(camera.clip_from_world(), size.1) as f32;
         }
         let resolve = (prepass
-            && input.options.visibility_resolve
+            && (input.options.visibility_resolve || contact)
             && !input.shadow_views.views.is_empty()
             && self.gpu.supports_samples(NORMAL_FORMAT, samples))
-        .then_some(size);
+        .then_some(ResolvePlan {
+            size,
+            filters: input.options.visibility_resolve,
+        });
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)

@@ -28,7 +28,7 @@ impl fmt::Display for SettingsProblem {
 }
 
 /// Checks a float against an inclusive range; NaN and infinities always fail.
-fn check_f32(
+pub(super) fn check_f32(
     problems: &mut Vec<SettingsProblem>,
     field: &'static str,
     value: &mut f32,
@@ -52,7 +52,7 @@ fn check_f32(
 }
 
 /// Checks an integer against an inclusive range.
-fn check_u32(
+pub(super) fn check_u32(
     problems: &mut Vec<SettingsProblem>,
     field: &'static str,
     value: &mut u32,
@@ -304,6 +304,7 @@ impl ShadowSettings {
             d.filter.moments.min_variance,
             "square metres from 0 to 0.01",
         );
+        s.filter.contact.check(&mut p);
         (s, p)
     }
 

@@ -5,8 +5,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::settings::{
-    CascadeFit, CascadeSettings, MomentFormat, MomentSettings, PcssQuality, ShadowBias, ShadowDebugView,
-    ShadowFilterSettings, ShadowMapSettings, ShadowMode, ShadowSettings, SunLayout, VsmSettings,
+    CascadeFit, CascadeSettings, ContactShadows, MomentFormat, MomentSettings, PcssQuality, ShadowBias,
+    ShadowDebugView, ShadowFilterSettings, ShadowMapSettings, ShadowMode, ShadowSettings, SunLayout, VsmSettings,
 };
 
 /// [`ShadowSettings`] as a scene file writes it: one level of fields (each documented on the
@@ -95,6 +95,9 @@ pub struct ShadowSettingsFile {
     /// `VirtualClipmap(levels: 6, level0_extent: 32.0, virtual_resolution: 16384, page_size: 128,
     /// pool_pages: 2048)` (experimental).
     pub layout: SunLayout,
+    /// Screen-space contact shadows, `(length: 0.3, steps: 16, thickness: 0.1, intensity: 1.0)`
+    /// (off while `steps` is 0, the default).
+    pub contact_shadows: ContactShadows,
 }
 
 impl Default for ShadowSettingsFile {
@@ -128,6 +131,7 @@ impl Default for ShadowSettingsFile {
             moment_contact_hardening: true,
             moment_min_variance: 1e-5,
             layout: SunLayout::Cascades,
+            contact_shadows: ContactShadows::OFF,
         }
     }
 }
@@ -174,6 +178,7 @@ impl From<ShadowSettingsFile> for ShadowSettings {
                     contact_hardening: f.moment_contact_hardening,
                     min_variance: f.moment_min_variance,
                 },
+                contact: f.contact_shadows,
             },
         }
     }
@@ -211,6 +216,7 @@ impl From<ShadowSettings> for ShadowSettingsFile {
             moment_bleed_reduction: filter.moments.bleed_reduction,
             moment_contact_hardening: filter.moments.contact_hardening,
             moment_min_variance: filter.moments.min_variance,
+            contact_shadows: filter.contact,
         }
     }
 }

@@ -143,6 +143,9 @@ pub enum ShadowDebugView {
     /// level they read, half magenta where the pool overflowed and a coarser level was read,
     /// magenta where no level was resident.
     Cascades,
+    /// Show the focus light's contact shadows alone (grey: 1 unoccluded, 0 occluded by the
+    /// march); white where none ran.
+    Contact,
 }
 
 /// Every tunable parameter of a light's shadows, in three parts: the maps themselves
@@ -248,6 +251,8 @@ pub struct ShadowFilterSettings {
     pub vsm: VsmSettings,
     /// A sun's moment techniques (EVSM2, EVSM4, MSM).
     pub moments: MomentSettings,
+    /// Screen-space contact shadows (off by default).
+    pub contact: ContactShadows,
 }
 
 /// Variance shadow maps (spot and point lights).
@@ -361,10 +366,12 @@ pub struct MapKey {
 }
 
 mod checks;
+mod contact;
 mod file;
 mod sun_layout;
 
 pub use checks::{SettingsProblem, max_pool_pages};
+pub use contact::{ContactShadows, MAX_CONTACT_STEPS};
 pub use file::ShadowSettingsFile;
 pub use sun_layout::{
     DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MAX_CLIPMAP_LEVELS, SunLayout,

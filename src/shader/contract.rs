@@ -42,6 +42,9 @@ pub const SHADOW_FLAG_MOMENT_HARDENING: u32 = 16;
 pub const SHADOW_FLAG_CLIPMAP: u32 = 32;
 /// `Light::flags`: the sun's clipmap levels are paged (read through `page_table`).
 pub const SHADOW_FLAG_PAGED: u32 = 64;
+/// `Light::flags`: the light's resolved layer holds its contact shadows alone (the lighting
+/// pass filters the shadow maps itself and multiplies them in).
+pub const SHADOW_FLAG_CONTACT_ONLY: u32 = 128;
 /// `PageEntry::physical` of an entry holding no page.
 pub const PAGE_NONE: u32 = u32::MAX;
 /// `Light::resolve_layer` of a light filtered in the lighting pass (no resolved layer).
@@ -67,7 +70,7 @@ pub enum Value {
 }
 
 /// Every shared constant: its name (the same in Rust and WGSL) and value.
-pub const CONSTANTS: [(&str, Value); 23] = [
+pub const CONSTANTS: [(&str, Value); 24] = [
     ("MAX_LIGHTS", Value::U32(MAX_LIGHTS)),
     ("MAX_SHADOW_VIEWS", Value::U32(MAX_SHADOW_VIEWS)),
     ("LIGHT_DIRECTIONAL", Value::U32(LIGHT_DIRECTIONAL)),
@@ -88,6 +91,7 @@ pub const CONSTANTS: [(&str, Value); 23] = [
     ("SHADOW_FLAG_MOMENT_HARDENING", Value::U32(SHADOW_FLAG_MOMENT_HARDENING)),
     ("SHADOW_FLAG_CLIPMAP", Value::U32(SHADOW_FLAG_CLIPMAP)),
     ("SHADOW_FLAG_PAGED", Value::U32(SHADOW_FLAG_PAGED)),
+    ("SHADOW_FLAG_CONTACT_ONLY", Value::U32(SHADOW_FLAG_CONTACT_ONLY)),
     ("PAGE_NONE", Value::U32(PAGE_NONE)),
     ("RESOLVE_NONE", Value::U32(RESOLVE_NONE)),
     (

@@ -10,13 +10,13 @@ use crate::ecs::view_list::{ShadowView, ShadowViews};
 use crate::render::shadows::sun_moments::{
     MomentSupport, cascade_moment_format, cascade_moments, msm_bias, msm_quantised, paged_moment_format,
 };
-use crate::settings::{ShadowMode, ShadowSettings};
+use crate::settings::{ShadowDebugView, ShadowMode, ShadowSettings};
 
 pub use crate::shader::contract::{
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, RESOLVE_NONE, SHADOW_FILTER_EVSM2, SHADOW_FILTER_EVSM4,
     SHADOW_FILTER_MSM, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS, SHADOW_FILTER_VSM, SHADOW_FLAG_BLOCKER_EARLY_OUT,
-    SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_PAGED, SHADOW_FLAG_RECEIVER_PLANE,
-    SHADOW_FLAG_TEMPORAL,
+    SHADOW_FLAG_CLIPMAP, SHADOW_FLAG_CONTACT_ONLY, SHADOW_FLAG_MOMENT_HARDENING, SHADOW_FLAG_PAGED,
+    SHADOW_FLAG_RECEIVER_PLANE, SHADOW_FLAG_TEMPORAL,
 };
 
 /// Lights in the uniform light list (WGSL `MAX_LIGHTS`); the rest go to a storage buffer that
@@ -61,6 +61,10 @@ pub struct LightGpu {
     pub resolve_layer: u32,
     /// PCSS sample counts ([`pcss_samples`]).
     pub pcss_samples: u32,
+    /// Contact shadows: steps of the march (0: off).
+    pub contact_steps: u32,
+    /// Contact shadows: length (metres), thickness (metres), intensity.
+    pub contact: Vec3,
     /// Padding to the WGSL size.
     pub _pad: u32,
 }
@@ -146,11 +150,15 @@ fn filter_and_flags(settings: &ShadowSettings, positional: bool) -> (u32, u32) {
     if settings.filter.moments.contact_hardening {
         flags |= SHADOW_FLAG_MOMENT_HARDENING;
     }
+    if settings.filter.debug_view == ShadowDebugView::Contact {
+        flags |= SHADOW_FLAG_CONTACT_ONLY;
+    }
     (filter, flags)
 }
 
 /// Packs every light (suns, then spots, then points) into `out`, pointing each shadowed one
-/// at its views in `views`; `support`: the moment formats of the device.
+/// at its views in `views`; `support`: the moment formats of the device. Contact shadows are
+/// packed for the first [`MAX_LIGHTS`] lights alone.
 pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSupport, out: &mut Vec<LightGpu>) {
     out.clear();
     let cascade_format = cascade_moment_format(lights, support).unwrap_or(wgpu::TextureFormat::Rgba16Float);
@@ -242,6 +250,14 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
             ..LightGpu::default()
         });
     }
+    // NOTE: contact shadows are marched for the uniform list's lights only (see resolve.wgsl).
+    for (gpu, settings) in out.iter_mut().zip(lights.all_settings()).take(MAX_LIGHTS) {
+        let contact = settings.filter.contact;
+        if contact.enabled() {
+            gpu.contact_steps = contact.steps;
+            gpu.contact = Vec3::new(contact.length, contact.thickness, contact.intensity);
+        }
+    }
     // NOTE: views past the list's capacity are not uploaded, so no light points at them.
     for (v, view) in views.views.iter().enumerate().take(MAX_SHADOW_VIEWS) {
         let Some(light) = out.get_mut(view.light as usize) else {
@@ -254,18 +270,28 @@ pub fn pack_lights(lights: &FrameLights, views: &ShadowViews, support: MomentSup
     }
 }
 
-/// Gives each shadowed light (one with shadow views) its own layer of the resolved
-/// visibility, in order, when `resolve`; the others get [`RESOLVE_NONE`]. Returns the number
-/// of layers.
-pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: bool) -> u32 {
+/// Gives shadowed lights (those with shadow views) a layer of the resolved visibility each,
+/// in order, while the compute resolve runs (`resolve` is Some): every one when it resolves
+/// the filters (`Some(true)`), else those with contact shadows, whose layer then holds their
+/// contact shadows alone ([`SHADOW_FLAG_CONTACT_ONLY`], which a light whose debug view shows
+/// them has already). The others get [`RESOLVE_NONE`]. Returns the number of layers.
+pub fn assign_resolve_layers(lights: &mut [LightGpu], resolve: Option<bool>) -> u32 {
     let mut layers = 0;
     for light in lights {
-        light.resolve_layer = if resolve && light.view_count > 0 {
+        let contact_only = light.flags & SHADOW_FLAG_CONTACT_ONLY != 0;
+        let layered = match resolve {
+            Some(filters) => light.view_count > 0 && (filters || contact_only || light.contact_steps > 0),
+            None => false,
+        };
+        light.resolve_layer = if layered {
             layers += 1;
             layers - 1
         } else {
             RESOLVE_NONE
         };
+        if layered && resolve == Some(false) {
+            light.flags |= SHADOW_FLAG_CONTACT_ONLY;
+        }
     }
     layers
 }

@@ -43,8 +43,8 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
-    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SINGLE_PASS_VIEWS, ShadowViewGpu, assign_resolve_layers,
-    pack_lights, pack_view,
+    CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_FLAG_CONTACT_ONLY, SINGLE_PASS_VIEWS, ShadowViewGpu,
+    assign_resolve_layers, pack_lights, pack_view,
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::EntryGpu;
@@ -52,7 +52,7 @@ use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
 use crate::render::shadows::storage::DepthArray;
 use crate::render::shadows::sun_moments::sun_moment_need;
-use crate::render::shadows::visibility::VisibilityTarget;
+use crate::render::shadows::visibility::{ResolvePlan, VisibilityTarget};
 use crate::settings::ShadowMode;
 use crate::shader::ShaderLibrary;
 
@@ -106,6 +106,9 @@ pub struct Resolved {
     pub target: VisibilityTarget,
     /// The shadow group with `target` at its [`Slot::Resolved`] binding.
     pub group: wgpu::BindGroup,
+    /// Every shadowed light's layer holds its filtered shadow (none holds contact shadows
+    /// alone), so the lighting pass may leave the filters out.
+    pub filters: bool,
 }
 
 /// Whether a view of `storage` this frame filters with VSM, and whether one of those blurs
@@ -307,15 +310,15 @@ impl ShadowResources {
     /// were replaced; returns true when the shadow group was rebuilt. Data too large for the
     /// device is refused before any upload; the lights past [`MAX_LIGHTS`] go to a storage
     /// buffer that grows with them.
-    /// Views past [`MAX_SHADOW_VIEWS`] are left out with a warning in `problems`. With `resolve` (the
-    /// target's size), every shadowed light gets a layer of the resolved visibility.
+    /// Views past [`MAX_SHADOW_VIEWS`] are left out with a warning in `problems`. With `resolve`,
+    /// shadowed lights get layers of the resolved visibility ([`assign_resolve_layers`]).
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         (gpu, layouts, library): (&GpuContext, &Layouts, &mut ShaderLibrary),
         lights: &FrameLights,
         views: &ShadowViews,
-        resolve: Option<(u32, u32)>,
+        resolve: Option<ResolvePlan>,
         counters: &mut RenderCounters,
         problems: &mut UploadProblems,
     ) -> Result<bool, LimitError> {
@@ -387,6 +390,16 @@ impl ShadowResources {
             }
         }
         pack_lights(lights, views, support, &mut self.light_data);
+        let unmarched = lights
+            .all_settings()
+            .skip(MAX_LIGHTS)
+            .filter(|s| s.filter.contact.enabled())
+            .count();
+        if unmarched > 0 {
+            problems.warnings.push(format!(
+                "{unmarched} lights past the first {MAX_LIGHTS} ask for contact shadows, which are marched for the first {MAX_LIGHTS} lights only (suns, then spots, then points): they are drawn without them"
+            ));
+        }
         for (light, sun) in self.light_data.iter_mut().zip(&lights.suns) {
             if sun.paged.is_some() {
                 light.range = self.page_pixel;
@@ -410,7 +423,8 @@ impl ShadowResources {
             ));
         }
         self.view_data.truncate(MAX_SHADOW_VIEWS);
-        let layers = assign_resolve_layers(&mut self.light_data, resolve.is_some());
+        let layers = assign_resolve_layers(&mut self.light_data, resolve.map(|r| r.filters));
+        let contact_only = self.light_data.iter().any(|l| l.flags & SHADOW_FLAG_CONTACT_ONLY != 0);
         let [lights_sent, views_sent, casters_sent] = &mut self.uploaded;
         let light_bytes: &[u8] = bytemuck::cast_slice(&self.light_data);
         // NOTE: the grow buffer only grows for more data, which differs from what was sent.
@@ -452,7 +466,9 @@ impl ShadowResources {
             counters.shadow_groups += 1;
         }
         match resolve {
-            Some((width, height)) => {
+            Some(ResolvePlan {
+                size: (width, height), ..
+            }) => {
                 let extent = (width, height, layers.max(1));
                 let kept = self.resolved.take().filter(|r| r.target.extent == extent);
                 self.resolved = Some(match kept {
@@ -461,9 +477,16 @@ impl ShadowResources {
                         let target = kept.map_or_else(|| VisibilityTarget::new(device, extent), |r| r.target);
                         let group = shadow_group(device, layouts, buffers, &self.maps, &self.moments, &target);
                         counters.shadow_groups += 1;
-                        Resolved { target, group }
+                        Resolved {
+                            target,
+                            group,
+                            filters: false,
+                        }
                     }
                 });
+                if let Some(resolved) = self.resolved.as_mut() {
+                    resolved.filters = !contact_only && resolve.is_some_and(|r| r.filters);
+                }
             }
             None => self.resolved = None,
         }

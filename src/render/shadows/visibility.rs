@@ -10,6 +10,16 @@ use crate::render::target::texture_2d;
 /// Format of the resolved visibility (storage-writable in core WebGPU).
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
+/// What the compute resolve writes this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ResolvePlan {
+    /// The target's size, pixels.
+    pub size: (u32, u32),
+    /// It writes every shadowed light's filtered shadow (`RenderOptions::visibility_resolve`);
+    /// else only the contact shadows of the lights that have them.
+    pub filters: bool,
+}
+
 /// The texture, its views, and what it was made for.
 pub struct VisibilityTarget {
     /// All layers, for sampling in the lighting pass.

@@ -16,7 +16,7 @@ use crate::ecs::lights::{PointLight, SpotLight};
 use crate::ecs::view_list::ShadowLightBudget;
 use crate::math::spot::MAX_SPOT_HALF_ANGLE;
 use crate::settings::ShadowSettings;
-use crate::viewer::inspector::settings::{bias_ui, filter_ui, resolution_ui, settings_ui};
+use crate::viewer::inspector::settings::{bias_ui, debug_view_ui, filter_ui, resolution_ui, settings_ui};
 use crate::viewer::inspector::sun::{sun_angles, sun_direction};
 
 /// Draws a panel per spot light, point light and extra directional light; returns how many.
@@ -180,6 +180,7 @@ fn positional_settings_ui(ui: &mut Ui, e: &mut bevy_ecs::world::EntityWorldMut<'
     filter_ui(ui, &mut settings, false);
     resolution_ui(ui, &mut settings);
     bias_ui(ui, &mut settings);
+    debug_view_ui(ui, &mut settings.filter.debug_view);
     if settings != before {
         e.insert(settings);
     }

@@ -6,9 +6,9 @@
 use egui::{ComboBox, Slider, Ui};
 
 use crate::settings::{
-    CascadeFit, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MAX_CASCADES, MAX_CLIPMAP_LEVELS,
-    MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat, PcssQuality, ShadowDebugView, ShadowMode,
-    ShadowSettings, SunLayout, max_pool_pages,
+    CascadeFit, ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MAX_CASCADES,
+    MAX_CLIPMAP_LEVELS, MAX_CONTACT_STEPS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat, PcssQuality,
+    ShadowDebugView, ShadowMode, ShadowSettings, SunLayout, max_pool_pages,
 };
 
 /// The shadow-map resolutions offered (the seed's runtime table, and 256 for point-light faces).
@@ -23,13 +23,49 @@ pub(crate) fn settings_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     ui.add(Slider::new(&mut s.map.cascades.blend_width, 0.0..=0.5).text("cascade blend"));
     ui.add(Slider::new(&mut s.filter.distance_fade_width, 0.0..=0.5).text("distance fade"));
     ui.checkbox(&mut s.map.depth_clamp, "depth clamp");
-    let mut debug = s.filter.debug_view == ShadowDebugView::Cascades;
-    if ui.checkbox(&mut debug, "debug: cascade colours").changed() {
-        s.filter.debug_view = if debug {
-            ShadowDebugView::Cascades
-        } else {
-            ShadowDebugView::None
-        };
+    debug_view_ui(ui, &mut s.filter.debug_view);
+}
+
+/// The debug view shown for the focus light: none, cascade colours or contact shadows alone.
+pub(crate) fn debug_view_ui(ui: &mut Ui, view: &mut ShadowDebugView) {
+    let name = |v: ShadowDebugView| match v {
+        ShadowDebugView::None => "no debug view",
+        ShadowDebugView::Cascades => "cascade colours",
+        ShadowDebugView::Contact => "contact shadows alone",
+    };
+    let views = [
+        ShadowDebugView::None,
+        ShadowDebugView::Cascades,
+        ShadowDebugView::Contact,
+    ];
+    ComboBox::from_label("debug view")
+        .selected_text(name(*view))
+        .show_ui(ui, |ui| {
+            for v in views {
+                ui.selectable_value(view, v, name(v));
+            }
+        });
+}
+
+/// Contact shadows: on or off, and the march's length, steps, thickness and intensity.
+fn contact_ui(ui: &mut Ui, c: &mut ContactShadows) {
+    let mut on = c.steps > 0;
+    if ui.checkbox(&mut on, "contact shadows").changed() {
+        c.steps = if on { ContactShadows::ON.steps } else { 0 };
+    }
+    if on {
+        ui.add(
+            Slider::new(&mut c.length, 0.01..=5.0)
+                .logarithmic(true)
+                .text("contact length (m)"),
+        );
+        ui.add(Slider::new(&mut c.steps, 1..=MAX_CONTACT_STEPS).text("contact steps"));
+        ui.add(
+            Slider::new(&mut c.thickness, 0.001..=2.0)
+                .logarithmic(true)
+                .text("contact thickness (m)"),
+        );
+        ui.add(Slider::new(&mut c.intensity, 0.0..=1.0).text("contact intensity"));
     }
 }
 
@@ -148,7 +184,7 @@ pub(crate) fn bias_ui(ui: &mut Ui, s: &mut ShadowSettings) {
 /// The filter: PCF with its radius, PCSS with its quality and switches, and the moment
 /// techniques of the light's kind: for a `sun` EVSM2, EVSM4 and MSM with their precision,
 /// exponent, blur, bleed reduction and variance floor; for spot and point lights VSM with its
-/// blur, bleed reduction and variance floor.
+/// blur, bleed reduction and variance floor; then contact shadows.
 pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, sun: bool) {
     let moments: &[ShadowMode] = if sun {
         &[ShadowMode::Evsm, ShadowMode::Evsm4, ShadowMode::Msm]
@@ -197,6 +233,7 @@ pub(crate) fn filter_ui(ui: &mut Ui, s: &mut ShadowSettings, sun: bool) {
         }
         ShadowMode::Evsm | ShadowMode::Evsm4 | ShadowMode::Msm => sun_moments_ui(ui, s),
     }
+    contact_ui(ui, &mut s.filter.contact);
 }
 
 /// A sun's moment parameters (EVSM2, EVSM4, MSM).
