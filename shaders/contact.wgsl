@@ -6,7 +6,8 @@
 // normal at that pixel), not as the depth at the pixel's centre, so flat ground at grazing
 // angles does not shadow itself between pixel centres; a march that leaves the screen, goes
 // behind the camera or reaches the sky finds nothing, so geometry off screen never invents a
-// shadow. The start is jittered by interleaved-gradient noise (per frame with temporal
+// shadow. A sample is compared with the plane only when it lies behind the depth seen at its
+// pixel's centre (the cheap test that rejects most samples). The start is jittered by interleaved-gradient noise (per frame with temporal
 // rotation), which turns the steps' banding into noise. The CPU mirror is `math::contact`.
 //
 // The inputs are group 1 of the compute visibility resolve (single-sample, or each pixel's
@@ -86,10 +87,13 @@ fn contact_visibility(light: Light, position: vec3<f32>, normal: vec3<f32>, to_l
         jitter = fract(jitter + f32(frame.frame_index % 4096u) * GOLDEN_RATIO_FRACT);
     }
     let step = reach / f32(steps);
+    // Clip coordinates are linear in the world point: the march steps through them.
+    let origin_clip = frame.clip_from_world * vec4<f32>(origin, 1.0);
+    let step_clip = frame.clip_from_world * vec4<f32>(to_light * step, 0.0);
     let last = vec2<i32>(size) - 1;
     for (var i = 0u; i < steps; i++) {
-        let point = origin + to_light * ((f32(i) + jitter) * step);
-        let clip = frame.clip_from_world * vec4<f32>(point, 1.0);
+        let along = f32(i) + jitter;
+        let clip = origin_clip + step_clip * along;
         if clip.w <= 0.0 {
             break;
         }
@@ -100,10 +104,12 @@ fn contact_visibility(light: Light, position: vec3<f32>, normal: vec3<f32>, to_l
         let at = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(size);
         let sample_pixel = clamp(vec2<i32>(floor(at)), vec2<i32>(0), last);
         let seen_depth = textureLoad(camera_depth, sample_pixel, 0);
-        // Reverse-Z: 0 is the far plane, where nothing was drawn (the sky hides nothing).
-        if seen_depth <= 0.0 {
+        // Reverse-Z: a sample not behind the depth seen at its pixel's centre is not hidden
+        // (nor is one over the sky, depth 0); only the others are compared with the plane.
+        if clip.z / clip.w >= seen_depth {
             continue;
         }
+        let point = origin + to_light * (along * step);
         let seen_normal = unpack_normal(textureLoad(camera_normals, sample_pixel, 0).r).xyz;
         let hidden = hidden_by(point, sample_pixel, seen_depth, seen_normal, size);
         let tolerance = DEPTH_TOLERANCE_PIXELS * footprint * distance(point, frame.camera_position) / eye_distance;

@@ -1,8 +1,8 @@
 //! Contact shadows' screen-space march, the CPU mirror of `shaders/contact.wgsl`: from a
-//! surface point, samples along a short segment towards the light, each compared with the
-//! plane of the surface the camera saw at the sample's pixel (its depth and normal from the
-//! depth prepass). A sample behind that plane by more than a rounding tolerance and less than
-//! the thickness is inside an occluder. Marches that leave the screen, pass behind the camera
+//! surface point, samples along a short segment towards the light; one that lies behind the
+//! depth seen at its pixel's centre is compared with the plane of the surface seen there (its
+//! depth and normal from the depth prepass). A sample behind that plane by more than a
+//! rounding tolerance and less than the thickness is inside an occluder. Marches that leave the screen, pass behind the camera
 //! or reach the sky find nothing.
 
 use glam::{IVec2, Mat4, UVec2, Vec2, Vec3, Vec4Swizzles};
@@ -92,10 +92,12 @@ impl SeenDepth<'_> {
         let eye_distance = position.distance(self.camera_position).max(1e-6);
         let origin = position + normal * (DEPTH_TOLERANCE_PIXELS * footprint);
         let step = march.reach / march.steps as f32;
+        let origin_clip = self.clip_from_world * origin.extend(1.0);
+        let step_clip = self.clip_from_world * (to_light * step).extend(0.0);
         let last = self.size.as_ivec2() - IVec2::ONE;
         for i in 0..march.steps {
-            let point = origin + to_light * ((i as f32 + march.jitter) * step);
-            let clip = self.clip_from_world * point.extend(1.0);
+            let along = i as f32 + march.jitter;
+            let clip = origin_clip + step_clip * along;
             if clip.w <= 0.0 {
                 break;
             }
@@ -106,9 +108,10 @@ impl SeenDepth<'_> {
             let at = Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * self.size.as_vec2();
             let sample_pixel = at.floor().as_ivec2().clamp(IVec2::ZERO, last);
             let (seen_depth, seen_normal) = (self.seen)(sample_pixel);
-            if seen_depth <= 0.0 {
+            if clip.z / clip.w >= seen_depth {
                 continue;
             }
+            let point = origin + to_light * (along * step);
             let hidden = self.hidden_by(point, sample_pixel, seen_depth, seen_normal);
             let tolerance = DEPTH_TOLERANCE_PIXELS * footprint * point.distance(self.camera_position) / eye_distance;
             if hidden > tolerance && hidden < march.thickness {
