@@ -19,8 +19,13 @@ const WIDTH: u32 = 640;
 const HEIGHT: u32 = 360;
 /// The contact band: points within this distance of a caster, metres.
 const BAND: f32 = 0.3;
-/// Contact shadows as a user turns them on: the defaults.
-const CONTACT: ContactShadows = ContactShadows::ON;
+/// The march the tests run: 16 steps over 0.3 m, 5 cm thick.
+const CONTACT: ContactShadows = ContactShadows {
+    length: 0.3,
+    steps: 16,
+    thickness: 0.05,
+    intensity: 1.0,
+};
 
 /// The contact scene with a 512² map, contact shadows as given.
 fn scene(contact: ContactShadows) -> SceneDesc {
