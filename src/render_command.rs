@@ -90,8 +90,8 @@ pub struct RenderArgs {
     #[arg(long)]
     debug_cascades: bool,
     /// Contact shadows for every light: `LENGTH,STEPS,THICKNESS,INTENSITY` (metres, 0-64,
-    /// metres, 0-1); alone, the defaults `0.3,16,0.05,1`; `0,0,0,0` turns them off.
-    #[arg(long, value_parser = contact_values, num_args = 0..=1, default_missing_value = "0.3,16,0.05,1")]
+    /// metres, 0-1); alone, the defaults `0.3,16,0.02,1`; `0,0,0,0` turns them off.
+    #[arg(long, value_parser = contact_values, num_args = 0..=1, default_missing_value = "0.3,16,0.02,1")]
     contact_shadows: Option<ContactShadows>,
     /// Show the contact shadows of the sun (or the first light) alone, in grey.
     #[arg(long)]

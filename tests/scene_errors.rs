@@ -478,5 +478,5 @@ fn contact_shadows_name_their_fields_and_load_with_defaults() {
     let text = edited(&[("resolution: 2048", "resolution: 2048, contact_shadows: (steps: 8)")]);
     let scene = SceneDesc::from_str(&text, ORIGIN).expect("contact shadows load");
     let c = scene.shadows.filter.contact;
-    assert_eq!((c.steps, c.length, c.thickness, c.intensity), (8, 0.3, 0.05, 1.0));
+    assert_eq!((c.steps, c.length, c.thickness, c.intensity), (8, 0.3, 0.02, 1.0));
 }

@@ -17,7 +17,7 @@ pub const MAX_CONTACT_STEPS: u32 = 64;
 /// at grazing angles does not shadow itself; a march that leaves the screen or reaches the
 /// sky finds nothing. Off by default (`steps` 0); needs the depth prepass (a light that asks
 /// for it turns the prepass on in [`DepthPrepass::Auto`](crate::render::DepthPrepass)).
-/// Scene files write it as `contact_shadows: (length: 0.3, steps: 16, thickness: 0.05,
+/// Scene files write it as `contact_shadows: (length: 0.3, steps: 16, thickness: 0.02,
 /// intensity: 1.0)`, any field left out taking its default.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -39,11 +39,11 @@ impl ContactShadows {
     pub const OFF: ContactShadows = ContactShadows {
         length: 0.3,
         steps: 0,
-        thickness: 0.05,
+        thickness: 0.02,
         intensity: 1.0,
     };
 
-    /// On with the defaults: 16 steps over 0.3 m, 5 cm thick, full intensity.
+    /// On with the defaults: 16 steps over 0.3 m, 2 cm thick, full intensity.
     pub const ON: ContactShadows = ContactShadows { steps: 16, ..Self::OFF };
 
     /// True when a march runs: some steps over some length, with some intensity.
