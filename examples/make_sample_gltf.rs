@@ -1,5 +1,6 @@
-//! Regenerates the procedural sample model in `assets/models/` (`fern.gltf`, `fern.bin`,
-//! `fern_leaf.png`) from `penumbra::gltf::sample`, then loads it back as a check.
+//! Regenerates the procedural sample models in `assets/models/` (`fern.gltf`, `fern.bin`,
+//! `fern_leaf.png` from `penumbra::gltf::sample`; the skinned, animated `walker.gltf`,
+//! `walker.bin` from `penumbra::gltf::sample::walker`), then loads them back as a check.
 //!
 //! Run with `cargo run --example make_sample_gltf`. The files are committed; the `gltf`
 //! integration test fails when they differ from what this writes.
@@ -7,6 +8,7 @@
 use std::fs;
 use std::path::Path;
 
+use penumbra::gltf::sample::walker::{WALKER_BIN, WALKER_GLTF, build_walker};
 use penumbra::gltf::sample::{self, SAMPLE_BIN, SAMPLE_DIR, SAMPLE_GLTF, SAMPLE_PNG};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -29,6 +31,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         model.meshes.len(),
         model.materials.len(),
         model.nodes.len(),
+    );
+    for warning in &model.warnings {
+        println!("warning: {warning}");
+    }
+
+    let walker = build_walker();
+    fs::write(dir.join(WALKER_GLTF), &walker.gltf)?;
+    fs::write(dir.join(WALKER_BIN), &walker.bin)?;
+    let model = penumbra::gltf::load(&dir.join(WALKER_GLTF))?;
+    println!(
+        "wrote {SAMPLE_DIR}/{{{WALKER_GLTF}, {WALKER_BIN}}}: {} skin of {} joints, {} animation of {:.1} s",
+        model.skins.len(),
+        model.skins.first().map_or(0, |s| s.joints.len()),
+        model.animations.len(),
+        model.animations.first().map_or(0.0, |a| a.duration()),
     );
     for warning in &model.warnings {
         println!("warning: {warning}");

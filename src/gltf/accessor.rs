@@ -23,6 +23,17 @@ pub(super) enum Expect {
     TexCoord,
     /// `SCALAR` `UNSIGNED_BYTE`, `UNSIGNED_SHORT` or `UNSIGNED_INT` (indices).
     Index,
+    /// `VEC4` `UNSIGNED_BYTE` or `UNSIGNED_SHORT`, not normalized (JOINTS_0).
+    Joints,
+    /// `VEC4` `FLOAT`, or normalized `UNSIGNED_BYTE` / `UNSIGNED_SHORT` (WEIGHTS_0).
+    Weights,
+    /// `MAT4` `FLOAT` (inverse bind matrices).
+    Mat4F32,
+    /// `SCALAR` `FLOAT` (animation key times).
+    ScalarF32,
+    /// `VEC4` `FLOAT`, or normalized `BYTE` / `UNSIGNED_BYTE` / `SHORT` / `UNSIGNED_SHORT`
+    /// (rotation keys).
+    Rotation,
 }
 
 impl Expect {
@@ -38,6 +49,21 @@ impl Expect {
                     && !normalized
                     && matches!(data_type, DataType::U8 | DataType::U16 | DataType::U32)
             }
+            Self::Joints => {
+                dimensions == Dimensions::Vec4 && !normalized && matches!(data_type, DataType::U8 | DataType::U16)
+            }
+            Self::Weights => {
+                dimensions == Dimensions::Vec4
+                    && (data_type == DataType::F32 || (normalized && matches!(data_type, DataType::U8 | DataType::U16)))
+            }
+            Self::Mat4F32 => dimensions == Dimensions::Mat4 && data_type == DataType::F32,
+            Self::ScalarF32 => dimensions == Dimensions::Scalar && data_type == DataType::F32,
+            Self::Rotation => {
+                dimensions == Dimensions::Vec4
+                    && (data_type == DataType::F32
+                        || (normalized
+                            && matches!(data_type, DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16)))
+            }
         }
     }
 
@@ -46,6 +72,11 @@ impl Expect {
             Self::Vec3F32 => "VEC3 FLOAT",
             Self::TexCoord => "VEC2 FLOAT or normalized VEC2 UNSIGNED_BYTE/UNSIGNED_SHORT",
             Self::Index => "SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT",
+            Self::Joints => "VEC4 UNSIGNED_BYTE/UNSIGNED_SHORT",
+            Self::Weights => "VEC4 FLOAT or normalized VEC4 UNSIGNED_BYTE/UNSIGNED_SHORT",
+            Self::Mat4F32 => "MAT4 FLOAT",
+            Self::ScalarF32 => "SCALAR FLOAT",
+            Self::Rotation => "VEC4 FLOAT or normalized VEC4 BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT",
         }
     }
 }

@@ -15,7 +15,7 @@ use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::diagnostic::SourceLines;
 use crate::ecs::assets::ImageData;
 use crate::gltf::json_path::{char_column, path_lines};
-use crate::gltf::{GltfError, GltfModel, JsonContext, material, mesh, nodes};
+use crate::gltf::{GltfError, GltfModel, JsonContext, animation, material, mesh, nodes, skin};
 
 /// The file being loaded, its directory, the asset root and the warnings collected so far.
 pub(super) struct Cx<'a> {
@@ -122,12 +122,18 @@ pub(super) fn load(path: &Path, io: &AssetIo) -> Result<GltfModel, GltfError> {
         m.base_color_texture = m.base_color_texture.and_then(|i| image_slots.get(i).copied());
     }
     let meshes = mesh::read_meshes(&mut cx, &document, &buffers)?;
-    let nodes = nodes::flatten(&mut cx, &document)?;
+    let skins = skin::read_skins(&cx, &document, &buffers)?;
+    let nodes = nodes::flatten(&mut cx, &document, &meshes, &skins)?;
+    let hierarchy = animation::read_hierarchy(&cx, &document)?;
+    let animations = animation::read_animations(&mut cx, &document, &buffers)?;
     Ok(GltfModel {
         meshes,
         materials,
         images,
         nodes,
+        hierarchy,
+        skins,
+        animations,
         warnings: cx.warnings,
     })
 }

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use crate::gltf::accessor::{self, Expect};
 use crate::gltf::load::Cx;
-use crate::gltf::{GltfError, GltfMesh, GltfPrimitive};
+use crate::gltf::{GltfError, GltfMesh, GltfPrimitive, skin};
 use crate::mesh::{MeshData, Vertex};
 
 /// The most vertices one primitive may have once read (after un-welding for flat normals):
@@ -221,6 +221,7 @@ fn read_primitive(
         }
     };
 
+    let influences = skin::read_influences(cx, &context, primitive, buffers, vertex_count)?;
     let mesh = match (&normal, reader.read_normals()) {
         (Some(_), Some(read)) => {
             let normals: Vec<[f32; 3]> = read.collect();
@@ -252,12 +253,21 @@ fn read_primitive(
         (Some(_), None) => return Err(unreadable(cx, "NORMAL")),
         (None, _) => {
             cx.warn(format!("{context}: no NORMAL attribute; flat normals computed"));
-            flat_normals(&positions, &uvs, &indices)
+            // NOTE: flat normals give each triangle corner its own vertex, in index order.
+            let unwelded = influences
+                .as_ref()
+                .map(|i| indices.iter().map(|&v| i[v as usize]).collect::<Vec<_>>());
+            return Ok(Some(GltfPrimitive {
+                mesh: flat_normals(&positions, &uvs, &indices),
+                material: primitive.material().index(),
+                influences: unwelded,
+            }));
         }
     };
     Ok(Some(GltfPrimitive {
         mesh,
         material: primitive.material().index(),
+        influences,
     }))
 }
 

@@ -12,20 +12,25 @@
 //! model shipped in `assets/models/`.
 
 mod accessor;
+mod animation;
 mod error;
 mod json_path;
 mod load;
 mod material;
 mod mesh;
 mod nodes;
+pub mod pose;
 pub mod sample;
+mod skin;
 
 use std::path::Path;
 
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Quat, Vec3, Vec4};
 
 use crate::asset_io::AssetIo;
 use crate::ecs::assets::{AlphaMode, ImageData};
+use crate::math::animation::Track;
+use crate::math::skinning::JointWeights;
 use crate::mesh::MeshData;
 
 pub use error::{GltfError, JsonContext};
@@ -44,6 +49,13 @@ pub struct GltfModel {
     pub images: Vec<ImageData>,
     /// Every node with a mesh in the loaded scene, flattened, depth first in file order.
     pub nodes: Vec<GltfNodeInstance>,
+    /// Every node of the file, in index order: parents and rest transforms, which skins'
+    /// joints and animations name.
+    pub hierarchy: Vec<GltfNode>,
+    /// Skins; the index is the glTF skin index.
+    pub skins: Vec<GltfSkin>,
+    /// Animations of node translations, rotations and scales.
+    pub animations: Vec<GltfAnimation>,
     /// Things skipped or approximated while loading, human readable, one per entry.
     pub warnings: Vec<String>,
 }
@@ -65,6 +77,9 @@ pub struct GltfPrimitive {
     pub mesh: MeshData,
     /// Index into [`GltfModel::materials`]; `None` for glTF's default material.
     pub material: Option<usize>,
+    /// Each vertex's joints and weights (`JOINTS_0`, `WEIGHTS_0`, normalised), for a
+    /// skinned primitive.
+    pub influences: Option<Vec<JointWeights>>,
 }
 
 /// The parts of a glTF metallic-roughness material that shadows and the forward pass use.
@@ -95,6 +110,84 @@ pub struct GltfNodeInstance {
     pub model_from_mesh: Mat4,
     /// The node's name in the file.
     pub name: Option<String>,
+    /// The node's index in the file.
+    pub node: usize,
+    /// Index into [`GltfModel::skins`] of the node's skin.
+    pub skin: Option<usize>,
+}
+
+/// One node of the file: its parent and its rest transform (translation, rotation, scale;
+/// a matrix in the file is decomposed).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfNode {
+    /// The node's name in the file.
+    pub name: Option<String>,
+    /// The node whose child it is.
+    pub parent: Option<usize>,
+    /// Rest translation.
+    pub translation: Vec3,
+    /// Rest rotation, unit length.
+    pub rotation: Quat,
+    /// Rest scale.
+    pub scale: Vec3,
+}
+
+/// A skin: the nodes that are its joints, and for each the inverse bind matrix that takes the
+/// mesh's bind space into the joint's space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfSkin {
+    /// The skin's name in the file.
+    pub name: Option<String>,
+    /// Node indices of the joints (at most [`MAX_JOINTS`](crate::math::skinning::MAX_JOINTS)).
+    pub joints: Vec<usize>,
+    /// One invertible matrix per joint (identity where the file gives none).
+    pub inverse_bind: Vec<Mat4>,
+}
+
+/// An animation: channels that move nodes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfAnimation {
+    /// The animation's name in the file.
+    pub name: Option<String>,
+    /// Node channels (morph-target weights are skipped).
+    pub channels: Vec<GltfChannel>,
+}
+
+impl GltfAnimation {
+    /// The last key time of any channel, seconds.
+    pub fn duration(&self) -> f32 {
+        self.channels.iter().map(|c| c.property.duration()).fold(0.0, f32::max)
+    }
+}
+
+/// One channel: a track of one node's translation, rotation or scale.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GltfChannel {
+    /// Index into [`GltfModel::hierarchy`].
+    pub node: usize,
+    /// The property and its track.
+    pub property: NodeProperty,
+}
+
+/// The node property a channel animates, with its track.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NodeProperty {
+    /// Translation.
+    Translation(Track<Vec3>),
+    /// Rotation.
+    Rotation(Track<Quat>),
+    /// Scale.
+    Scale(Track<Vec3>),
+}
+
+impl NodeProperty {
+    /// The track's last key time, seconds.
+    pub fn duration(&self) -> f32 {
+        match self {
+            Self::Translation(t) | Self::Scale(t) => t.duration(),
+            Self::Rotation(t) => t.duration(),
+        }
+    }
 }
 
 /// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to the

@@ -6,7 +6,8 @@ use ::gltf::{Document, Node};
 use glam::Mat4;
 
 use crate::gltf::load::Cx;
-use crate::gltf::{GltfError, GltfNodeInstance};
+use crate::gltf::skin::check_joint_indices;
+use crate::gltf::{GltfError, GltfMesh, GltfNodeInstance, GltfSkin};
 
 /// The deepest hierarchy accepted (the walk recurses once per level).
 const MAX_DEPTH: usize = 256;
@@ -38,11 +39,19 @@ fn scene_roots(document: &Document) -> Vec<usize> {
 }
 
 /// Every node with a mesh in the drawn scene, depth first, with its matrix composed
-/// through its ancestors.
-pub(super) fn flatten(cx: &mut Cx, document: &Document) -> Result<Vec<GltfNodeInstance>, GltfError> {
+/// through its ancestors; a node that pairs a mesh with a skin has its joint indices checked
+/// against the skin.
+pub(super) fn flatten(
+    cx: &mut Cx,
+    document: &Document,
+    meshes: &[GltfMesh],
+    skins: &[GltfSkin],
+) -> Result<Vec<GltfNodeInstance>, GltfError> {
     let nodes: Vec<Node> = document.nodes().collect();
     let mut walk = Walk {
         nodes: &nodes,
+        meshes,
+        skins,
         on_path: vec![false; nodes.len()],
         path: Vec::new(),
         visits: 0,
@@ -64,6 +73,8 @@ pub(super) fn flatten(cx: &mut Cx, document: &Document) -> Result<Vec<GltfNodeIn
 
 struct Walk<'n, 'd> {
     nodes: &'n [Node<'d>],
+    meshes: &'n [GltfMesh],
+    skins: &'n [GltfSkin],
     /// Whether each node is on the current path from the root.
     on_path: Vec<bool>,
     /// The current path from the root.
@@ -118,11 +129,17 @@ impl Walk<'_, '_> {
                     ),
                 ));
             }
-            self.skinned += usize::from(node.skin().is_some());
+            let skin = node.skin().map(|s| s.index());
+            if let (Some(s), Some(m)) = (skin, self.meshes.get(mesh.index())) {
+                check_joint_indices(cx, index, mesh.index(), m, s, &self.skins[s])?;
+            }
+            self.skinned += usize::from(skin.is_some());
             self.out.push(GltfNodeInstance {
                 mesh: mesh.index(),
                 model_from_mesh: world,
                 name: node.name().map(str::to_owned),
+                node: index,
+                skin,
             });
         }
         self.on_path[index] = true;

@@ -18,6 +18,7 @@ use image::{ExtendedColorType, ImageEncoder};
 use crate::gltf::material::DIFFUSE_TRANSMISSION;
 
 mod builder;
+pub mod walker;
 
 use builder::{Builder, Node};
 

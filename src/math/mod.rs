@@ -1,7 +1,8 @@
 //! Pure math of the shadow system: bounding boxes, reverse-Z projections, the light frame,
 //! camera frusta, cascade splitting, fitting (clipped to the receivers' box) and snapping, PCSS parameters, caster culling,
 //! Poisson-disk kernels, spot-light views with their perspective penumbra estimate, and the
-//! choice of shadowed lights under a budget. Only `glam` and `std`; no GPU types.
+//! choice of shadowed lights under a budget, contact-shadow marches, linear blend skinning
+//! and keyframe tracks. Only `glam` and `std`; no GPU types.
 //!
 //! Conventions: right-handed world with +Y up; cameras look down local −Z; matrices are
 //! named `target_from_source`; depth is reverse-Z in `[0, 1]` (near → 1); NDC +y is up and
@@ -9,6 +10,7 @@
 //! travels, and light space looks down −Z.
 
 pub mod aabb;
+pub mod animation;
 pub mod cascades;
 pub mod chunks;
 pub mod clip;
@@ -31,6 +33,7 @@ pub mod projection;
 pub mod receivers;
 pub mod seen_depths;
 pub mod shadow_memory;
+pub mod skinning;
 pub mod snapping;
 pub mod splits;
 pub mod spot;

@@ -128,6 +128,53 @@ impl Builder {
         })
     }
 
+    /// Appends `bytes` as a buffer view of non-vertex data (inverse bind matrices, animation
+    /// keys), 4-byte aligned.
+    pub(super) fn data_view(&mut self, bytes: &[u8]) -> Index<json::buffer::View> {
+        let view = self.view(bytes, Target::ArrayBuffer);
+        self.root.buffer_views[view.value()].target = None;
+        view
+    }
+
+    /// An accessor of `values` (`per` floats an element, of `type_`) in a view of its own.
+    pub(super) fn floats(&mut self, values: &[f32], type_: Type, per: usize, bounds: bool) -> Index<json::Accessor> {
+        let bytes: Vec<u8> = values.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let view = self.data_view(&bytes);
+        let accessor = self.accessor(view, values.len() / per, ComponentType::F32, type_, None);
+        if bounds {
+            let lo = values.iter().copied().fold(f32::INFINITY, f32::min);
+            let hi = values.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let a = &mut self.root.accessors[accessor.value()];
+            a.min = Some(json::Value::from(vec![short_number(lo)]));
+            a.max = Some(json::Value::from(vec![short_number(hi)]));
+        }
+        accessor
+    }
+
+    /// [`Builder::primitive`] with each vertex's four joints and weights (`JOINTS_0` as
+    /// unsigned bytes, `WEIGHTS_0` as floats).
+    pub(super) fn skinned_primitive(
+        &mut self,
+        g: &Geometry,
+        joints: &[[u8; 4]],
+        weights: &[[f32; 4]],
+        material: Index<json::Material>,
+    ) -> json::mesh::Primitive {
+        let mut primitive = self.primitive(g, material);
+        let n = g.positions.len();
+        let v = self.view(&joints.concat(), Target::ArrayBuffer);
+        let joints = self.accessor(v, n, ComponentType::U8, Type::Vec4, None);
+        let flat: Vec<f32> = weights.iter().flatten().copied().collect();
+        let bytes: Vec<u8> = flat.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let v = self.view(&bytes, Target::ArrayBuffer);
+        let weights = self.accessor(v, n, ComponentType::F32, Type::Vec4, None);
+        primitive.attributes.insert(Checked::Valid(Semantic::Joints(0)), joints);
+        primitive
+            .attributes
+            .insert(Checked::Valid(Semantic::Weights(0)), weights);
+        primitive
+    }
+
     pub(super) fn accessor(
         &mut self,
         view: Index<json::buffer::View>,
