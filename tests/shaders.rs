@@ -301,3 +301,11 @@ fn probe_shader_validates_for_every_filter() {
         assert_eq!(module.entry_points[0].name, "main");
     }
 }
+
+#[test]
+fn the_skinning_shader_validates() {
+    let mut library = ShaderLibrary::new().unwrap();
+    let module = library.skinning().unwrap_or_else(|e| panic!("{e}"));
+    let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(entry_points, ["main"]);
+}

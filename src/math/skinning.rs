@@ -3,7 +3,7 @@
 //! times its inverse bind matrix); and the bounds of a skinned mesh in any pose, from boxes of
 //! the bind-pose vertices each joint moves, carried by the joints' matrices.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 use crate::math::aabb::Aabb;
 
@@ -73,19 +73,17 @@ pub fn skin_position(position: Vec3, influence: &JointWeights, matrices: &[Mat4]
     blended_matrix(influence, matrices).transform_point3(position)
 }
 
-/// A bind-space normal skinned into model space (the blended matrix's inverse transpose),
-/// unit length; `normal` itself where the blend is singular.
+/// A bind-space normal skinned into model space: the blended matrix's cofactor matrix (its
+/// inverse transpose times the determinant) applied, signed by the determinant and made unit
+/// length; `normal` itself where that leaves no length.
 pub fn skin_normal(normal: Vec3, influence: &JointWeights, matrices: &[Mat4]) -> Vec3 {
     let m = blended_matrix(influence, matrices);
-    let det = m.determinant();
-    if !det.is_finite() || det.abs() < 1e-12 {
-        return normal;
-    }
-    m.inverse()
-        .transpose()
-        .transform_vector3(normal)
-        .try_normalize()
-        .unwrap_or(normal)
+    let (c0, c1, c2) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
+    let cofactor = Mat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));
+    let sign = if c0.dot(c1.cross(c2)) < 0.0 { -1.0 } else { 1.0 };
+    let n = cofactor * normal * sign;
+    let length = n.length();
+    if length > 1e-20 { n / length } else { normal }
 }
 
 /// For each of `joint_count` joints, the box of the bind-space positions it moves (weight

@@ -26,6 +26,7 @@ pub mod resolve;
 pub mod scene_gpu;
 pub mod seen_readback;
 pub mod shadows;
+pub mod skinning;
 pub mod target;
 pub mod textures;
 pub mod timer;

@@ -135,6 +135,10 @@ const DEPTH_BOUNDS: ModuleSource = ModuleSource {
     file: "depth_bounds.wgsl",
     source: include_str!("../../shaders/depth_bounds.wgsl"),
 };
+const SKINNING: ModuleSource = ModuleSource {
+    file: "skinning.wgsl",
+    source: include_str!("../../shaders/skinning.wgsl"),
+};
 const SHADOW_CLEAR: ModuleSource = ModuleSource {
     file: "shadow_clear.wgsl",
     source: include_str!("../../shaders/shadow_clear.wgsl"),
@@ -342,6 +346,11 @@ impl ShaderLibrary {
             DEPTH_BOUNDS.source,
             defs_of([("MULTISAMPLED", multisampled)]),
         )
+    }
+
+    /// The compute skinning of bind-pose vertices into posed ones (`main`).
+    pub fn skinning(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(SKINNING.file, SKINNING.source, defs_of([]))
     }
 
     /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or
