@@ -288,7 +288,11 @@ fn settings_mutants_never_panic_and_errors_are_located() {
     });
     assert!(tally.mutants >= 2000, "{tally:?}");
     assert!(tally.rejected >= tally.mutants / 4, "{tally:?}");
-    assert!(tally.loaded >= tally.mutants / 50, "{tally:?}");
+    // NOTE: the settings text holds `contact_shadows: (length, steps, thickness,
+    // intensity)` since contact shadows came: more of a mutant's bytes fall in nested
+    // fields, and about 1.95-1.99 % of the mutants load (56 428 and 103 628 mutants), under
+    // the 2 % the other corpora keep.
+    assert!(tally.loaded >= tally.mutants / 60, "{tally:?}");
 }
 
 /// A scratch folder holding the sample model's buffer and image, removed when dropped.
