@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 use std::f32::consts::PI;
 use std::path::Path;
+use std::sync::Arc;
 
 use bevy_ecs::bundle::{Bundle, NoBundleEffect};
 use bevy_ecs::entity::Entity;
@@ -17,16 +18,20 @@ use thiserror::Error;
 
 use crate::app::lights::{LightPlan, light_plans, spawn_lights};
 pub use crate::app::scene_entity::SceneEntity;
+use crate::app::spawn::skinned::{SkinPart, SkinnedPlans};
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
+use crate::ecs::skinning::{SkinSource, SkinSources};
+use crate::math::pose::Skeleton;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
 use crate::text::echoed;
 use bevy_ecs::name::Name;
 
 mod model;
+mod skinned;
 
 /// A scene that loaded but could not be spawned.
 #[derive(Debug, Error)]
@@ -82,6 +87,7 @@ struct EntityPlan {
     material: usize,
     cast: bool,
     receive: bool,
+    skin: Option<SkinPart>,
 }
 
 /// What an object's shape is built from: a model file, or a primitive (by its description).
@@ -119,6 +125,10 @@ pub struct PreparedScene {
     /// Shadow LODs: (mesh, [(coarser mesh, relative error)]), indices into `meshes`.
     shadow_lods: Vec<(usize, Vec<(usize, f32)>)>,
     entities: Vec<EntityPlan>,
+    /// Bind poses of the skinned meshes, with their influences.
+    skin_sources: Vec<SkinSource>,
+    /// The skins' skeletons.
+    skeletons: Vec<Arc<Skeleton>>,
     /// Bytes of the decoded images, RGBA8 with their mip chains.
     texture_bytes: u64,
     /// Images downscaled to fit the texture budget.
@@ -134,6 +144,8 @@ struct MeshPart {
     material: Option<usize>,
     /// Where the mesh sits in the object.
     object_from_mesh: Mat4,
+    /// The skin that deforms it.
+    skin: Option<SkinPart>,
 }
 
 impl PreparedScene {
@@ -165,6 +177,8 @@ impl PreparedScene {
             meshes: Vec::new(),
             shadow_lods: Vec::new(),
             entities: Vec::new(),
+            skin_sources: Vec::new(),
+            skeletons: Vec::new(),
             texture_bytes: 0,
             warnings: Vec::new(),
         };
@@ -265,6 +279,7 @@ impl PreparedScene {
                     material: part.material.unwrap_or(instance.material),
                     cast: instance.cast_shadows,
                     receive: instance.receive_shadows,
+                    skin: part.skin,
                 });
             }
         }
@@ -309,6 +324,7 @@ impl PreparedScene {
             mesh: full,
             material: None,
             object_from_mesh: Mat4::IDENTITY,
+            skin: None,
         }]
     }
 
@@ -326,6 +342,7 @@ impl PreparedScene {
             mesh: self.meshes.len() - 1,
             material: None,
             object_from_mesh: Mat4::IDENTITY,
+            skin: None,
         }]
     }
 
@@ -399,7 +416,7 @@ impl PreparedScene {
         let plans = |cast: bool, receive: bool| {
             self.entities
                 .iter()
-                .filter(move |e| e.cast == cast && e.receive == receive)
+                .filter(move |e| e.cast == cast && e.receive == receive && e.skin.is_none())
         };
         spawned += spawn_all(world, plans(true, true).map(parts));
         spawned += spawn_all(world, plans(true, false).map(|e| (parts(e), NotShadowReceiver)));
@@ -408,7 +425,12 @@ impl PreparedScene {
             world,
             plans(false, false).map(|e| (parts(e), NotShadowCaster, NotShadowReceiver)),
         );
-        spawned
+        let skinned = SkinnedPlans {
+            entities: &self.entities,
+            sources: self.skin_sources,
+            skeletons: &self.skeletons,
+        };
+        spawned + skinned.spawn(world, &meshes, &materials)
     }
 }
 
@@ -441,6 +463,9 @@ pub fn despawn_scene(world: &mut World) {
         world.despawn(entity);
     }
     world.resource_mut::<Meshes>().clear();
+    if let Some(mut sources) = world.get_resource_mut::<SkinSources>() {
+        sources.clear();
+    }
     if let Some(mut lods) = world.get_resource_mut::<ShadowLods>() {
         lods.clear();
     }

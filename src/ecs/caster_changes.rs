@@ -30,6 +30,9 @@ pub struct CasterState {
     pub bounds: Aabb,
     /// Mesh and material.
     pub key: DrawKey,
+    /// The skinned pose it was drawn in (0 for a mesh without a skin): a new pose redraws
+    /// the views its bounds touch even where the bounds stayed the same.
+    pub pose: u64,
 }
 
 impl CasterChanges {
@@ -85,6 +88,7 @@ mod tests {
                 mesh: MeshHandle(0),
                 material: MaterialHandle(0),
             },
+            pose: 0,
         }
     }
 

@@ -21,6 +21,7 @@ pub use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::placement::is_valid_placement;
 use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::skinning::SkinnedMesh;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
 use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
@@ -80,8 +81,17 @@ type InstanceQueryData = (
     &'static MeshMaterial3d,
     Has<NotShadowCaster>,
     Has<NotShadowReceiver>,
+    Option<&'static SkinnedMesh>,
 );
-type InstanceQueryItem<'a> = (Entity, &'a GlobalTransform, &'a Mesh3d, &'a MeshMaterial3d, bool, bool);
+type InstanceQueryItem<'a> = (
+    Entity,
+    &'a GlobalTransform,
+    &'a Mesh3d,
+    &'a MeshMaterial3d,
+    bool,
+    bool,
+    Option<&'a SkinnedMesh>,
+);
 
 /// Rebuilds [`RenderInstances`] when any mesh entity, mesh or material changed.
 #[allow(clippy::type_complexity, clippy::too_many_arguments)]
@@ -95,6 +105,7 @@ pub fn sync_instances(
     meshes_changed: Query<(), Changed<Mesh3d>>,
     materials_changed: Query<(), (With<Mesh3d>, Changed<MeshMaterial3d>)>,
     flags_changed: Query<(), (With<Mesh3d>, Or<(Changed<NotShadowCaster>, Changed<NotShadowReceiver>)>)>,
+    posed: Query<(), (With<Mesh3d>, Changed<SkinnedMesh>)>,
     mut removed_meshes: RemovedComponents<Mesh3d>,
     mut removed_non_casters: RemovedComponents<NotShadowCaster>,
     mut removed_receivers: RemovedComponents<NotShadowReceiver>,
@@ -112,7 +123,11 @@ pub fn sync_instances(
         || lods.is_some_and(|l| l.is_changed())
         || instances.origin != origin.0;
     let changed = || {
-        !moved.is_empty() || !meshes_changed.is_empty() || !materials_changed.is_empty() || !flags_changed.is_empty()
+        !moved.is_empty()
+            || !meshes_changed.is_empty()
+            || !materials_changed.is_empty()
+            || !flags_changed.is_empty()
+            || !posed.is_empty()
     };
     if !everything && removed == 0 && !changed() {
         return;
@@ -134,9 +149,9 @@ fn rebuild<'a>(
     materials: &Materials,
     origin: Vec3,
 ) -> Vec<(Entity, CasterState)> {
-    let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb)> = Vec::new();
+    let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb, u64)> = Vec::new();
     let mut skipped = 0;
-    for (entity, transform, mesh, material, no_cast, no_receive) in items {
+    for (entity, transform, mesh, material, no_cast, no_receive, skin) in items {
         let (Some(mesh_data), Some(mat)) = (meshes.get(mesh.0), materials.get(material.0)) else {
             warn!("entity {entity:?} refers to a missing mesh or material; it is not drawn");
             skipped += 1;
@@ -150,14 +165,19 @@ fn rebuild<'a>(
         // Relative to the render origin (exact: the origin is on a power-of-two grid).
         let mut world_from_local = transform.to_matrix();
         world_from_local.w_axis -= origin.extend(0.0);
-        let bounds = mesh_data.bounds().transformed(&world_from_local);
+        // NOTE: a skinned mesh is bounded by its posed joints, never by its rest pose.
+        let (local_bounds, pose) = match skin {
+            Some(s) if !s.bounds.is_empty() => (s.bounds, s.pose),
+            _ => (mesh_data.bounds(), 0),
+        };
+        let bounds = local_bounds.transformed(&world_from_local);
         let key = DrawKey {
             masked: mat.is_masked(),
             double_sided: mat.double_sided,
             mesh: mesh.0,
             material: material.0,
         };
-        rows.push((key, entity, world_from_local, !no_cast, !no_receive, bounds));
+        rows.push((key, entity, world_from_local, !no_cast, !no_receive, bounds, pose));
     }
     // NOTE: within a draw key, instances follow a Morton curve through the scene bounds so
     // culling chunks are compact; the entity tie-break keeps the order (and so the image)
@@ -177,7 +197,7 @@ fn rebuild<'a>(
     out.caster_bounds = Aabb::EMPTY;
     out.receiver_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
-    for (i, (key, _, world_from_local, cast, receive, bounds)) in rows.iter().enumerate() {
+    for (i, (key, _, world_from_local, cast, receive, bounds, _)) in rows.iter().enumerate() {
         let mat = &materials.as_slice()[key.material.0 as usize];
         let normal = Mat4::from_mat3(glam::Mat3::from_mat4(*world_from_local).inverse().transpose());
         out.gpu.push(InstanceGpu {
@@ -220,7 +240,7 @@ fn rebuild<'a>(
     out.generation += 1;
     rows.iter()
         .filter(|r| r.3)
-        .map(|&(key, entity, _, _, _, bounds)| (entity, CasterState { bounds, key }))
+        .map(|&(key, entity, _, _, _, bounds, pose)| (entity, CasterState { bounds, key, pose }))
         .collect()
 }
 

@@ -1,5 +1,5 @@
 //! [`ShadowPlugin`]: registers the shadow resources and the per-frame systems, in a fixed
-//! order: transform propagation → sync instances → find the camera, collect the lights and
+//! order: transform propagation → pose skinned meshes, sync instances, gather the skinning jobs → find the camera, collect the lights and
 //! their shadow views → cull casters per shadow view and cull the camera view. Rendering is added by
 //! [`RenderPlugin`](crate::render::RenderPlugin).
 
@@ -21,6 +21,7 @@ use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::shadow_views::update_shadow_views;
+use crate::ecs::skinning::{AnimationClock, SkinSources, SkinningFrame, animate_skins, collect_skinning};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
 use crate::ecs::view_list::{ShadowLightBudget, ShadowViews};
@@ -29,7 +30,8 @@ use crate::ecs::view_list::{ShadowLightBudget, ShadowViews};
 /// [`TransformSystems::Propagate`] (so every system reads this frame's `GlobalTransform`).
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShadowSystems {
-    /// Mirror mesh entities into [`RenderInstances`].
+    /// Pose skinned meshes, mirror mesh entities into [`RenderInstances`], gather the
+    /// skinning jobs.
     SyncInstances,
     /// Find the camera; collect the lights, choose the shadowed ones under the budget and
     /// compute their views (cascades, spot views).
@@ -70,6 +72,9 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ShadowMemory>()
             .init_resource::<ShadowCulling>()
             .init_resource::<ShadowLods>()
+            .init_resource::<SkinSources>()
+            .init_resource::<SkinningFrame>()
+            .init_resource::<AnimationClock>()
             .configure_sets(
                 PostUpdate,
                 (
@@ -82,7 +87,7 @@ impl Plugin for ShadowPlugin {
             )
             .add_systems(
                 PostUpdate,
-                (update_render_origin, sync_instances)
+                (update_render_origin, animate_skins, sync_instances, collect_skinning)
                     .chain()
                     .in_set(ShadowSystems::SyncInstances),
             )

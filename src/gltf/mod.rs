@@ -29,7 +29,7 @@ use glam::{Mat4, Quat, Vec3, Vec4};
 
 use crate::asset_io::AssetIo;
 use crate::ecs::assets::{AlphaMode, ImageData};
-use crate::math::animation::Track;
+pub use crate::math::pose::NodeProperty;
 use crate::math::skinning::JointWeights;
 use crate::mesh::MeshData;
 
@@ -167,27 +167,6 @@ pub struct GltfChannel {
     pub node: usize,
     /// The property and its track.
     pub property: NodeProperty,
-}
-
-/// The node property a channel animates, with its track.
-#[derive(Clone, Debug, PartialEq)]
-pub enum NodeProperty {
-    /// Translation.
-    Translation(Track<Vec3>),
-    /// Rotation.
-    Rotation(Track<Quat>),
-    /// Scale.
-    Scale(Track<Vec3>),
-}
-
-impl NodeProperty {
-    /// The track's last key time, seconds.
-    pub fn duration(&self) -> f32 {
-        match self {
-            Self::Translation(t) | Self::Scale(t) => t.duration(),
-            Self::Rotation(t) => t.duration(),
-        }
-    }
 }
 
 /// Loads a `.gltf` or `.glb` file. External buffers and images are resolved relative to the

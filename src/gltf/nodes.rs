@@ -57,16 +57,9 @@ pub(super) fn flatten(
         visits: 0,
         drawn: 0,
         out: Vec::new(),
-        skinned: 0,
     };
     for root in scene_roots(document) {
         walk.visit(cx, root, Mat4::IDENTITY)?;
-    }
-    if walk.skinned > 0 {
-        cx.warn(format!(
-            "{} skinned node(s): skins ignored, meshes placed by their node transforms",
-            walk.skinned
-        ));
     }
     Ok(walk.out)
 }
@@ -83,7 +76,6 @@ struct Walk<'n, 'd> {
     /// Mesh primitives drawn by the nodes flattened so far.
     drawn: usize,
     out: Vec<GltfNodeInstance>,
-    skinned: usize,
 }
 
 impl Walk<'_, '_> {
@@ -133,7 +125,6 @@ impl Walk<'_, '_> {
             if let (Some(s), Some(m)) = (skin, self.meshes.get(mesh.index())) {
                 check_joint_indices(cx, index, mesh.index(), m, s, &self.skins[s])?;
             }
-            self.skinned += usize::from(skin.is_some());
             self.out.push(GltfNodeInstance {
                 mesh: mesh.index(),
                 model_from_mesh: world,

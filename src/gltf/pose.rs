@@ -1,91 +1,45 @@
 //! Posing a model: every node's local transform at a time of one of its animations (its rest
-//! transform where no channel moves it), every node's model-space matrix, and a skin's joint
-//! matrices in that pose (what the skinning stage blends).
+//! transform where no channel moves it), every node's model-space matrix, a skin's joint
+//! matrices in that pose, and a skin's [`Skeleton`] for the ECS. The math is
+//! [`crate::math::pose`]'s.
 
-use glam::{Mat4, Quat, Vec3};
+use glam::Mat4;
 
-use crate::gltf::{GltfModel, NodeProperty};
+use crate::gltf::GltfModel;
+pub use crate::math::pose::LocalTransform;
+use crate::math::pose::{Clip, Skeleton, local_pose, model_from_nodes};
 use crate::math::skinning::joint_matrices;
 
-/// Parent links followed at most this far up (deeper chains, which the loader refuses for the
-/// drawn scene, are cut: the node at the cut counts as a root).
-const MAX_CHAIN: usize = 256;
-
-/// One node's local transform.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LocalTransform {
-    /// Translation.
-    pub translation: Vec3,
-    /// Rotation, unit length.
-    pub rotation: Quat,
-    /// Scale.
-    pub scale: Vec3,
-}
-
-impl LocalTransform {
-    /// The matrix: scale, then rotation, then translation.
-    pub fn matrix(&self) -> Mat4 {
-        Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
-    }
-}
-
 impl GltfModel {
-    /// Every node's local transform at `time` seconds of `animation` (an index into
-    /// [`GltfModel::animations`]; `None`, or an index past them, gives the rest pose).
-    pub fn local_pose(&self, animation: Option<usize>, time: f32) -> Vec<LocalTransform> {
-        let mut pose: Vec<LocalTransform> = self
-            .hierarchy
+    /// Every node's rest transform, in index order.
+    fn rest(&self) -> Vec<LocalTransform> {
+        self.hierarchy
             .iter()
             .map(|n| LocalTransform {
                 translation: n.translation,
                 rotation: n.rotation,
                 scale: n.scale,
             })
-            .collect();
-        for channel in animation
+            .collect()
+    }
+
+    fn parents(&self) -> Vec<Option<usize>> {
+        self.hierarchy.iter().map(|n| n.parent).collect()
+    }
+
+    /// Every node's local transform at `time` seconds of `animation` (an index into
+    /// [`GltfModel::animations`]; `None`, or an index past them, gives the rest pose).
+    pub fn local_pose(&self, animation: Option<usize>, time: f32) -> Vec<LocalTransform> {
+        let channels = animation
             .and_then(|a| self.animations.get(a))
-            .map_or(&[][..], |a| &a.channels)
-        {
-            let Some(node) = pose.get_mut(channel.node) else {
-                continue;
-            };
-            match &channel.property {
-                NodeProperty::Translation(t) => node.translation = t.sample(time),
-                NodeProperty::Rotation(t) => node.rotation = t.sample(time),
-                NodeProperty::Scale(t) => node.scale = t.sample(time),
-            }
-        }
-        pose
+            .map_or(&[][..], |a| &a.channels);
+        local_pose(&self.rest(), channels.iter().map(|c| (c.node, &c.property)), time)
     }
 
     /// Every node's model-space matrix (its ancestors' local matrices, root first, times its
     /// own) in the pose `local` (one entry per node of [`GltfModel::hierarchy`]).
     pub fn model_from_nodes(&self, local: &[LocalTransform]) -> Vec<Mat4> {
-        let n = self.hierarchy.len().min(local.len());
-        let mut out: Vec<Option<Mat4>> = vec![None; n];
-        for start in 0..n {
-            if out[start].is_some() {
-                continue;
-            }
-            // The chain of ancestors not yet composed, nearest first.
-            let mut chain = vec![start];
-            let mut base = Mat4::IDENTITY;
-            while let Some(parent) = self.hierarchy[*chain.last().unwrap_or(&start)].parent {
-                if parent >= n || chain.len() >= MAX_CHAIN || chain.contains(&parent) {
-                    break;
-                }
-                if let Some(m) = out[parent] {
-                    base = m;
-                    break;
-                }
-                chain.push(parent);
-            }
-            for &node in chain.iter().rev() {
-                base *= local[node].matrix();
-                out[node] = Some(base);
-            }
-        }
-        out.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect()
+        model_from_nodes(&self.parents(), local)
     }
 
     /// The joint matrices of `skin` (an index into [`GltfModel::skins`]) in the pose whose
@@ -101,5 +55,25 @@ impl GltfModel {
             .map(|&j| model_from_node.get(j).copied().unwrap_or(Mat4::IDENTITY))
             .collect();
         joint_matrices(&joints, &skin.inverse_bind)
+    }
+
+    /// The skeleton of `skin` with every animation of the model as its clips; `None` for an
+    /// unknown skin.
+    pub fn skeleton(&self, skin: usize) -> Option<Skeleton> {
+        let skin = self.skins.get(skin)?;
+        Some(Skeleton {
+            parents: self.parents(),
+            rest: self.rest(),
+            joints: skin.joints.clone(),
+            inverse_bind: skin.inverse_bind.clone(),
+            clips: self
+                .animations
+                .iter()
+                .map(|a| Clip {
+                    name: a.name.clone(),
+                    channels: a.channels.iter().map(|c| (c.node, c.property.clone())).collect(),
+                })
+                .collect(),
+        })
     }
 }

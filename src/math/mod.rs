@@ -29,6 +29,7 @@ pub mod pages;
 pub mod pcss;
 pub mod point;
 pub mod poisson;
+pub mod pose;
 pub mod projection;
 pub mod receivers;
 pub mod seen_depths;

@@ -9,6 +9,7 @@ use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::origin::RenderOrigin;
+use crate::ecs::skinning::{SkinSources, SkinningFrame};
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_list::ShadowViews;
 use crate::render::options::RenderOptions;
@@ -40,6 +41,10 @@ pub struct FrameInputs<'a> {
     pub options: RenderOptions,
     /// The render origin every GPU position is relative to ([`RenderOrigin`]).
     pub origin: Vec3,
+    /// Bind poses of the skinned meshes (none in a world without [`SkinSources`]).
+    pub skin_sources: Option<&'a SkinSources>,
+    /// This frame's skinning jobs.
+    pub skinning: Option<&'a SkinningFrame>,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -58,6 +63,8 @@ impl<'a> FrameInputs<'a> {
             frame_index,
             options: world.get_resource::<RenderOptions>().copied().unwrap_or_default(),
             origin: world.get_resource::<RenderOrigin>().map_or(Vec3::ZERO, |o| o.0),
+            skin_sources: world.get_resource::<SkinSources>(),
+            skinning: world.get_resource::<SkinningFrame>(),
         }
     }
 

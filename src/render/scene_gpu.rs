@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use wgpu::util::DeviceExt;
 
-use crate::ecs::assets::{ImageData, Meshes};
+use crate::ecs::assets::{ImageData, MeshHandle, Meshes};
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame_inputs::FrameInputs;
@@ -16,6 +16,7 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::mips::MaskedAlpha;
+use crate::render::skinning::SkinningGpu;
 use crate::render::textures::{fit_image, upload, white};
 
 /// What a material samples: an image (None: white) and, for a masked material, its alpha
@@ -53,6 +54,8 @@ pub struct SceneGpu {
     pub view_group: wgpu::BindGroup,
     mesh_generation: u64,
     material_generation: (u64, u64),
+    /// The skinned meshes' compute skinning, run into the mesh vertex buffer.
+    pub skinning: SkinningGpu,
     /// Whether a material has diffuse transmission: the lighting pass compiles its code in
     /// only then.
     pub any_transmission: bool,
@@ -131,6 +134,7 @@ impl SceneGpu {
             view_group,
             mesh_generation: u64::MAX,
             material_generation: (u64::MAX, u64::MAX),
+            skinning: SkinningGpu::default(),
             any_transmission: false,
         }
     }
@@ -153,8 +157,17 @@ impl SceneGpu {
         problems: &mut UploadProblems,
     ) -> Result<(), LimitError> {
         let (device, queue) = (&gpu.device, &gpu.queue);
-        if input.meshes.generation() != self.mesh_generation {
-            self.upload_meshes(gpu, input.meshes)?;
+        let skinned = input.skinning.filter(|f| !f.jobs.is_empty());
+        let uploaded = input.meshes.generation() != self.mesh_generation;
+        if uploaded {
+            self.upload_meshes(gpu, input.meshes, skinned.is_some())?;
+        }
+        // NOTE: an upload wrote the bind poses back: every skinned mesh is posed again.
+        if let (Some(frame), Some(sources), Some(vertices)) = (skinned, input.skin_sources, &self.vertex_buffer) {
+            let ranges = &self.mesh_ranges;
+            let first_vertex = |m: MeshHandle| ranges.get(m.0 as usize).map(|r| r.base_vertex as u32);
+            self.skinning
+                .run(gpu, sources, frame, first_vertex, vertices, uploaded)?;
         }
         if (input.materials.generation(), input.images.generation()) != self.material_generation {
             self.upload_materials(gpu, layouts, input, problems);
@@ -194,12 +207,14 @@ impl SceneGpu {
         Ok(())
     }
 
-    /// Packs every mesh into one vertex and one index buffer, after checking that both fit.
-    fn upload_meshes(&mut self, gpu: &GpuContext, meshes: &Meshes) -> Result<(), LimitError> {
+    /// Packs every mesh into one vertex and one index buffer, after checking that both fit;
+    /// with `skinned`, the vertex buffer is also bound as storage, which the compute
+    /// skinning writes the posed vertices into.
+    fn upload_meshes(&mut self, gpu: &GpuContext, meshes: &Meshes, skinned: bool) -> Result<(), LimitError> {
         let vertex_count: u64 = meshes.as_slice().iter().map(|m| m.vertices.len() as u64).sum();
         let index_count: u64 = meshes.as_slice().iter().map(|m| m.indices.len() as u64).sum();
         let limits = &gpu.limits;
-        limits.check_buffer("mesh vertex", vertex_count * size_of::<Vertex>() as u64, false)?;
+        limits.check_buffer("mesh vertex", vertex_count * size_of::<Vertex>() as u64, skinned)?;
         limits.check_buffer("mesh index", index_count * 4, false)?;
         // NOTE: draws address indices with u32 and vertices with an i32 base.
         for (what, count, max) in [
@@ -236,7 +251,11 @@ impl SceneGpu {
         self.vertex_buffer = Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("mesh vertices"),
             contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX,
+            usage: if skinned {
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE
+            } else {
+                wgpu::BufferUsages::VERTEX
+            },
         }));
         self.index_buffer = Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("mesh indices"),

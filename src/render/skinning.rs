@@ -5,8 +5,13 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use crate::ecs::assets::MeshHandle;
+use crate::ecs::skinning::{SkinSources, SkinningFrame};
 use crate::math::skinning::JointWeights;
+use crate::render::context::GpuContext;
+use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::main_compute_pipeline;
+use crate::render::limits::LimitError;
 use crate::shader::ShaderLibrary;
 
 /// Vertices one workgroup skins (WGSL `@workgroup_size`).
@@ -133,6 +138,109 @@ fn buffer_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_>
     wgpu::BindGroupEntry {
         binding,
         resource: buffer.as_entire_binding(),
+    }
+}
+
+/// The frame's skinning on the GPU: the bind poses and influences of every source (uploaded
+/// when the sources change), and each frame the joint matrices and jobs of the skinned
+/// meshes whose pose changed (of every one after the meshes were uploaded again, which wrote
+/// their bind poses back), run into the mesh vertex buffer before the frame's passes.
+#[derive(Default)]
+pub struct SkinningGpu {
+    kernel: Option<SkinningKernel>,
+    bind_pose: Option<GrowBuffer>,
+    influences: Option<GrowBuffer>,
+    joints: Option<GrowBuffer>,
+    jobs: Option<GrowBuffer>,
+    /// First vertex of each source in the bind-pose buffer.
+    source_first: Vec<u32>,
+    sources_generation: Option<u64>,
+    /// Skinning jobs run by the last frame.
+    pub last_jobs: u32,
+}
+
+impl SkinningGpu {
+    /// Skins the frame's changed poses (every pose with `all`) into `vertices`, where each
+    /// mesh starts at the vertex `first_vertex` gives, in a command buffer submitted now
+    /// (before the frame's). Returns the jobs run.
+    pub fn run(
+        &mut self,
+        gpu: &GpuContext,
+        sources: &SkinSources,
+        frame: &SkinningFrame,
+        first_vertex: impl Fn(MeshHandle) -> Option<u32>,
+        vertices: &wgpu::Buffer,
+        all: bool,
+    ) -> Result<u32, LimitError> {
+        self.last_jobs = 0;
+        let device = &gpu.device;
+        if self.sources_generation != Some(sources.generation()) {
+            let mut bind_pose = Vec::new();
+            let mut influences = Vec::new();
+            self.source_first.clear();
+            for s in sources.as_slice() {
+                self.source_first.push(bind_pose.len() as u32);
+                bind_pose.extend_from_slice(&s.vertices);
+                influences.extend(pack_influences(&s.influences));
+            }
+            let buffer = |label| GrowBuffer::new(device, label, 256);
+            let b = self.bind_pose.get_or_insert_with(|| buffer("skin bind poses"));
+            b.write(gpu, bytemuck::cast_slice(&bind_pose))?;
+            let i = self.influences.get_or_insert_with(|| buffer("skin influences"));
+            i.write(gpu, bytemuck::cast_slice(&influences))?;
+            self.sources_generation = Some(sources.generation());
+        }
+        let items = sources.as_slice();
+        let jobs: Vec<SkinJobGpu> = frame
+            .jobs
+            .iter()
+            .filter(|j| all || j.changed)
+            .filter_map(|j| {
+                let source = items.get(j.source as usize)?;
+                Some(SkinJobGpu {
+                    source_first: *self.source_first.get(j.source as usize)?,
+                    vertex_count: source.vertices.len() as u32,
+                    joint_first: j.joint_first,
+                    dest_first: first_vertex(j.mesh)?,
+                })
+            })
+            .collect();
+        if jobs.is_empty() {
+            return Ok(0);
+        }
+        let joints = self
+            .joints
+            .get_or_insert_with(|| GrowBuffer::new(device, "skin joints", 256));
+        joints.write(gpu, bytemuck::cast_slice(&frame.joints))?;
+        let job_buffer = self
+            .jobs
+            .get_or_insert_with(|| GrowBuffer::new(device, "skin jobs", 256));
+        job_buffer.write(gpu, bytemuck::cast_slice(&jobs))?;
+        let kernel = match &mut self.kernel {
+            Some(k) => k,
+            none => {
+                let mut library = ShaderLibrary::new().expect("the shipped shader library composes (checked by tests)");
+                none.insert(SkinningKernel::new(device, &mut library))
+            }
+        };
+        let (Some(bind_pose), Some(influences)) = (&self.bind_pose, &self.influences) else {
+            return Ok(0);
+        };
+        let buffers = SkinningBuffers {
+            bind_pose: &bind_pose.buffer,
+            influences: &influences.buffer,
+            joints: &joints.buffer,
+            jobs: &job_buffer.buffer,
+            posed: vertices,
+        };
+        let longest = jobs.iter().map(|j| j.vertex_count).max().unwrap_or(0);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("skinning"),
+        });
+        kernel.record(device, &mut encoder, &buffers, jobs.len() as u32, longest);
+        gpu.queue.submit([encoder.finish()]);
+        self.last_jobs = jobs.len() as u32;
+        Ok(self.last_jobs)
     }
 }
 

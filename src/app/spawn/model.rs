@@ -7,6 +7,25 @@ use crate::asset_io::{AssetIo, AssetPath};
 use crate::ecs::assets::{ImageHandle, Material};
 #[cfg(feature = "gltf")]
 use crate::gltf;
+#[cfg(feature = "gltf")]
+use crate::{
+    app::spawn::skinned::SkinPart, ecs::skinning::SkinSource, math::pose::Skeleton, math::skinning::JointWeights,
+};
+#[cfg(feature = "gltf")]
+use glam::Mat4;
+#[cfg(feature = "gltf")]
+use std::{collections::HashMap, sync::Arc};
+
+/// One primitive of a loaded model, as the prepared scene holds it.
+#[cfg(feature = "gltf")]
+struct Primitive {
+    /// Index into the prepared meshes.
+    mesh: usize,
+    /// The model's own material, if any.
+    material: Option<usize>,
+    /// Joints and weights of a skinned primitive.
+    influences: Option<Vec<JointWeights>>,
+}
 
 impl PreparedScene {
     /// Loads a glTF model and adds its images, materials and one mesh per primitive (its
@@ -19,7 +38,7 @@ impl PreparedScene {
         object: usize,
     ) -> Result<Vec<MeshPart>, SpawnError> {
         let file = file.path();
-        let model = gltf::load_with(file, io).map_err(|e| SpawnError::Model {
+        let mut model = gltf::load_with(file, io).map_err(|e| SpawnError::Model {
             object,
             message: e.to_string(),
             error: Some(Box::new(e)),
@@ -36,29 +55,61 @@ impl PreparedScene {
             double_sided: m.double_sided,
             transmission: m.transmission,
         }));
-        self.images.extend(model.images);
-        // Mesh index of each primitive, per glTF mesh.
-        let mut primitives: Vec<Vec<(usize, Option<usize>)>> = Vec::with_capacity(model.meshes.len());
-        for mesh in model.meshes {
+        self.images.append(&mut model.images);
+        // Mesh index, material and influences of each primitive, per glTF mesh.
+        let mut primitives: Vec<Vec<Primitive>> = Vec::with_capacity(model.meshes.len());
+        let skeletons: Vec<Option<Arc<Skeleton>>> = (0..model.skins.len())
+            .map(|s| model.skeleton(s).map(Arc::new))
+            .collect();
+        for mesh in std::mem::take(&mut model.meshes) {
             let mut list = Vec::with_capacity(mesh.primitives.len());
             for primitive in mesh.primitives {
                 self.meshes.push(primitive.mesh);
-                list.push((self.meshes.len() - 1, primitive.material.map(|m| first_material + m)));
+                list.push(Primitive {
+                    mesh: self.meshes.len() - 1,
+                    material: primitive.material.map(|m| first_material + m),
+                    influences: primitive.influences,
+                });
             }
             primitives.push(list);
         }
-        Ok(model
-            .nodes
-            .iter()
-            .flat_map(|node| {
-                let list = primitives.get(node.mesh).map_or(&[][..], Vec::as_slice);
-                list.iter().map(move |&(mesh, material)| MeshPart {
-                    mesh,
-                    material,
-                    object_from_mesh: node.model_from_mesh,
-                })
-            })
-            .collect())
+        // A skinned node's primitives deform one bind pose per (primitive, skin); the node's
+        // own transform is not used (its joints place it).
+        let mut sources: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut skeleton_slots: HashMap<usize, usize> = HashMap::new();
+        let mut parts = Vec::new();
+        for node in &model.nodes {
+            for p in primitives.get(node.mesh).map_or(&[][..], Vec::as_slice) {
+                let skin = match (node.skin, &p.influences) {
+                    (Some(s), Some(influences)) => skeletons.get(s).cloned().flatten().map(|skeleton| {
+                        let joints = skeleton.joints.len();
+                        let skeleton = *skeleton_slots.entry(s).or_insert_with(|| {
+                            self.skeletons.push(skeleton);
+                            self.skeletons.len() - 1
+                        });
+                        let source = *sources.entry((p.mesh, s)).or_insert_with(|| {
+                            let vertices = self.meshes[p.mesh].vertices.clone();
+                            self.skin_sources
+                                .push(SkinSource::new(vertices, influences.clone(), joints));
+                            self.skin_sources.len() - 1
+                        });
+                        SkinPart { source, skeleton }
+                    }),
+                    _ => None,
+                };
+                parts.push(MeshPart {
+                    mesh: p.mesh,
+                    material: p.material,
+                    object_from_mesh: if skin.is_some() {
+                        Mat4::IDENTITY
+                    } else {
+                        node.model_from_mesh
+                    },
+                    skin,
+                });
+            }
+        }
+        Ok(parts)
     }
 
     /// Without the `gltf` feature a model cannot be loaded: says so, naming the object and

@@ -1,0 +1,71 @@
+//! Spawning skinned parts of a scene's models: each entity gets its own copy of the bind-pose
+//! mesh (the renderer writes its posed vertices there), a [`SkinnedMesh`] of the model's
+//! skeleton and an [`AnimationPlayer`] playing the model's first animation.
+
+use std::sync::Arc;
+
+use bevy_ecs::world::World;
+
+use crate::app::scene_entity::SceneEntity;
+use crate::app::spawn::EntityPlan;
+use crate::ecs::assets::{MaterialHandle, MeshHandle, Meshes};
+use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
+use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSources, SkinnedMesh};
+use crate::math::pose::Skeleton;
+
+/// The skin of one mesh part: indices into the prepared scene's skin sources and skeletons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct SkinPart {
+    /// Index into the prepared skin sources.
+    pub source: usize,
+    /// Index into the prepared skeletons.
+    pub skeleton: usize,
+}
+
+/// What the skinned entities of a prepared scene are spawned from.
+pub(super) struct SkinnedPlans<'a> {
+    /// Every entity plan; the skinned ones are spawned here.
+    pub entities: &'a [EntityPlan],
+    /// Bind poses, moved into [`SkinSources`].
+    pub sources: Vec<SkinSource>,
+    /// Skeletons.
+    pub skeletons: &'a [Arc<Skeleton>],
+}
+
+impl SkinnedPlans<'_> {
+    /// Spawns every skinned entity; returns how many.
+    pub(super) fn spawn(self, world: &mut World, meshes: &[MeshHandle], materials: &[MaterialHandle]) -> usize {
+        let handles: Vec<u32> = {
+            let mut store = world.resource_mut::<SkinSources>();
+            self.sources.into_iter().map(|s| store.add(s)).collect()
+        };
+        let mut spawned = 0;
+        for plan in self.entities {
+            let Some(part) = plan.skin else {
+                continue;
+            };
+            let mesh = {
+                let mut store = world.resource_mut::<Meshes>();
+                let bind_pose = store.get(meshes[plan.mesh]).cloned().unwrap_or_default();
+                store.add(bind_pose)
+            };
+            let skin = SkinnedMesh::new(self.skeletons[part.skeleton].clone(), handles[part.source]);
+            let mut entity = world.spawn((
+                plan.transform,
+                Mesh3d(mesh),
+                MeshMaterial3d(materials[plan.material]),
+                SceneEntity,
+                skin,
+                AnimationPlayer::default(),
+            ));
+            if !plan.cast {
+                entity.insert(NotShadowCaster);
+            }
+            if !plan.receive {
+                entity.insert(NotShadowReceiver);
+            }
+            spawned += 1;
+        }
+        spawned
+    }
+}

@@ -1,0 +1,188 @@
+//! Skeletons and their poses, free of any file format: a node hierarchy with rest transforms,
+//! the joints of one skin with their inverse bind matrices, and animation clips of node
+//! translation, rotation and scale tracks; posed at a time of a clip into joint matrices.
+
+use glam::{Mat4, Quat, Vec3};
+
+use crate::math::animation::Track;
+use crate::math::skinning::joint_matrices;
+
+/// Parent links followed at most this far up (deeper chains are cut: the node at the cut
+/// counts as a root).
+const MAX_CHAIN: usize = 256;
+
+/// One node's local transform.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalTransform {
+    /// Translation.
+    pub translation: Vec3,
+    /// Rotation, unit length.
+    pub rotation: Quat,
+    /// Scale.
+    pub scale: Vec3,
+}
+
+impl LocalTransform {
+    /// The matrix: scale, then rotation, then translation.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
+    }
+}
+
+/// The node property a track animates, with the track.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NodeProperty {
+    /// Translation.
+    Translation(Track<Vec3>),
+    /// Rotation.
+    Rotation(Track<Quat>),
+    /// Scale.
+    Scale(Track<Vec3>),
+}
+
+impl NodeProperty {
+    /// The track's last key time, seconds.
+    pub fn duration(&self) -> f32 {
+        match self {
+            Self::Translation(t) | Self::Scale(t) => t.duration(),
+            Self::Rotation(t) => t.duration(),
+        }
+    }
+
+    /// Sets what the track gives at `time` on `node`.
+    pub fn apply(&self, node: &mut LocalTransform, time: f32) {
+        match self {
+            Self::Translation(t) => node.translation = t.sample(time),
+            Self::Rotation(t) => node.rotation = t.sample(time),
+            Self::Scale(t) => node.scale = t.sample(time),
+        }
+    }
+}
+
+/// Each node's local transform at `time`: `rest`, with every `(node, property)` channel
+/// applied (channels naming a node past `rest` are ignored).
+pub fn local_pose<'a>(
+    rest: &[LocalTransform],
+    channels: impl IntoIterator<Item = (usize, &'a NodeProperty)>,
+    time: f32,
+) -> Vec<LocalTransform> {
+    let mut pose = rest.to_vec();
+    for (node, property) in channels {
+        if let Some(n) = pose.get_mut(node) {
+            property.apply(n, time);
+        }
+    }
+    pose
+}
+
+/// Every node's model-space matrix: its ancestors' local matrices (root first) times its own.
+/// `parents[i]` is node `i`'s parent; a cycle or a chain deeper than 256 is cut.
+pub fn model_from_nodes(parents: &[Option<usize>], local: &[LocalTransform]) -> Vec<Mat4> {
+    let n = parents.len().min(local.len());
+    let mut out: Vec<Option<Mat4>> = vec![None; n];
+    for start in 0..n {
+        if out[start].is_some() {
+            continue;
+        }
+        // The ancestors not yet composed, nearest first.
+        let mut chain = vec![start];
+        let mut base = Mat4::IDENTITY;
+        let mut at = start;
+        while let Some(parent) = parents[at] {
+            if parent >= n || chain.len() >= MAX_CHAIN || chain.contains(&parent) {
+                break;
+            }
+            if let Some(m) = out[parent] {
+                base = m;
+                break;
+            }
+            chain.push(parent);
+            at = parent;
+        }
+        for &node in chain.iter().rev() {
+            base *= local[node].matrix();
+            out[node] = Some(base);
+        }
+    }
+    out.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect()
+}
+
+/// An animation clip: tracks of node properties.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clip {
+    /// The clip's name.
+    pub name: Option<String>,
+    /// `(node, property)` tracks.
+    pub channels: Vec<(usize, NodeProperty)>,
+}
+
+impl Clip {
+    /// The last key time of any track, seconds.
+    pub fn duration(&self) -> f32 {
+        self.channels.iter().map(|(_, p)| p.duration()).fold(0.0, f32::max)
+    }
+}
+
+/// A skin's skeleton: the node hierarchy, which nodes are its joints, their inverse bind
+/// matrices, and the clips that move the nodes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skeleton {
+    /// Each node's parent.
+    pub parents: Vec<Option<usize>>,
+    /// Each node's rest transform.
+    pub rest: Vec<LocalTransform>,
+    /// Node index of each joint.
+    pub joints: Vec<usize>,
+    /// One inverse bind matrix per joint.
+    pub inverse_bind: Vec<Mat4>,
+    /// Animation clips.
+    pub clips: Vec<Clip>,
+}
+
+impl Skeleton {
+    /// The joint matrices at `time` seconds of `clip` (the rest pose without one, or for an
+    /// index past the clips).
+    pub fn joint_matrices(&self, clip: Option<usize>, time: f32) -> Vec<Mat4> {
+        let channels = clip.and_then(|c| self.clips.get(c)).map_or(&[][..], |c| &c.channels);
+        let local = local_pose(&self.rest, channels.iter().map(|(n, p)| (*n, p)), time);
+        let model = model_from_nodes(&self.parents, &local);
+        let joints: Vec<Mat4> = self
+            .joints
+            .iter()
+            .map(|&j| model.get(j).copied().unwrap_or(Mat4::IDENTITY))
+            .collect();
+        joint_matrices(&joints, &self.inverse_bind)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Mat4, Quat, Vec3};
+
+    use super::{LocalTransform, model_from_nodes};
+
+    fn at(x: f32) -> LocalTransform {
+        LocalTransform {
+            translation: Vec3::new(x, 0.0, 0.0),
+            rotation: Quat::IDENTITY,
+            scale: Vec3::ONE,
+        }
+    }
+
+    #[test]
+    fn children_compose_through_their_parents_in_any_order() {
+        // Node 0's parent is node 2, whose parent is node 1.
+        let parents = [Some(2), None, Some(1)];
+        let model = model_from_nodes(&parents, &[at(1.0), at(10.0), at(100.0)]);
+        assert_eq!(model[1], Mat4::from_translation(Vec3::X * 10.0));
+        assert_eq!(model[2], Mat4::from_translation(Vec3::X * 110.0));
+        assert_eq!(model[0], Mat4::from_translation(Vec3::X * 111.0));
+    }
+
+    #[test]
+    fn a_cycle_is_cut_instead_of_looping() {
+        let parents = [Some(1), Some(0)];
+        let model = model_from_nodes(&parents, &[at(1.0), at(2.0)]);
+        assert!(model.iter().all(|m| m.is_finite()));
+    }
+}

@@ -1,0 +1,145 @@
+//! Skinned, animated casters on the GPU (lavapipe): the walker scene's shadows, with every
+//! walker skinned by the compute pass, equal the shadows of the same walkers posed on the CPU
+//! into static meshes, at several times of the walk (so neither the skinning nor the bounds
+//! from the animated joints lose a shadow); the shadows move with the animation; and a moving
+//! walker redraws only the shadow views it touches, a paused one none.
+
+use bevy_ecs::entity::Entity;
+use bevy_ecs::world::World;
+use glam::Vec3;
+use penumbra::bench::session::SceneSession;
+use penumbra::ecs::{AnimationPlayer, Mesh3d, Meshes, SkinSources, SkinnedMesh};
+use penumbra::math::skinning::{skin_normal, skin_position};
+use penumbra::mesh::{MeshData, Vertex};
+use penumbra::render::Renderer;
+use penumbra::render::frame::FrameInputs;
+use penumbra::scene::SceneDesc;
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 180;
+const SCENE: &str = "assets/scenes/walkers.ron";
+
+fn renderer() -> Renderer {
+    Renderer::headless_with_analysis(WIDTH, HEIGHT)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)")
+}
+
+/// The walkers' skinned entities (two primitives each), each paused at `time`.
+fn pause_walkers(world: &mut World, time: f32) -> Vec<Entity> {
+    let mut q = world.query::<(Entity, &mut AnimationPlayer)>();
+    q.iter_mut(world)
+        .map(|(e, mut p)| {
+            p.time = time;
+            p.paused = true;
+            e
+        })
+        .collect()
+}
+
+/// Replaces every walker's skin by a static mesh of its vertices posed on the CPU.
+fn pose_on_the_cpu(world: &mut World, walkers: &[Entity]) {
+    for &e in walkers {
+        let skin = world.get::<SkinnedMesh>(e).expect("a skinned walker").clone();
+        let source = world.resource::<SkinSources>().as_slice()[skin.source as usize].clone();
+        let mesh = world.get::<Mesh3d>(e).expect("a mesh").0;
+        let indices = world.resource::<Meshes>().get(mesh).expect("its mesh").indices.clone();
+        let vertices: Vec<Vertex> = source
+            .vertices
+            .iter()
+            .zip(&source.influences)
+            .map(|(v, i)| Vertex {
+                position: skin_position(Vec3::from(v.position), i, &skin.joint_matrices).to_array(),
+                normal: skin_normal(Vec3::from(v.normal), i, &skin.joint_matrices).to_array(),
+                uv: v.uv,
+            })
+            .collect();
+        let posed = world.resource_mut::<Meshes>().add(MeshData { vertices, indices });
+        world
+            .entity_mut(e)
+            .remove::<(SkinnedMesh, AnimationPlayer)>()
+            .insert(Mesh3d(posed));
+    }
+}
+
+/// The shadow factor of every pixel of one frame of `session`.
+fn shadow(session: &mut SceneSession, renderer: &mut Renderer) -> Vec<f32> {
+    session.update();
+    renderer.render(&FrameInputs::from_world(session.app.world(), 0));
+    renderer.read_analysis().expect("analysis targets").shadow
+}
+
+#[test]
+fn gpu_skinned_shadows_equal_cpu_posed_shadows_through_the_walk() {
+    let desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
+    let mut total_shadowed = 0;
+    for time in [0.0, 0.6, 1.3, 2.7, 5.1] {
+        let mut skinned = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
+        let walkers = pause_walkers(skinned.app.world_mut(), time);
+        assert_eq!(walkers.len(), 12, "six walkers of two skinned primitives");
+        let mut r = renderer();
+        let gpu = shadow(&mut skinned, &mut r);
+
+        let mut posed = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
+        let walkers = pause_walkers(posed.app.world_mut(), time);
+        posed.update();
+        pose_on_the_cpu(posed.app.world_mut(), &walkers);
+        let mut r = renderer();
+        let cpu = shadow(&mut posed, &mut r);
+
+        let shadowed = cpu.iter().filter(|&&v| v < 0.5).count();
+        let differ = gpu.iter().zip(&cpu).filter(|(a, b)| (*a - *b).abs() > 0.05).count();
+        eprintln!("t {time} s: {shadowed} shadowed pixels, {differ} differ");
+        assert!(shadowed > 400, "t {time} s: only {shadowed} shadowed pixels compared");
+        assert!(
+            differ <= 3,
+            "t {time} s: {differ} pixels differ between GPU and CPU skinning"
+        );
+        total_shadowed += shadowed;
+    }
+    assert!(total_shadowed > 2500);
+}
+
+#[test]
+fn the_shadows_move_with_the_walk() {
+    let desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
+    let mut images = Vec::new();
+    for time in [0.0, 2.0] {
+        let mut session = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
+        pause_walkers(session.app.world_mut(), time);
+        let mut r = renderer();
+        images.push(shadow(&mut session, &mut r));
+    }
+    let moved = images[0]
+        .iter()
+        .zip(&images[1])
+        .filter(|(a, b)| (*a - *b).abs() > 0.5)
+        .count();
+    assert!(moved > 300, "only {moved} pixels changed shadow in 2 s of walking");
+}
+
+#[test]
+fn a_moving_walker_redraws_only_the_views_it_touches() {
+    let desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
+    let mut session = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
+    let mut r = renderer();
+    // Every walker but one paused; two frames to settle the cache.
+    let walkers = pause_walkers(session.app.world_mut(), 1.0);
+    for _ in 0..2 {
+        shadow(&mut session, &mut r);
+    }
+    shadow(&mut session, &mut r);
+    let still = r.last_report.shadow_views_drawn;
+    let views = session.app.world().resource::<penumbra::ecs::ShadowViews>().views.len() as u32;
+    assert_eq!(still, 0, "a still frame redrew {still} of {views} views");
+    session
+        .app
+        .world_mut()
+        .get_mut::<AnimationPlayer>(walkers[0])
+        .expect("a player")
+        .paused = false;
+    shadow(&mut session, &mut r);
+    let moving = r.last_report.shadow_views_drawn;
+    eprintln!("{moving} of {views} views redrawn for one walking caster");
+    assert!(moving > 0, "the walking caster redrew no view");
+    assert!(moving < views, "the walking caster redrew all {views} views");
+}
