@@ -7,9 +7,9 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use penumbra::app::{headless_app, spawn_scene};
-use penumbra::ecs::ShadowViews;
 use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
+use penumbra::ecs::{AnimationPlayer, ShadowViews};
 use penumbra::layout::ShadowStorage;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
@@ -333,4 +333,24 @@ fn render_switches_reach_the_render_options() {
     h.state_mut().app.update();
     h.state_mut().app.update();
     assert_eq!(renderer(&h).last_report.shadow_views_drawn, 4);
+}
+
+#[test]
+fn the_animation_section_pauses_and_speeds_every_walker() {
+    let mut s = state("animation");
+    let desc = SceneDesc::load("assets/scenes/walkers.ron").expect("walkers scene loads");
+    spawn_scene(s.app.world_mut(), &desc).expect("walkers spawn");
+    s.app.update();
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("Animation").click();
+    h.run();
+    h.get_by_label("play (12 animated meshes)").click();
+    h.run();
+    slider(&h, "animation speed").set_value_accesskit(2.0);
+    h.run();
+    let world = h.state_mut().app.world_mut();
+    let players: Vec<AnimationPlayer> = world.query::<&AnimationPlayer>().iter(world).copied().collect();
+    assert_eq!(players.len(), 12);
+    assert!(players.iter().all(|p| p.paused && p.speed == 2.0), "{players:?}");
 }

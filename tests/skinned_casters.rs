@@ -2,13 +2,17 @@
 //! walker skinned by the compute pass, equal the shadows of the same walkers posed on the CPU
 //! into static meshes, at several times of the walk (so neither the skinning nor the bounds
 //! from the animated joints lose a shadow); the shadows move with the animation; and a moving
-//! walker redraws only the shadow views it touches, a paused one none.
+//! walker redraws only the shadow views it touches, a paused one none. Alpha-masked skinned
+//! materials go through the masked pipelines from the same posed vertices.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
 use glam::Vec3;
 use penumbra::bench::session::SceneSession;
-use penumbra::ecs::{AnimationPlayer, Mesh3d, Meshes, SkinSources, SkinnedMesh};
+use penumbra::ecs::{
+    AlphaMode, AnimationPlayer, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, RenderInstances, SkinSources,
+    SkinnedMesh,
+};
 use penumbra::math::skinning::{skin_normal, skin_position};
 use penumbra::mesh::{MeshData, Vertex};
 use penumbra::render::Renderer;
@@ -68,19 +72,46 @@ fn shadow(session: &mut SceneSession, renderer: &mut Renderer) -> Vec<f32> {
     renderer.read_analysis().expect("analysis targets").shadow
 }
 
+/// Gives every walker one alpha-masked material (cutoff 0.5, opaque texels: the cut keeps all).
+fn mask_walkers(world: &mut World, walkers: &[Entity]) {
+    let masked = world.resource_mut::<Materials>().add(Material {
+        base_color: glam::Vec4::new(0.8, 0.3, 0.2, 1.0),
+        alpha_mode: AlphaMode::Mask(0.5),
+        ..Material::default()
+    });
+    for &e in walkers {
+        world.entity_mut(e).insert(MeshMaterial3d(masked));
+    }
+}
+
 #[test]
 fn gpu_skinned_shadows_equal_cpu_posed_shadows_through_the_walk() {
     let desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
     let mut total_shadowed = 0;
-    for time in [0.0, 0.6, 1.3, 2.7, 5.1] {
+    for (k, time) in [0.0, 0.6, 1.3, 2.7, 5.1].into_iter().enumerate() {
+        // Every other time with an alpha-masked material.
+        let masked = k % 2 == 1;
         let mut skinned = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
         let walkers = pause_walkers(skinned.app.world_mut(), time);
+        if masked {
+            mask_walkers(skinned.app.world_mut(), &walkers);
+        }
         assert_eq!(walkers.len(), 12, "six walkers of two skinned primitives");
         let mut r = renderer();
         let gpu = shadow(&mut skinned, &mut r);
+        let instances = skinned.app.world().resource::<RenderInstances>();
+        let masked_casters = instances.casters.len() - instances.opaque_casters;
+        assert_eq!(
+            masked_casters,
+            if masked { 12 } else { 0 },
+            "t {time} s: masked casters"
+        );
 
         let mut posed = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
         let walkers = pause_walkers(posed.app.world_mut(), time);
+        if masked {
+            mask_walkers(posed.app.world_mut(), &walkers);
+        }
         posed.update();
         pose_on_the_cpu(posed.app.world_mut(), &walkers);
         let mut r = renderer();
@@ -88,7 +119,7 @@ fn gpu_skinned_shadows_equal_cpu_posed_shadows_through_the_walk() {
 
         let shadowed = cpu.iter().filter(|&&v| v < 0.5).count();
         let differ = gpu.iter().zip(&cpu).filter(|(a, b)| (*a - *b).abs() > 0.05).count();
-        eprintln!("t {time} s: {shadowed} shadowed pixels, {differ} differ");
+        eprintln!("t {time} s (masked {masked}): {shadowed} shadowed pixels, {differ} differ");
         assert!(shadowed > 400, "t {time} s: only {shadowed} shadowed pixels compared");
         assert!(
             differ <= 3,

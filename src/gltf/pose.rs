@@ -7,8 +7,7 @@ use glam::Mat4;
 
 use crate::gltf::GltfModel;
 pub use crate::math::pose::LocalTransform;
-use crate::math::pose::{Clip, Skeleton, local_pose, model_from_nodes};
-use crate::math::skinning::joint_matrices;
+use crate::math::pose::{Clip, Skeleton, local_pose, model_from_nodes, skin_matrices};
 
 impl GltfModel {
     /// Every node's rest transform, in index order.
@@ -46,15 +45,9 @@ impl GltfModel {
     /// node matrices are `model_from_node`: each joint's model matrix times its inverse bind
     /// matrix. Empty for an unknown skin.
     pub fn skin_matrices(&self, skin: usize, model_from_node: &[Mat4]) -> Vec<Mat4> {
-        let Some(skin) = self.skins.get(skin) else {
-            return Vec::new();
-        };
-        let joints: Vec<Mat4> = skin
-            .joints
-            .iter()
-            .map(|&j| model_from_node.get(j).copied().unwrap_or(Mat4::IDENTITY))
-            .collect();
-        joint_matrices(&joints, &skin.inverse_bind)
+        self.skins
+            .get(skin)
+            .map_or_else(Vec::new, |s| skin_matrices(&s.joints, &s.inverse_bind, model_from_node))
     }
 
     /// The skeleton of `skin` with every animation of the model as its clips; `None` for an

@@ -145,14 +145,23 @@ impl Skeleton {
     pub fn joint_matrices(&self, clip: Option<usize>, time: f32) -> Vec<Mat4> {
         let channels = clip.and_then(|c| self.clips.get(c)).map_or(&[][..], |c| &c.channels);
         let local = local_pose(&self.rest, channels.iter().map(|(n, p)| (*n, p)), time);
-        let model = model_from_nodes(&self.parents, &local);
-        let joints: Vec<Mat4> = self
-            .joints
-            .iter()
-            .map(|&j| model.get(j).copied().unwrap_or(Mat4::IDENTITY))
-            .collect();
-        joint_matrices(&joints, &self.inverse_bind)
+        skin_matrices(
+            &self.joints,
+            &self.inverse_bind,
+            &model_from_nodes(&self.parents, &local),
+        )
     }
+}
+
+/// The joint matrices of a skin whose joints are the nodes `joints` (inverse bind matrices
+/// `inverse_bind`), in the pose whose node matrices are `model_from_node`: each joint's model
+/// matrix times its inverse bind matrix (a joint past the nodes counts as at the origin).
+pub fn skin_matrices(joints: &[usize], inverse_bind: &[Mat4], model_from_node: &[Mat4]) -> Vec<Mat4> {
+    let model: Vec<Mat4> = joints
+        .iter()
+        .map(|&j| model_from_node.get(j).copied().unwrap_or(Mat4::IDENTITY))
+        .collect();
+    joint_matrices(&model, inverse_bind)
 }
 
 #[cfg(test)]

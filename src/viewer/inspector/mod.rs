@@ -1,9 +1,11 @@
 //! The egui inspector: the sun, every shadow setting (with the ranges of the runtime table),
-//! the cascade debug view, a panel per spot light and extra sun, per-view statistics, the
+//! the debug views, a panel per spot light and extra sun, play and speed of the animated
+//! meshes, per-view statistics, the
 //! shadow-memory budget and account, GPU and CPU timings with a history plot,
 //! and "save settings to RON". It edits the ECS world directly, so it runs the same with a
 //! window or headless (the tests drive it through egui's accessibility tree).
 
+mod animation;
 mod lights;
 mod memory;
 mod render;
@@ -97,6 +99,9 @@ impl Inspector {
             if lights::lights_ui(ui, world) == 0 {
                 ui.label("no spot light or second sun");
             }
+        });
+        CollapsingHeader::new("Animation").default_open(false).show(ui, |ui| {
+            animation::animation_ui(ui, world);
         });
         CollapsingHeader::new("Rendering").default_open(true).show(ui, |ui| {
             if let Some(mut options) = world.get_resource_mut::<RenderOptions>() {
