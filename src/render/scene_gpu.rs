@@ -165,9 +165,12 @@ impl SceneGpu {
         // NOTE: an upload wrote the bind poses back: every skinned mesh is posed again.
         if let (Some(frame), Some(sources), Some(vertices)) = (skinned, input.skin_sources, &self.vertex_buffer) {
             let ranges = &self.mesh_ranges;
-            let first_vertex = |m: MeshHandle| ranges.get(m.0 as usize).map(|r| r.base_vertex as u32);
+            let mesh_vertices = |m: MeshHandle| {
+                let count = input.meshes.get(m)?.vertices.len() as u32;
+                ranges.get(m.0 as usize).map(|r| (r.base_vertex as u32, count))
+            };
             self.skinning
-                .run(gpu, sources, frame, first_vertex, vertices, uploaded)?;
+                .run(gpu, sources, frame, mesh_vertices, vertices, uploaded)?;
         }
         if (input.materials.generation(), input.images.generation()) != self.material_generation {
             self.upload_materials(gpu, layouts, input, problems);

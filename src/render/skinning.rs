@@ -161,14 +161,15 @@ pub struct SkinningGpu {
 
 impl SkinningGpu {
     /// Skins the frame's changed poses (every pose with `all`) into `vertices`, where each
-    /// mesh starts at the vertex `first_vertex` gives, in a command buffer submitted now
-    /// (before the frame's). Returns the jobs run.
+    /// mesh lies at the first vertex and count `mesh_vertices` gives (a job writes no more
+    /// vertices than its mesh has), in a command buffer submitted now (before the frame's).
+    /// Returns the jobs run.
     pub fn run(
         &mut self,
         gpu: &GpuContext,
         sources: &SkinSources,
         frame: &SkinningFrame,
-        first_vertex: impl Fn(MeshHandle) -> Option<u32>,
+        mesh_vertices: impl Fn(MeshHandle) -> Option<(u32, u32)>,
         vertices: &wgpu::Buffer,
         all: bool,
     ) -> Result<u32, LimitError> {
@@ -197,11 +198,12 @@ impl SkinningGpu {
             .filter(|j| all || j.changed)
             .filter_map(|j| {
                 let source = items.get(j.source as usize)?;
+                let (first, count) = mesh_vertices(j.mesh)?;
                 Some(SkinJobGpu {
                     source_first: *self.source_first.get(j.source as usize)?,
-                    vertex_count: source.vertices.len() as u32,
+                    vertex_count: (source.vertices.len() as u32).min(count),
                     joint_first: j.joint_first,
-                    dest_first: first_vertex(j.mesh)?,
+                    dest_first: first,
                 })
             })
             .collect();
