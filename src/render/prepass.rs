@@ -19,6 +19,7 @@ use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
+use crate::render::options::DepthPrepass as PrepassMode;
 use crate::render::target::DEPTH_FORMAT;
 use crate::shader::ShaderLibrary;
 
@@ -141,10 +142,16 @@ fn create_pipeline(
     })
 }
 
-/// Whether the prepass runs this frame on a target of `size` pixels.
+/// Whether the prepass runs this frame on a target of `size` pixels: as
+/// [`RenderOptions::depth_prepass`](crate::render::RenderOptions::depth_prepass) decides,
+/// and always for a paged sun (its pages are marked from the prepass's depth) or, unless the
+/// prepass is off, for a light with contact shadows (they march over its depth).
 pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bool {
     let pixels = u64::from(width) * u64::from(height);
-    inputs.options.depth_prepass.runs(|| visible_triangles(inputs), pixels)
+    let mode = inputs.options.depth_prepass;
+    mode.runs(|| visible_triangles(inputs), pixels)
+        || inputs.lights.paged_sun().is_some()
+        || (mode != PrepassMode::Off && inputs.lights.any_contact_shadows())
 }
 
 /// Triangles the camera's view draws this frame (every instance of every batch).

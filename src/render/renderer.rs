@@ -16,7 +16,7 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
-use crate::render::options::{DepthPrepass as PrepassMode, Msaa};
+use crate::render::options::Msaa;
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
 use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
@@ -308,23 +308,15 @@ impl Renderer {
         // prepass's normals, the resolve node and the forward pass's shadow group must agree.
         // Where the prepass's normals cannot be multisampled, an MSAA frame filters its
         // shadows in the lighting pass.
-        // NOTE: a paged sun's pages are marked from the prepass's depth; contact shadows
-        // march over it (unless the prepass is off).
-        let contact = input.lights.any_contact_shadows();
-        let prepass = prepass_runs(input, size)
-            || input.lights.paged_sun().is_some()
-            || (contact && input.options.depth_prepass != PrepassMode::Off);
+        let prepass = prepass_runs(input, size);
         if let Some((camera, _)) = input.view.camera {
             self.shadows.page_pixel = pixel_per_depth(camera.clip_from_world(), size.1) as f32;
         }
-        let resolve = (prepass
-            && (input.options.visibility_resolve || contact)
-            && !input.shadow_views.views.is_empty()
-            && self.gpu.supports_samples(NORMAL_FORMAT, samples))
-        .then_some(ResolvePlan {
+        let resolve = ResolvePlan::for_frame(
+            input,
             size,
-            filters: input.options.visibility_resolve,
-        });
+            prepass && self.gpu.supports_samples(NORMAL_FORMAT, samples),
+        );
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)

@@ -5,6 +5,7 @@
 //! nothing is resolved (and in the group the resolve itself binds, which cannot sample what
 //! it writes).
 
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::target::texture_2d;
 
 /// Format of the resolved visibility (storage-writable in core WebGPU).
@@ -18,6 +19,18 @@ pub struct ResolvePlan {
     /// It writes every shadowed light's filtered shadow (`RenderOptions::visibility_resolve`);
     /// else only the contact shadows of the lights that have them.
     pub filters: bool,
+}
+
+impl ResolvePlan {
+    /// What the resolve writes this frame on a target of `size` pixels, where `normals`
+    /// says the prepass runs with normals the resolve can read: every shadowed light's
+    /// filter with [`RenderOptions::visibility_resolve`](crate::render::RenderOptions), else
+    /// only contact shadows; nothing without shadow views or without either.
+    pub fn for_frame(input: &FrameInputs<'_>, size: (u32, u32), normals: bool) -> Option<ResolvePlan> {
+        let filters = input.options.visibility_resolve;
+        let wanted = filters || input.lights.any_contact_shadows();
+        (normals && wanted && !input.shadow_views.views.is_empty()).then_some(ResolvePlan { size, filters })
+    }
 }
 
 /// The texture, its views, and what it was made for.
