@@ -83,7 +83,8 @@ fn gpu_skinned_vertices_match_the_cpu_mirror() {
         jobs: &job_buffer,
         posed: &posed,
     };
-    kernel.record(device, &mut encoder, &buffers, 2, n);
+    let group = kernel.bind_group(device, &buffers);
+    kernel.record(&mut encoder, &group, 2, n);
     encoder.copy_buffer_to_buffer(&posed, 0, &readback, 0, size);
     queue.submit([encoder.finish()]);
     let bytes = read_buffer(device, &readback, size).expect("read back");
@@ -101,7 +102,7 @@ fn gpu_skinned_vertices_match_the_cpu_mirror() {
         }
     }
     eprintln!("largest position difference {} m, normal {}", worst.0, worst.1);
-    assert!(worst.0 < 1e-6 && worst.1 < 1e-6, "GPU and CPU differ by {worst:?}");
+    assert!(worst.0 < 7.5e-7 && worst.1 < 1e-6, "GPU and CPU differ by {worst:?}");
     // The pose moved the vertices: the comparison was not of the bind pose with itself.
     let moved = vertices
         .iter()
