@@ -44,7 +44,11 @@ fn pause_walkers(world: &mut World, time: f32) -> Vec<Entity> {
 fn pose_on_the_cpu(world: &mut World, walkers: &[Entity]) {
     for &e in walkers {
         let skin = world.get::<SkinnedMesh>(e).expect("a skinned walker").clone();
-        let source = world.resource::<SkinSources>().as_slice()[skin.source as usize].clone();
+        let source = world
+            .resource::<SkinSources>()
+            .get(skin.source)
+            .expect("its bind pose")
+            .clone();
         let mesh = world.get::<Mesh3d>(e).expect("a mesh").0;
         let indices = world.resource::<Meshes>().get(mesh).expect("its mesh").indices.clone();
         let vertices: Vec<Vertex> = source

@@ -93,6 +93,8 @@ pub struct ImageData {
     pub rgba: Vec<u8>,
 }
 
+/// A store of assets addressed by a handle type: `add`, `clear`, `get`, `as_slice`, `len`,
+/// `is_empty` and a generation bumped by every change.
 macro_rules! asset_store {
     ($(#[$doc:meta])* $store:ident, $item:ty, $handle:ident) => {
         $(#[$doc])*
@@ -144,6 +146,8 @@ macro_rules! asset_store {
         }
     };
 }
+
+pub(crate) use asset_store;
 
 asset_store!(
     /// All meshes, addressed by [`MeshHandle`].

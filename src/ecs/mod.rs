@@ -43,7 +43,9 @@ pub use lights::{PointLight, SpotLight};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use shadow_memory::{ShadowMemory, ShadowMemoryBudget};
-pub use skinning::{AnimationClock, AnimationPlayer, SkinSource, SkinSources, SkinnedMesh, SkinningFrame};
+pub use skinning::{
+    AnimationClock, AnimationPlayer, SkinSource, SkinSourceHandle, SkinSources, SkinnedMesh, SkinningFrame,
+};
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::{ActiveView, SeenByCamera};
 pub use view_list::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};

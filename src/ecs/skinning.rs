@@ -19,7 +19,7 @@ use bevy_ecs::system::{Query, Res, ResMut};
 use bevy_ecs::world::Ref;
 use glam::Mat4;
 
-use crate::ecs::assets::MeshHandle;
+use crate::ecs::assets::{MeshHandle, asset_store};
 use crate::ecs::components::Mesh3d;
 use crate::math::aabb::Aabb;
 use crate::math::pose::Skeleton;
@@ -51,37 +51,14 @@ impl SkinSource {
     }
 }
 
-/// Every bind pose skinned entities deform, addressed by [`SkinnedMesh::source`].
-#[derive(Resource, Debug, Default)]
-pub struct SkinSources {
-    items: Vec<SkinSource>,
-    generation: u64,
-}
+/// Index of a bind pose in [`SkinSources`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SkinSourceHandle(pub u32);
 
-impl SkinSources {
-    /// Stores a source and returns its index.
-    pub fn add(&mut self, source: SkinSource) -> u32 {
-        self.items.push(source);
-        self.generation += 1;
-        (self.items.len() - 1) as u32
-    }
-
-    /// Removes every source (indices taken before are invalid afterwards).
-    pub fn clear(&mut self) {
-        self.items.clear();
-        self.generation += 1;
-    }
-
-    /// All sources, by index.
-    pub fn as_slice(&self) -> &[SkinSource] {
-        &self.items
-    }
-
-    /// Bumped by every change, so the renderer knows when to upload again.
-    pub fn generation(&self) -> u64 {
-        self.generation
-    }
-}
+asset_store!(
+    /// Every bind pose skinned entities deform, addressed by [`SkinnedMesh::source`].
+    SkinSources, SkinSource, SkinSourceHandle
+);
 
 /// A mesh deformed by a skeleton. Insert it with the entity's own [`Mesh3d`] (a copy of the
 /// source's bind pose) and, to animate it, an [`AnimationPlayer`].
@@ -89,8 +66,8 @@ impl SkinSources {
 pub struct SkinnedMesh {
     /// The skeleton (shared by every entity of the same model).
     pub skeleton: Arc<Skeleton>,
-    /// Index into [`SkinSources`].
-    pub source: u32,
+    /// The bind pose it deforms.
+    pub source: SkinSourceHandle,
     /// Joint matrices of the current pose, bind space to the entity's local space (set by
     /// [`animate_skins`]; empty until the first pose).
     pub joint_matrices: Vec<Mat4>,
@@ -105,7 +82,7 @@ pub struct SkinnedMesh {
 
 impl SkinnedMesh {
     /// A skinned mesh of `skeleton` deforming source `source`, not posed yet.
-    pub fn new(skeleton: Arc<Skeleton>, source: u32) -> SkinnedMesh {
+    pub fn new(skeleton: Arc<Skeleton>, source: SkinSourceHandle) -> SkinnedMesh {
         SkinnedMesh {
             skeleton,
             source,
@@ -194,8 +171,7 @@ pub fn animate_skins(
         }
         let matrices = skin.skeleton.joint_matrices(clip, time);
         let bounds = sources
-            .as_slice()
-            .get(skin.source as usize)
+            .get(skin.source)
             .map_or(Aabb::EMPTY, |s| skinned_bounds(&s.joint_boxes, &matrices));
         let skin = skin.as_mut();
         skin.joint_matrices = matrices;
@@ -210,8 +186,8 @@ pub fn animate_skins(
 pub struct SkinJob {
     /// The entity.
     pub entity: Entity,
-    /// Index into [`SkinSources`].
-    pub source: u32,
+    /// The bind pose it deforms.
+    pub source: SkinSourceHandle,
     /// The entity's own mesh, which receives the posed vertices.
     pub mesh: MeshHandle,
     /// First of its joint matrices in [`SkinningFrame::joints`].

@@ -100,19 +100,9 @@ impl SkinningKernel {
         SkinningKernel { layout, pipeline }
     }
 
-    /// Records one dispatch of `job_count` jobs, none longer than `max_vertices`.
-    pub fn record(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        buffers: &SkinningBuffers<'_>,
-        job_count: u32,
-        max_vertices: u32,
-    ) {
-        if job_count == 0 || max_vertices == 0 {
-            return;
-        }
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+    /// The bind group of one set of buffers.
+    pub fn bind_group(&self, device: &wgpu::Device, buffers: &SkinningBuffers<'_>) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("skinning"),
             layout: &self.layout,
             entries: &[
@@ -122,13 +112,27 @@ impl SkinningKernel {
                 buffer_entry(3, buffers.jobs),
                 buffer_entry(4, buffers.posed),
             ],
-        });
+        })
+    }
+
+    /// Records one dispatch of `job_count` jobs, none longer than `max_vertices`, over the
+    /// buffers of `group` ([`bind_group`](Self::bind_group)).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        group: &wgpu::BindGroup,
+        job_count: u32,
+        max_vertices: u32,
+    ) {
+        if job_count == 0 || max_vertices == 0 {
+            return;
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("skinning"),
             timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(max_vertices.div_ceil(SKINNING_WORKGROUP), job_count, 1);
     }
 }
@@ -148,22 +152,26 @@ fn buffer_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_>
 #[derive(Default)]
 pub struct SkinningGpu {
     kernel: Option<SkinningKernel>,
-    bind_pose: Option<GrowBuffer>,
-    influences: Option<GrowBuffer>,
-    joints: Option<GrowBuffer>,
-    jobs: Option<GrowBuffer>,
+    buffers: Option<[GrowBuffer; 4]>,
+    /// The kernel's bind group over `buffers` and the mesh vertex buffer, made again when a
+    /// buffer is replaced.
+    group: Option<wgpu::BindGroup>,
+    /// The vertex buffer `group` writes.
+    posed: Option<wgpu::Buffer>,
     /// First vertex of each source in the bind-pose buffer.
     source_first: Vec<u32>,
     sources_generation: Option<u64>,
+    /// This frame's jobs (kept to reuse its allocation).
+    job_list: Vec<SkinJobGpu>,
     /// Skinning jobs run by the last frame.
     pub last_jobs: u32,
 }
 
 impl SkinningGpu {
-    /// Skins the frame's changed poses (every pose with `all`) into `vertices`, where each
-    /// mesh lies at the first vertex and count `mesh_vertices` gives (a job writes no more
-    /// vertices than its mesh has), in a command buffer submitted now (before the frame's).
-    /// Returns the jobs run.
+    /// Skins the frame's changed poses (every pose with `all`: after the meshes were
+    /// uploaded again) into `vertices`, where each mesh lies at the first vertex and count
+    /// `mesh_vertices` gives (a job writes no more vertices than its mesh has), in a command
+    /// buffer submitted now (before the frame's). Returns the jobs run.
     pub fn run(
         &mut self,
         gpu: &GpuContext,
@@ -175,73 +183,66 @@ impl SkinningGpu {
     ) -> Result<u32, LimitError> {
         self.last_jobs = 0;
         let device = &gpu.device;
+        let [bind_pose, influences, joints, jobs] = self.buffers.get_or_insert_with(|| {
+            ["skin bind poses", "skin influences", "skin joints", "skin jobs"].map(|l| GrowBuffer::new(device, l, 256))
+        });
+        let mut replaced = self.posed.as_ref() != Some(vertices);
         if self.sources_generation != Some(sources.generation()) {
-            let mut bind_pose = Vec::new();
-            let mut influences = Vec::new();
+            let mut poses = Vec::new();
+            let mut packed = Vec::new();
             self.source_first.clear();
             for s in sources.as_slice() {
-                self.source_first.push(bind_pose.len() as u32);
-                bind_pose.extend_from_slice(&s.vertices);
-                influences.extend(pack_influences(&s.influences));
+                self.source_first.push(poses.len() as u32);
+                poses.extend_from_slice(&s.vertices);
+                packed.extend(pack_influences(&s.influences));
             }
-            let buffer = |label| GrowBuffer::new(device, label, 256);
-            let b = self.bind_pose.get_or_insert_with(|| buffer("skin bind poses"));
-            b.write(gpu, bytemuck::cast_slice(&bind_pose))?;
-            let i = self.influences.get_or_insert_with(|| buffer("skin influences"));
-            i.write(gpu, bytemuck::cast_slice(&influences))?;
+            replaced |= bind_pose.write(gpu, bytemuck::cast_slice(&poses))?;
+            replaced |= influences.write(gpu, bytemuck::cast_slice(&packed))?;
             self.sources_generation = Some(sources.generation());
         }
-        let items = sources.as_slice();
-        let jobs: Vec<SkinJobGpu> = frame
-            .jobs
-            .iter()
-            .filter(|j| all || j.changed)
-            .filter_map(|j| {
-                let source = items.get(j.source as usize)?;
+        let source_first = &self.source_first;
+        self.job_list.clear();
+        self.job_list
+            .extend(frame.jobs.iter().filter(|j| all || j.changed).filter_map(|j| {
+                let source = sources.get(j.source)?;
                 let (first, count) = mesh_vertices(j.mesh)?;
                 Some(SkinJobGpu {
-                    source_first: *self.source_first.get(j.source as usize)?,
+                    source_first: *source_first.get(j.source.0 as usize)?,
                     vertex_count: (source.vertices.len() as u32).min(count),
                     joint_first: j.joint_first,
                     dest_first: first,
                 })
-            })
-            .collect();
-        if jobs.is_empty() {
+            }));
+        if self.job_list.is_empty() {
             return Ok(0);
         }
-        let joints = self
-            .joints
-            .get_or_insert_with(|| GrowBuffer::new(device, "skin joints", 256));
-        joints.write(gpu, bytemuck::cast_slice(&frame.joints))?;
-        let job_buffer = self
-            .jobs
-            .get_or_insert_with(|| GrowBuffer::new(device, "skin jobs", 256));
-        job_buffer.write(gpu, bytemuck::cast_slice(&jobs))?;
-        let kernel = match &mut self.kernel {
-            Some(k) => k,
-            none => {
-                let mut library = ShaderLibrary::new().expect("the shipped shader library composes (checked by tests)");
-                none.insert(SkinningKernel::new(device, &mut library))
-            }
-        };
-        let (Some(bind_pose), Some(influences)) = (&self.bind_pose, &self.influences) else {
+        replaced |= joints.write(gpu, bytemuck::cast_slice(&frame.joints))?;
+        replaced |= jobs.write(gpu, bytemuck::cast_slice(&self.job_list))?;
+        let kernel = self.kernel.get_or_insert_with(|| {
+            let mut library = ShaderLibrary::new().expect("the shipped shader library composes (checked by tests)");
+            SkinningKernel::new(device, &mut library)
+        });
+        if replaced || self.group.is_none() {
+            let buffers = SkinningBuffers {
+                bind_pose: &bind_pose.buffer,
+                influences: &influences.buffer,
+                joints: &joints.buffer,
+                jobs: &jobs.buffer,
+                posed: vertices,
+            };
+            self.group = Some(kernel.bind_group(device, &buffers));
+            self.posed = Some(vertices.clone());
+        }
+        let Some(group) = &self.group else {
             return Ok(0);
         };
-        let buffers = SkinningBuffers {
-            bind_pose: &bind_pose.buffer,
-            influences: &influences.buffer,
-            joints: &joints.buffer,
-            jobs: &job_buffer.buffer,
-            posed: vertices,
-        };
-        let longest = jobs.iter().map(|j| j.vertex_count).max().unwrap_or(0);
+        let longest = self.job_list.iter().map(|j| j.vertex_count).max().unwrap_or(0);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("skinning"),
         });
-        kernel.record(device, &mut encoder, &buffers, jobs.len() as u32, longest);
+        kernel.record(&mut encoder, group, self.job_list.len() as u32, longest);
         gpu.queue.submit([encoder.finish()]);
-        self.last_jobs = jobs.len() as u32;
+        self.last_jobs = self.job_list.len() as u32;
         Ok(self.last_jobs)
     }
 }

@@ -10,7 +10,7 @@ use crate::app::scene_entity::SceneEntity;
 use crate::app::spawn::EntityPlan;
 use crate::ecs::assets::{MaterialHandle, MeshHandle, Meshes};
 use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
-use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSources, SkinnedMesh};
+use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSourceHandle, SkinSources, SkinnedMesh};
 use crate::math::pose::Skeleton;
 
 /// The skin of one mesh part: indices into the prepared scene's skin sources and skeletons.
@@ -35,7 +35,7 @@ pub(super) struct SkinnedPlans<'a> {
 impl SkinnedPlans<'_> {
     /// Spawns every skinned entity; returns how many.
     pub(super) fn spawn(self, world: &mut World, meshes: &[MeshHandle], materials: &[MaterialHandle]) -> usize {
-        let handles: Vec<u32> = {
+        let handles: Vec<SkinSourceHandle> = {
             let mut store = world.resource_mut::<SkinSources>();
             self.sources.into_iter().map(|s| store.add(s)).collect()
         };
