@@ -11,6 +11,7 @@ mod check_command;
 mod cli_values;
 mod render_command;
 mod render_json;
+mod render_text;
 
 use clap::{Parser, Subcommand, ValueEnum};
 

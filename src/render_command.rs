@@ -8,20 +8,17 @@ use clap::Args;
 use clap::builder::TypedValueParser;
 
 use crate::cli_values::{Fit, Layout, Mode, Precision, Prepass, Quality};
-use crate::render_json;
+use crate::{render_json, render_text};
 use penumbra::app::{CameraMotion, RenderError, RenderRequest, render_scene_with};
 use penumbra::ecs::shadow_memory::MIB;
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
-use penumbra::math::light_budget::LightKind;
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::render::timer::median_passes;
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{
     ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality,
     ShadowDebugView, ShadowMode, ShadowSettings, SunLayout,
 };
-use penumbra::text::format_bytes;
 
 /// Options of `penumbra render`.
 #[derive(Args)]
@@ -136,6 +133,10 @@ pub struct RenderArgs {
     /// first.
     #[arg(long, allow_negative_numbers = true)]
     camera_turn: Option<f32>,
+    /// Multiply the speed of every glTF object's animation by this factor (0 holds each
+    /// skinned mesh in its first pose: the cost of a still frame of a skinned scene).
+    #[arg(long, allow_negative_numbers = true, value_parser = finite_factor)]
+    animation_speed: Option<f32>,
     /// Count the lighting pass's fragment-shader invocations (pipeline statistics) and print
     /// them per pixel of the image.
     #[arg(long)]
@@ -175,6 +176,14 @@ fn metres_xyz(text: &str) -> Result<glam::Vec3, String> {
     match parts[..] {
         [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
         _ => Err(format!("expected three numbers of metres `x,y,z`, found `{text}`")),
+    }
+}
+
+/// A finite factor (the animation speed's).
+fn finite_factor(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(f) if f.is_finite() => Ok(f),
+        _ => Err(format!("expected a finite number, found `{text}`")),
     }
 }
 
@@ -261,6 +270,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         count_fragments,
         camera_step,
         camera_turn,
+        animation_speed,
         msaa,
         texture_budget,
         shadow_budget,
@@ -278,6 +288,9 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
     let mut desc = SceneDesc::load_with(&scene, &limits)?;
     if let (Some(d), Some(sun)) = (sun_diameter, desc.sun.as_mut()) {
         sun.angular_diameter = d;
+    }
+    if let Some(factor) = animation_speed {
+        desc.scale_animation_speed(factor);
     }
     let tweak = |s: &mut ShadowSettings| {
         if let Some(m) = mode {
@@ -379,119 +392,6 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         println!("{summary:#}");
         return Ok(());
     }
-    println!("scene      {}", scene.display());
-    println!("commit     {}", penumbra::BUILD_COMMIT);
-    println!("adapter    {}", result.adapter);
-    println!(
-        "image      {} ({}x{}, {} frames)",
-        out.display(),
-        width,
-        height,
-        frames.max(1)
-    );
-    println!(
-        "instances  {} ({} visible)",
-        result.instances, result.stats.visible_instances
-    );
-    // NOTE: the scene's `shadows` are the sun's; a scene without a sun (spot lights only)
-    // says nothing about cascades.
-    let sun_side = result.memory.lights.iter().find(|l| l.kind == LightKind::Directional);
-    let cascades = if desc.sun.is_some() {
-        format!(
-            ", sun {:?} with {}² texels per cascade",
-            s.filter.mode.effective(true),
-            sun_side.map_or(s.map.resolution, |l| l.granted)
-        )
-    } else {
-        String::new()
-    };
-    println!(
-        "shadows    {} shadow views{cascades}, {}",
-        result.stats.casters_per_view.len(),
-        format_bytes(result.report.shadow_memory)
-    );
-    for (i, line) in result.memory.lines().iter().enumerate() {
-        println!("{} {line}", if i == 0 { "memory    " } else { "          " });
-    }
-    let casters: Vec<String> = result.stats.casters_per_view.iter().map(|c| c.to_string()).collect();
-    let draws: Vec<String> = result.stats.draws_per_view.iter().map(|c| c.to_string()).collect();
-    println!(
-        "casters    per view [{}], draws per view [{}]",
-        casters.join(", "),
-        draws.join(", ")
-    );
-    let report = &result.report;
-    println!(
-        "draw calls {} ({} shadow), shadow texels cleared {:.2} M (last frame)",
-        report.draw_calls,
-        report.shadow_draw_calls,
-        report.shadow_cleared_texels as f64 / 1e6
-    );
-    if let Some(n) = result.report.forward_fragments {
-        let pixels = u64::from(width) * u64::from(height);
-        println!(
-            "fragments {n} lighting-pass invocations, {:.3} per pixel of the image",
-            n as f64 / pixels.max(1) as f64
-        );
-    }
-    let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
-    println!("shadow views drawn per frame [{}]", drawn.join(", "));
-    print_pages(&result.frames, result.memory.pages);
-    if result.frames.iter().any(|f| f.shadow_views_scrolled > 0) {
-        let texels: Vec<String> = (result.frames.iter())
-            .map(|f| format!("{} ({} scrolled)", f.shadow_drawn_texels, f.shadow_views_scrolled))
-            .collect();
-        println!("shadow texels drawn per frame [{}]", texels.join(", "));
-    }
-    println!(
-        "cpu        cascades {:.3} ms, culling {:.3} ms, view culling {:.3} ms (last frame)",
-        result.stats.cascades_cpu.as_secs_f64() * 1e3,
-        result.stats.culling_cpu.as_secs_f64() * 1e3,
-        result.stats.view_culling_cpu.as_secs_f64() * 1e3
-    );
-    let passes: Vec<Vec<_>> = result.frames.iter().map(|f| f.passes.clone()).collect();
-    let medians = median_passes(&passes);
-    if medians.is_empty() {
-        println!("gpu        (the adapter has no timestamp queries)");
-    }
-    for (name, ms) in &medians {
-        println!("gpu        {name:<17} {ms:8.3} ms");
-    }
-    if !medians.is_empty() {
-        println!(
-            "gpu        {:<17} {:8.3} ms",
-            "total",
-            medians.iter().map(|m| m.1).sum::<f64>()
-        );
-    }
-    for w in &result.warnings {
-        println!("warning    {w}");
-    }
+    render_text::print_summary(&scene, &out, (width, height, frames), (desc.sun.is_some(), &s), &result);
     Ok(())
-}
-
-/// Prints what a paged sun's pages did each frame, and its pool's memory (depth and any
-/// moments; nothing without a paged sun).
-fn print_pages(frames: &[penumbra::render::FrameReport], pool_bytes: u64) {
-    let pages: Vec<_> = frames.iter().filter_map(|f| f.pages).collect();
-    let Some(last) = pages.last() else {
-        return;
-    };
-    println!(
-        "pages      pool {} pages, {} ({} resident after the last frame)",
-        last.pool,
-        format_bytes(pool_bytes),
-        last.resident
-    );
-    let each: Vec<String> = pages
-        .iter()
-        .map(|p| format!("{}/{}/{}/{}", p.needed, p.drawn, p.evicted, p.overflowed))
-        .collect();
-    println!(
-        "pages      needed/drawn/evicted/overflowed per frame [{}]",
-        each.join(", ")
-    );
-    if pages.iter().any(|p| p.overflowed > 0) {
-        println!("warning    the page pool overflowed: pixels read a coarser level (raise --pool-pages)");
-    }
 }

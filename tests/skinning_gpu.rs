@@ -84,7 +84,7 @@ fn gpu_skinned_vertices_match_the_cpu_mirror() {
         posed: &posed,
     };
     let group = kernel.bind_group(device, &buffers);
-    kernel.record(&mut encoder, &group, 2, n);
+    kernel.record(&mut encoder, &group, (2, n), None);
     encoder.copy_buffer_to_buffer(&posed, 0, &readback, 0, size);
     queue.submit([encoder.finish()]);
     let bytes = read_buffer(device, &readback, size).expect("read back");

@@ -18,12 +18,12 @@ use thiserror::Error;
 
 use crate::app::lights::{LightPlan, light_plans, spawn_lights};
 pub use crate::app::scene_entity::SceneEntity;
-use crate::app::spawn::skinned::{SkinPart, SkinnedPlans};
+use crate::app::spawn::skinned::{SkinPart, SkinnedPlans, first_player};
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
-use crate::ecs::skinning::{SkinSource, SkinSources};
+use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSources};
 use crate::math::pose::Skeleton;
 use crate::mesh::{MeshData, cuboid, plane, sphere};
 use crate::scene::{self, SceneDesc, Shape};
@@ -88,6 +88,8 @@ struct EntityPlan {
     cast: bool,
     receive: bool,
     skin: Option<SkinPart>,
+    /// How a skinned entity's animation starts (None for the others).
+    player: Option<AnimationPlayer>,
 }
 
 /// What an object's shape is built from: a model file, or a primitive (by its description).
@@ -273,6 +275,19 @@ impl PreparedScene {
                         scale,
                     }
                 };
+                let animation = desc.objects[instance.object].animation.as_ref();
+                let player = match part.skin {
+                    Some(skin) => Some(
+                        first_player(&self.skeletons[skin.skeleton], animation, instance.copy).map_err(|message| {
+                            SpawnError::Model {
+                                object: instance.object,
+                                message,
+                                error: None,
+                            }
+                        })?,
+                    ),
+                    None => None,
+                };
                 self.entities.push(EntityPlan {
                     transform,
                     mesh: part.mesh,
@@ -280,6 +295,7 @@ impl PreparedScene {
                     cast: instance.cast_shadows,
                     receive: instance.receive_shadows,
                     skin: part.skin,
+                    player,
                 });
             }
         }

@@ -15,14 +15,14 @@ use bevy_ecs::change_detection::DetectChanges;
 use bevy_ecs::component::Component;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::{Query, Res, ResMut};
+use bevy_ecs::system::{Local, Query, Res, ResMut};
 use bevy_ecs::world::Ref;
 use glam::Mat4;
 
 use crate::ecs::assets::{MeshHandle, asset_store};
 use crate::ecs::components::Mesh3d;
 use crate::math::aabb::Aabb;
-use crate::math::pose::Skeleton;
+use crate::math::pose::{PoseScratch, Skeleton};
 use crate::math::skinning::{JointWeights, joint_bounds, skinned_bounds};
 use crate::mesh::Vertex;
 
@@ -138,11 +138,13 @@ impl Default for AnimationClock {
 
 /// Advances every player by the clock and poses its skinned mesh: joint matrices and bounds,
 /// wherever the clip or time differs from the current pose (a paused player whose time is
-/// set is posed there; a mesh without a player takes the rest pose once).
+/// set is posed there; a mesh without a player takes the rest pose once). Posing allocates
+/// nothing once the buffers have grown.
 pub fn animate_skins(
     clock: Option<Res<AnimationClock>>,
     sources: Res<SkinSources>,
     mut skins: Query<(&mut SkinnedMesh, Option<&mut AnimationPlayer>)>,
+    mut scratch: Local<PoseScratch>,
 ) {
     let delta = clock.map_or(AnimationClock::default().delta, |c| c.delta);
     for (mut skin, player) in &mut skins {
@@ -169,13 +171,16 @@ pub fn animate_skins(
         if skin.posed_at == Some((clip, time)) {
             continue;
         }
-        let matrices = skin.skeleton.joint_matrices(clip, time);
-        let bounds = sources
-            .get(skin.source)
-            .map_or(Aabb::EMPTY, |s| skinned_bounds(&s.joint_boxes, &matrices));
         let skin = skin.as_mut();
-        skin.joint_matrices = matrices;
-        skin.bounds = bounds;
+        let SkinnedMesh {
+            skeleton,
+            joint_matrices,
+            ..
+        } = skin;
+        skeleton.joint_matrices_into(clip, time, &mut scratch, joint_matrices);
+        skin.bounds = sources
+            .get(skin.source)
+            .map_or(Aabb::EMPTY, |s| skinned_bounds(&s.joint_boxes, &skin.joint_matrices));
         skin.pose += 1;
         skin.posed_at = Some((clip, time));
     }

@@ -78,14 +78,24 @@ pub fn local_pose<'a>(
 /// Every node's model-space matrix: its ancestors' local matrices (root first) times its own.
 /// `parents[i]` is node `i`'s parent; a cycle or a chain deeper than 256 is cut.
 pub fn model_from_nodes(parents: &[Option<usize>], local: &[LocalTransform]) -> Vec<Mat4> {
+    let mut scratch = PoseScratch::default();
+    compose_nodes(parents, local, &mut scratch);
+    scratch.model.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect()
+}
+
+/// [`model_from_nodes`] into `scratch.model` (`None` for no node), reusing its buffers.
+fn compose_nodes(parents: &[Option<usize>], local: &[LocalTransform], scratch: &mut PoseScratch) {
     let n = parents.len().min(local.len());
-    let mut out: Vec<Option<Mat4>> = vec![None; n];
+    let (out, chain) = (&mut scratch.model, &mut scratch.chain);
+    out.clear();
+    out.resize(n, None);
     for start in 0..n {
         if out[start].is_some() {
             continue;
         }
         // The ancestors not yet composed, nearest first.
-        let mut chain = vec![start];
+        chain.clear();
+        chain.push(start);
         let mut base = Mat4::IDENTITY;
         let mut at = start;
         while let Some(parent) = parents[at] {
@@ -104,7 +114,15 @@ pub fn model_from_nodes(parents: &[Option<usize>], local: &[LocalTransform]) -> 
             out[node] = Some(base);
         }
     }
-    out.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect()
+}
+
+/// Buffers for posing skeletons that are kept from pose to pose, so that posing allocates
+/// nothing once they have grown.
+#[derive(Clone, Debug, Default)]
+pub struct PoseScratch {
+    local: Vec<LocalTransform>,
+    model: Vec<Option<Mat4>>,
+    chain: Vec<usize>,
 }
 
 /// An animation clip: tracks of node properties.
@@ -143,13 +161,30 @@ impl Skeleton {
     /// The joint matrices at `time` seconds of `clip` (the rest pose without one, or for an
     /// index past the clips).
     pub fn joint_matrices(&self, clip: Option<usize>, time: f32) -> Vec<Mat4> {
+        let mut out = Vec::new();
+        self.joint_matrices_into(clip, time, &mut PoseScratch::default(), &mut out);
+        out
+    }
+
+    /// [`joint_matrices`](Self::joint_matrices) into `out` (replacing what it held), with the
+    /// intermediate poses in `scratch`: no allocation once both have grown.
+    pub fn joint_matrices_into(&self, clip: Option<usize>, time: f32, scratch: &mut PoseScratch, out: &mut Vec<Mat4>) {
         let channels = clip.and_then(|c| self.clips.get(c)).map_or(&[][..], |c| &c.channels);
-        let local = local_pose(&self.rest, channels.iter().map(|(n, p)| (*n, p)), time);
-        skin_matrices(
-            &self.joints,
-            &self.inverse_bind,
-            &model_from_nodes(&self.parents, &local),
-        )
+        scratch.local.clear();
+        scratch.local.extend_from_slice(&self.rest);
+        for (node, property) in channels {
+            if let Some(n) = scratch.local.get_mut(*node) {
+                property.apply(n, time);
+            }
+        }
+        let local = std::mem::take(&mut scratch.local);
+        compose_nodes(&self.parents, &local, scratch);
+        scratch.local = local;
+        out.clear();
+        out.extend(self.joints.iter().zip(&self.inverse_bind).map(|(&j, b)| {
+            let model = scratch.model.get(j).copied().flatten().unwrap_or(Mat4::IDENTITY);
+            model * *b
+        }));
     }
 }
 
@@ -186,6 +221,42 @@ mod tests {
         assert_eq!(model[1], Mat4::from_translation(Vec3::X * 10.0));
         assert_eq!(model[2], Mat4::from_translation(Vec3::X * 110.0));
         assert_eq!(model[0], Mat4::from_translation(Vec3::X * 111.0));
+    }
+
+    #[test]
+    fn posing_into_reused_buffers_equals_posing_afresh() {
+        use super::{Clip, NodeProperty, PoseScratch, Skeleton};
+        use crate::math::animation::{Interpolation, Track};
+        let swing = Track {
+            times: vec![0.0, 1.0],
+            values: vec![Quat::IDENTITY, Quat::from_rotation_z(1.0)],
+            interpolation: Interpolation::Linear,
+        };
+        let skeleton = Skeleton {
+            parents: vec![None, Some(0), Some(1)],
+            rest: vec![at(0.0), at(1.0), at(1.0)],
+            joints: vec![2, 0, 1],
+            inverse_bind: vec![Mat4::from_translation(Vec3::X * -2.0), Mat4::IDENTITY, Mat4::IDENTITY],
+            clips: vec![Clip {
+                name: None,
+                channels: vec![(1, NodeProperty::Rotation(swing))],
+            }],
+        };
+        let (mut scratch, mut out) = (PoseScratch::default(), Vec::new());
+        for (clip, time) in [(Some(0), 0.25), (None, 0.0), (Some(0), 0.75), (Some(3), 0.5)] {
+            skeleton.joint_matrices_into(clip, time, &mut scratch, &mut out);
+            assert_eq!(out, skeleton.joint_matrices(clip, time), "clip {clip:?} at {time}");
+        }
+        // The rest pose puts joint 0 (node 2, bound at x = 2) at its bind place.
+        skeleton.joint_matrices_into(None, 0.0, &mut scratch, &mut out);
+        assert_eq!(out[0], Mat4::IDENTITY);
+        // Node 2 turns about node 1 (x = 1) halfway through the swing.
+        skeleton.joint_matrices_into(Some(0), 0.5, &mut scratch, &mut out);
+        let tip = out[0].transform_point3(Vec3::X * 2.0);
+        assert!(
+            (tip - (Vec3::X + Quat::from_rotation_z(0.5) * Vec3::X)).length() < 1e-5,
+            "{tip}"
+        );
     }
 
     #[test]

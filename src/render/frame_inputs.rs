@@ -80,7 +80,8 @@ impl<'a> FrameInputs<'a> {
         } else {
             0
         };
-        // NOTE: the prepass, the resolve, the forward pass and the depth-bounds reduction.
-        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 4
+        // NOTE: the skinning, the prepass, the resolve, the forward pass and the depth-bounds
+        // reduction.
+        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 5
     }
 }

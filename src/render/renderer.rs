@@ -357,6 +357,7 @@ impl Renderer {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.scroll_resync.clear();
+        let skinned_meshes_posed = self.scene.skinning.record(&mut encoder, &mut self.timer);
         let mut ctx = FrameContext {
             gpu: &self.gpu,
             layouts: &self.layouts,
@@ -411,6 +412,7 @@ impl Renderer {
         report.shadow_views_scrolled = shadow_views_scrolled;
         report.shadow_views_resynced = self.scroll_resync.len() as u32;
         report.shadow_drawn_texels = shadow_drawn_texels;
+        report.skinned_meshes_posed = skinned_meshes_posed;
         report.shadow_memory = self.shadows.memory_bytes();
         report.resolved_memory = self.shadows.resolved_memory_bytes();
         report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));

@@ -31,6 +31,8 @@ pub struct FrameReport {
     /// Shadow-map texels drawn: every texel of a view drawn whole, the regions of a scrolled
     /// one.
     pub shadow_drawn_texels: u64,
+    /// Skinned meshes posed on the GPU this frame (those whose pose changed).
+    pub skinned_meshes_posed: u32,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
     /// What a paged sun's pages did, where the frame was read back for it (headless renders

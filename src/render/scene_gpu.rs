@@ -170,7 +170,7 @@ impl SceneGpu {
                 ranges.get(m.0 as usize).map(|r| (r.base_vertex as u32, count))
             };
             self.skinning
-                .run(gpu, sources, frame, mesh_vertices, vertices, uploaded)?;
+                .prepare(gpu, sources, frame, mesh_vertices, vertices, uploaded)?;
         }
         if (input.materials.generation(), input.images.generation()) != self.material_generation {
             self.upload_materials(gpu, layouts, input, problems);

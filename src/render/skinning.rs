@@ -12,6 +12,7 @@ use crate::render::context::GpuContext;
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::main_compute_pipeline;
 use crate::render::limits::LimitError;
+use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
 
 /// Vertices one workgroup skins (WGSL `@workgroup_size`).
@@ -116,20 +117,20 @@ impl SkinningKernel {
     }
 
     /// Records one dispatch of `job_count` jobs, none longer than `max_vertices`, over the
-    /// buffers of `group` ([`bind_group`](Self::bind_group)).
+    /// buffers of `group` ([`bind_group`](Self::bind_group)), timed by `timestamps` if given.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         group: &wgpu::BindGroup,
-        job_count: u32,
-        max_vertices: u32,
+        (job_count, max_vertices): (u32, u32),
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         if job_count == 0 || max_vertices == 0 {
             return;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("skinning"),
-            timestamp_writes: None,
+            timestamp_writes: timestamps,
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
@@ -148,7 +149,7 @@ fn buffer_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_>
 /// The frame's skinning on the GPU: the bind poses and influences of every source (uploaded
 /// when the sources change), and each frame the joint matrices and jobs of the skinned
 /// meshes whose pose changed (of every one after the meshes were uploaded again, which wrote
-/// their bind poses back), run into the mesh vertex buffer before the frame's passes.
+/// their bind poses back), recorded into the mesh vertex buffer ahead of the frame's passes.
 #[derive(Default)]
 pub struct SkinningGpu {
     kernel: Option<SkinningKernel>,
@@ -163,16 +164,18 @@ pub struct SkinningGpu {
     sources_generation: Option<u64>,
     /// This frame's jobs (kept to reuse its allocation).
     job_list: Vec<SkinJobGpu>,
-    /// Skinning jobs run by the last frame.
-    pub last_jobs: u32,
+    /// Jobs prepared and not yet recorded.
+    pending: u32,
+    /// Vertices of the longest of those jobs.
+    longest: u32,
 }
 
 impl SkinningGpu {
     /// Skins the frame's changed poses (every pose with `all`: after the meshes were
     /// uploaded again) into `vertices`, where each mesh lies at the first vertex and count
-    /// `mesh_vertices` gives (a job writes no more vertices than its mesh has), in a command
-    /// buffer submitted now (before the frame's). Returns the jobs run.
-    pub fn run(
+    /// `mesh_vertices` gives (a job writes no more vertices than its mesh has): uploads the
+    /// frame's joints and jobs for [`record`](Self::record). Returns the jobs prepared.
+    pub fn prepare(
         &mut self,
         gpu: &GpuContext,
         sources: &SkinSources,
@@ -181,7 +184,7 @@ impl SkinningGpu {
         vertices: &wgpu::Buffer,
         all: bool,
     ) -> Result<u32, LimitError> {
-        self.last_jobs = 0;
+        self.pending = 0;
         let device = &gpu.device;
         let [bind_pose, influences, joints, jobs] = self.buffers.get_or_insert_with(|| {
             ["skin bind poses", "skin influences", "skin joints", "skin jobs"].map(|l| GrowBuffer::new(device, l, 256))
@@ -233,17 +236,26 @@ impl SkinningGpu {
             self.group = Some(kernel.bind_group(device, &buffers));
             self.posed = Some(vertices.clone());
         }
-        let Some(group) = &self.group else {
+        if self.group.is_none() {
             return Ok(0);
+        }
+        self.longest = self.job_list.iter().map(|j| j.vertex_count).max().unwrap_or(0);
+        self.pending = self.job_list.len() as u32;
+        Ok(self.pending)
+    }
+
+    /// Records the jobs [`prepare`](Self::prepare) uploaded into `encoder` (first in the frame:
+    /// every pass after it draws the posed vertices), as the timed pass "skinning"; returns
+    /// how many.
+    pub fn record(&mut self, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) -> u32 {
+        let jobs = std::mem::take(&mut self.pending);
+        let (Some(kernel), Some(group)) = (&self.kernel, &self.group) else {
+            return 0;
         };
-        let longest = self.job_list.iter().map(|j| j.vertex_count).max().unwrap_or(0);
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("skinning"),
-        });
-        kernel.record(&mut encoder, group, self.job_list.len() as u32, longest);
-        gpu.queue.submit([encoder.finish()]);
-        self.last_jobs = self.job_list.len() as u32;
-        Ok(self.last_jobs)
+        if jobs > 0 {
+            kernel.record(encoder, group, (jobs, self.longest), timer.compute_pass("skinning"));
+        }
+        jobs
     }
 }
 

@@ -13,6 +13,7 @@ use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
+use crate::scene::animation::AnimationDesc;
 use crate::scene::limits::SceneLimits;
 use crate::settings::ShadowSettings;
 
@@ -277,6 +278,10 @@ pub struct ObjectDesc {
     /// Repeat the object on a grid. Default: a single object.
     #[serde(default)]
     pub grid: Option<GridDesc>,
+    /// How a [`Shape::Gltf`] object's skinned meshes animate. Default: the model's first
+    /// clip from its start, looping.
+    #[serde(default)]
+    pub animation: Option<AnimationDesc>,
 }
 
 /// A regular 3D grid of copies of one object.
@@ -313,6 +318,16 @@ pub struct Jitter {
 }
 
 impl SceneDesc {
+    /// Multiplies the speed of every glTF object's animation by `factor` (an object without
+    /// an `animation` gets the default one, at `factor` times normal speed).
+    pub fn scale_animation_speed(&mut self, factor: f32) {
+        for object in &mut self.objects {
+            if matches!(object.shape, Shape::Gltf { .. }) {
+                object.animation.get_or_insert_default().speed *= factor;
+            }
+        }
+    }
+
     /// Every shadow settings the scene holds: its `shadows`, then each light's own (for
     /// changing them all at once, as the command line's overrides do).
     pub fn settings_mut(&mut self) -> impl Iterator<Item = &mut ShadowSettings> {

@@ -10,6 +10,9 @@ use crate::scene::desc::{GridDesc, Jitter, ObjectDesc, SceneDesc, Shape};
 pub struct ObjectInstance<'a> {
     /// Index of the object in [`SceneDesc::objects`] it was made from.
     pub object: usize,
+    /// Which copy of the object's grid it is (0 for an object without a grid), in the grid's
+    /// order.
+    pub copy: u64,
     /// The geometry, in local space.
     pub shape: &'a Shape,
     /// World position.
@@ -81,6 +84,7 @@ fn place(index: usize, object: &ObjectDesc, material: usize, n: u64) -> ObjectIn
     }
     ObjectInstance {
         object: index,
+        copy: n,
         shape: &object.shape,
         translation,
         rotation,

@@ -13,6 +13,7 @@
 //!
 //! The format is described in `docs/scene-format.md`.
 
+mod animation;
 mod desc;
 mod error;
 mod grid;
@@ -25,6 +26,7 @@ mod suggest;
 mod validate;
 mod values;
 
+pub use animation::AnimationDesc;
 pub use desc::{
     AlphaMode, CameraDesc, GridDesc, Jitter, LightDesc, MaterialDesc, MaterialLookup, ObjectDesc, SceneDesc, Shape,
     SunDesc,

@@ -379,6 +379,16 @@ fn check_object<'s>(c: &mut Checks<'s>, o: &'s ObjectDesc, at: &FieldPath, base_
         let per_grid = c.limits.max_grid_instances();
         check_grid(c, grid, &at.field("grid"), per_grid);
     }
+    if let Some(animation) = &o.animation {
+        let at = at.field("animation");
+        if !matches!(o.shape, Shape::Gltf { .. }) {
+            let expected = "no animation: only a `Gltf` shape's skinned meshes animate";
+            c.add(at.clone(), expected, "an animation".to_owned());
+        }
+        for (field, expected, found) in animation.problems() {
+            c.add(at.field(field), expected, found.shown());
+        }
+    }
 }
 
 fn check_grid(c: &mut Checks, grid: &GridDesc, at: &FieldPath, per_grid: u64) {
