@@ -105,3 +105,45 @@ fn an_animation_on_a_primitive_or_a_negative_start_is_located() {
         assert!(msg.contains(part), "`{part}` not in: {msg}");
     }
 }
+
+/// Runs `penumbra render` with `args`; its stdout and stderr, and whether it succeeded.
+fn render(args: &[&str]) -> (String, String, bool) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .arg("render")
+        .args(args)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("runs penumbra");
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (text(&out.stdout), text(&out.stderr), out.status.success())
+}
+
+#[test]
+fn animation_speed_zero_poses_once_and_a_bad_speed_is_refused() {
+    let image = std::env::temp_dir().join(format!("penumbra-animation-{}.png", std::process::id()));
+    let image = image.to_string_lossy().into_owned();
+    let scene = "assets/scenes/walkers.ron";
+    let base = [
+        scene, "--width", "160", "--height", "90", "--frames", "3", "--json", "--out", &image,
+    ];
+    let (stdout, stderr, ok) = render(&[&base[..], &["--animation-speed", "0"]].concat());
+    assert!(ok, "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!(
+        json["skinned_meshes_posed_per_frame"],
+        serde_json::json!([12, 0, 0]),
+        "{stdout}"
+    );
+    let (stdout, stderr, ok) = render(&base);
+    assert!(ok, "{stderr}");
+    let json: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!(
+        json["skinned_meshes_posed_per_frame"],
+        serde_json::json!([12, 12, 12]),
+        "{stdout}"
+    );
+    let (_, stderr, ok) = render(&[&base[..], &["--animation-speed", "inf"]].concat());
+    assert!(!ok);
+    assert!(stderr.contains("expected a finite number, found `inf`"), "{stderr}");
+    let _ = std::fs::remove_file(&image);
+}

@@ -3,7 +3,8 @@
 //! into static meshes, at several times of the walk (so neither the skinning nor the bounds
 //! from the animated joints lose a shadow); the shadows move with the animation; and a moving
 //! walker redraws only the shadow views it touches, a paused one none. Alpha-masked skinned
-//! materials go through the masked pipelines from the same posed vertices.
+//! materials go through the masked pipelines from the same posed vertices, and the sun's
+//! clipmap and paged clipmap draw the same posed vertices as its cascades.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
@@ -18,6 +19,7 @@ use penumbra::mesh::{MeshData, Vertex};
 use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::scene::SceneDesc;
+use penumbra::settings::{DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, SunLayout};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 180;
@@ -88,42 +90,48 @@ fn mask_walkers(world: &mut World, walkers: &[Entity]) {
     }
 }
 
+/// Shadowed pixels of the CPU-posed walkers' frame at `time`, and pixels where the GPU-skinned
+/// frame differs from it (alpha-masked walkers with `masked`).
+fn compare_with_cpu_posing(desc: &SceneDesc, time: f32, masked: bool) -> (usize, usize) {
+    let mut skinned = SceneSession::new(desc, WIDTH, HEIGHT).expect("spawns");
+    let walkers = pause_walkers(skinned.app.world_mut(), time);
+    if masked {
+        mask_walkers(skinned.app.world_mut(), &walkers);
+    }
+    assert_eq!(walkers.len(), 12, "six walkers of two skinned primitives");
+    let mut r = renderer();
+    let gpu = shadow(&mut skinned, &mut r);
+    let instances = skinned.app.world().resource::<RenderInstances>();
+    let masked_casters = instances.casters.len() - instances.opaque_casters;
+    assert_eq!(
+        masked_casters,
+        if masked { 12 } else { 0 },
+        "t {time} s: masked casters"
+    );
+
+    let mut posed = SceneSession::new(desc, WIDTH, HEIGHT).expect("spawns");
+    let walkers = pause_walkers(posed.app.world_mut(), time);
+    if masked {
+        mask_walkers(posed.app.world_mut(), &walkers);
+    }
+    posed.update();
+    pose_on_the_cpu(posed.app.world_mut(), &walkers);
+    let mut r = renderer();
+    let cpu = shadow(&mut posed, &mut r);
+
+    let shadowed = cpu.iter().filter(|&&v| v < 0.5).count();
+    let differ = gpu.iter().zip(&cpu).filter(|(a, b)| (*a - *b).abs() > 0.05).count();
+    eprintln!("t {time} s (masked {masked}): {shadowed} shadowed pixels, {differ} differ");
+    (shadowed, differ)
+}
+
 #[test]
 fn gpu_skinned_shadows_equal_cpu_posed_shadows_through_the_walk() {
     let desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
     let mut total_shadowed = 0;
     for (k, time) in [0.0, 0.6, 1.3, 2.7, 5.1].into_iter().enumerate() {
         // Every other time with an alpha-masked material.
-        let masked = k % 2 == 1;
-        let mut skinned = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
-        let walkers = pause_walkers(skinned.app.world_mut(), time);
-        if masked {
-            mask_walkers(skinned.app.world_mut(), &walkers);
-        }
-        assert_eq!(walkers.len(), 12, "six walkers of two skinned primitives");
-        let mut r = renderer();
-        let gpu = shadow(&mut skinned, &mut r);
-        let instances = skinned.app.world().resource::<RenderInstances>();
-        let masked_casters = instances.casters.len() - instances.opaque_casters;
-        assert_eq!(
-            masked_casters,
-            if masked { 12 } else { 0 },
-            "t {time} s: masked casters"
-        );
-
-        let mut posed = SceneSession::new(&desc, WIDTH, HEIGHT).expect("spawns");
-        let walkers = pause_walkers(posed.app.world_mut(), time);
-        if masked {
-            mask_walkers(posed.app.world_mut(), &walkers);
-        }
-        posed.update();
-        pose_on_the_cpu(posed.app.world_mut(), &walkers);
-        let mut r = renderer();
-        let cpu = shadow(&mut posed, &mut r);
-
-        let shadowed = cpu.iter().filter(|&&v| v < 0.5).count();
-        let differ = gpu.iter().zip(&cpu).filter(|(a, b)| (*a - *b).abs() > 0.05).count();
-        eprintln!("t {time} s (masked {masked}): {shadowed} shadowed pixels, {differ} differ");
+        let (shadowed, differ) = compare_with_cpu_posing(&desc, time, k % 2 == 1);
         assert!(shadowed > 400, "t {time} s: only {shadowed} shadowed pixels compared");
         assert!(
             differ <= 3,
@@ -132,6 +140,33 @@ fn gpu_skinned_shadows_equal_cpu_posed_shadows_through_the_walk() {
         total_shadowed += shadowed;
     }
     assert!(total_shadowed > 2500);
+}
+
+#[test]
+fn skinned_shadows_equal_cpu_posed_shadows_in_the_clipmap_and_the_paged_clipmap() {
+    let mut desc = SceneDesc::load(SCENE).expect("the walkers scene loads");
+    let layouts = [
+        SunLayout::Clipmap {
+            levels: 4,
+            level0_extent: 8.0,
+        },
+        SunLayout::VirtualClipmap {
+            levels: 4,
+            level0_extent: 8.0,
+            virtual_resolution: DEFAULT_VIRTUAL_RESOLUTION,
+            page_size: DEFAULT_PAGE_SIZE,
+            pool_pages: DEFAULT_POOL_PAGES,
+        },
+    ];
+    for layout in layouts {
+        desc.shadows.map.layout = layout;
+        let (shadowed, differ) = compare_with_cpu_posing(&desc, 1.3, false);
+        assert!(shadowed > 400, "{layout:?}: only {shadowed} shadowed pixels compared");
+        assert!(
+            differ <= 3,
+            "{layout:?}: {differ} pixels differ between GPU and CPU skinning"
+        );
+    }
 }
 
 #[test]
