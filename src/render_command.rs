@@ -120,6 +120,10 @@ pub struct RenderArgs {
     /// depth prepass (by default they are resolved in compute whenever the prepass runs).
     #[arg(long)]
     no_visibility_resolve: bool,
+    /// Draw every batch with its own `draw_indexed` instead of one multi-draw per run of
+    /// batches that bind nothing between them.
+    #[arg(long)]
+    no_multi_draw: bool,
     /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
     /// or one pass per cascade (`false`).
     #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
@@ -267,6 +271,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_shadow_cache,
         no_visibility_resolve,
         single_pass_cascades,
+        no_multi_draw,
         count_fragments,
         camera_step,
         camera_turn,
@@ -369,6 +374,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             visibility_resolve: !no_visibility_resolve,
             single_pass_cascades,
             msaa,
+            multi_draw: !no_multi_draw,
         },
         shadow_budget,
         count_fragments,

@@ -62,9 +62,10 @@ pub fn print_summary(
     );
     let report = &result.report;
     println!(
-        "draw calls {} ({} shadow), shadow texels cleared {:.2} M (last frame)",
+        "draw calls {} ({} shadow; {} draws), shadow texels cleared {:.2} M (last frame)",
         report.draw_calls,
         report.shadow_draw_calls,
+        report.draws,
         report.shadow_cleared_texels as f64 / 1e6
     );
     if let Some(n) = result.report.forward_fragments {

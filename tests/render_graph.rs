@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use bevy_app::App;
 use common::still_scene;
 use penumbra::app::{headless_app, spawn_scene};
-use penumbra::ecs::DirectionalLight;
+use penumbra::ecs::{CameraLod, DirectionalLight};
 use penumbra::render::frame::{FrameContext, FrameInputs};
 use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
@@ -248,9 +248,11 @@ fn the_depth_prepass_changes_no_pixel() {
 
 #[test]
 fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
-    // The default scene has tens of thousands of triangles: more than 64×40 pixels, fewer
-    // than 320×180.
+    // The default scene has tens of thousands of triangles drawn whole: more than 64×40
+    // pixels, fewer than 320×180. (With its LOD the camera draws its spheres coarser at 64×40,
+    // under one triangle a pixel.)
     let mut small = app_sized(64, 40);
+    small.insert_resource(CameraLod { max_error_pixels: 0.0 });
     small.update();
     assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
     assert_eq!(

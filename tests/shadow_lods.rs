@@ -1,13 +1,14 @@
 //! Shadow LODs: a spawned sphere comes with coarser meshes; a far cascade, whose texels are
-//! wide, draws the spheres with one of them while the near cascades and the camera draw the
-//! full mesh; and the image barely changes against drawing full meshes everywhere.
+//! wide, draws the spheres with one of them while the near cascades (and the camera, its own
+//! levels off) draw the full mesh; and the image barely changes against drawing full meshes
+//! everywhere.
 
 mod common;
 
 use bevy_app::App;
 use common::still_scene;
 use penumbra::ecs::shadow_lods::ShadowLods;
-use penumbra::ecs::{MeshHandle, ShadowViews, ViewDrawGroups};
+use penumbra::ecs::{CameraLod, MeshHandle, ShadowViews, ViewDrawGroups};
 use penumbra::render::Renderer;
 
 const SCENE: &str = "assets/bench/field.ron";
@@ -16,6 +17,8 @@ fn app() -> App {
     let renderer = Renderer::headless(320, 180)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = still_scene(renderer, SCENE);
+    // NOTE: the camera's own levels are tested in `camera_lod.rs`; here it draws full meshes.
+    app.insert_resource(CameraLod { max_error_pixels: 0.0 });
     app.update();
     app
 }

@@ -1,6 +1,8 @@
 //! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`] in
-//! draw-key order, front to back by culling chunk ([`crate::ecs::view_order`]). A
-//! frame whose camera matrix and instance list are those of the last frame keeps its groups.
+//! draw-key order, front to back by culling chunk ([`crate::ecs::view_order`]), each run of
+//! a chunk drawn with the coarsest mesh level its size on screen allows
+//! ([`crate::ecs::view_lod`]). A frame whose camera matrix, viewport height, LOD setting and
+//! instance list are those of the last frame keeps its groups.
 //! (Shadow casters are culled per shadow view by
 //! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).)
 
@@ -9,10 +11,13 @@ use std::time::Instant;
 use bevy_ecs::system::{Local, Res, ResMut};
 use glam::Mat4;
 
-use crate::ecs::draw_groups::{ViewDrawGroups, push_run};
+use crate::ecs::components::ViewportSize;
+use crate::ecs::draw_groups::{DrawKey, ViewDrawGroups, push_run};
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
+use crate::ecs::view_lod::{CameraLod, ViewLod};
 use crate::ecs::view_order::{Run, front_to_back};
 use crate::math::chunks::cull_spheres_frustum_chunked;
 use crate::math::frustum::Frustum;
@@ -25,20 +30,29 @@ pub struct ViewScratch {
     runs: Vec<Run>,
 }
 
-/// Culls every instance against the camera frustum into one draw group.
+/// What the camera view's groups were made for: the camera matrix, the instance list's
+/// generation, the viewport height and the LOD setting.
+type ViewKey = (Mat4, u64, u32, CameraLod);
+
+/// Culls every instance against the camera frustum into one draw group, each run with the
+/// mesh level [`CameraLod`] allows (every mesh whole without [`ShadowLods`]).
+#[allow(clippy::too_many_arguments)]
 pub fn cull_view(
     view: Res<ActiveView>,
     instances: Res<RenderInstances>,
+    lods: Option<Res<ShadowLods>>,
+    lod: Option<Res<CameraLod>>,
+    viewport: Res<ViewportSize>,
     mut groups: ResMut<ViewDrawGroups>,
-    mut stats: ResMut<ShadowStats>,
-    mut visible: Local<ViewScratch>,
-    mut last: Local<Option<(Mat4, u64)>>,
+    (mut stats, mut visible): (ResMut<ShadowStats>, Local<ViewScratch>),
+    mut last: Local<Option<ViewKey>>,
 ) {
     let start = Instant::now();
+    let lod = lod.map_or_else(CameraLod::default, |l| *l);
     let key = view
         .camera
         .as_ref()
-        .map(|(camera, _)| (camera.clip_from_world(), instances.generation));
+        .map(|(camera, _)| (camera.clip_from_world(), instances.generation, viewport.height, lod));
     if key.is_some() && *last == key {
         stats.view_culling_cpu = start.elapsed();
         return;
@@ -61,8 +75,19 @@ pub fn cull_view(
         );
         let eye = camera.position();
         front_to_back(visible, &instances.keys, &instances.chunks.centers, eye, runs);
+        let view_lod = lods
+            .as_deref()
+            .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
         for run in runs.iter() {
-            push_run(&mut groups.group, &mut groups.indices, run.key, run.of(visible));
+            let members = run.of(visible);
+            let key = match &view_lod {
+                Some(v) => DrawKey {
+                    mesh: v.mesh_for_run(run.key.mesh, members, &instances.centers, &instances.radii),
+                    ..run.key
+                },
+                None => run.key,
+            };
+            push_run(&mut groups.group, &mut groups.indices, key, members);
         }
     }
     stats.visible_instances = groups.indices.len() as u32;

@@ -29,6 +29,7 @@ pub mod view;
 pub mod view_cache;
 pub mod view_culling;
 pub mod view_list;
+pub mod view_lod;
 pub mod view_order;
 
 pub use assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, MeshHandle, Meshes};
@@ -49,3 +50,4 @@ pub use skinning::{
 pub use stats::{ShadowDiagnostics, ShadowStats};
 pub use view::{ActiveView, SeenByCamera};
 pub use view_list::{CullVolume, ShadowLightBudget, ShadowStorage, ShadowView, ShadowViewKind, ShadowViews};
+pub use view_lod::CameraLod;

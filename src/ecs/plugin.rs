@@ -25,6 +25,7 @@ use crate::ecs::skinning::{AnimationClock, SkinSources, SkinningFrame, animate_s
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
 use crate::ecs::view_list::{ShadowLightBudget, ShadowViews};
+use crate::ecs::view_lod::CameraLod;
 
 /// The stages of the shadow systems, run in this order in `PostUpdate`, after
 /// [`TransformSystems::Propagate`] (so every system reads this frame's `GlobalTransform`).
@@ -72,6 +73,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ShadowMemory>()
             .init_resource::<ShadowCulling>()
             .init_resource::<ShadowLods>()
+            .init_resource::<CameraLod>()
             .init_resource::<SkinSources>()
             .init_resource::<SkinningFrame>()
             .init_resource::<AnimationClock>()

@@ -4,7 +4,8 @@
 //! with 64 triangles. Each level states its geometric error relative to the mesh's bounding
 //! radius; a cascade draws every instance of a mesh with the coarsest level whose error, for
 //! the largest instance of that mesh, stays under half a texel (so all instances of a mesh
-//! keep one instanced draw per cascade). The camera view always draws the full mesh.
+//! keep one instanced draw per cascade). The camera view picks from the same levels by their
+//! size on screen ([`crate::ecs::view_lod`]).
 
 use bevy_ecs::resource::Resource;
 
@@ -52,6 +53,11 @@ impl ShadowLods {
         self.levels.iter().all(Vec::is_empty)
     }
 
+    /// Whether `mesh` is a coarser level of some mesh.
+    pub fn is_level(&self, mesh: MeshHandle) -> bool {
+        self.levels.iter().flatten().any(|l| l.mesh == mesh)
+    }
+
     /// The levels of `mesh`, finest first.
     pub fn get(&self, mesh: MeshHandle) -> &[ShadowLod] {
         self.levels.get(mesh.0 as usize).map_or(&[], Vec::as_slice)
@@ -92,6 +98,7 @@ mod tests {
         assert_eq!(lods.pick(MeshHandle(0), 1.0, 100.0), MeshHandle(0));
         assert_eq!(lods.pick(MeshHandle(9), 1.0, 100.0), MeshHandle(9));
         assert!(!lods.is_empty());
+        assert!(lods.is_level(MeshHandle(3)) && !lods.is_level(MeshHandle(2)));
         lods.clear();
         assert!(lods.is_empty());
     }

@@ -1,8 +1,10 @@
 //! What every mesh pass shares: the vertex stage over the mesh buffers, the camera view's
-//! rasterisation, and the instanced draw of a list of batches.
+//! rasterisation, and the instanced draws of a list of batches (multi-draws where nothing is
+//! bound between them).
 
 use crate::ecs::draw_groups::DrawBatch;
 use crate::mesh::Vertex;
+use crate::render::draw_args::{DrawArgs, IndexedArgs};
 use crate::render::scene_gpu::SceneGpu;
 
 /// Vertex layout of the mesh buffers: position (0), normal (1), uv (2).
@@ -52,13 +54,15 @@ pub fn bind_camera_view(pass: &mut wgpu::RenderPass<'_>, scene: &SceneGpu) -> bo
     true
 }
 
-/// Issues one instanced indexed draw per batch, binding each batch's material (group 2) when
-/// `bind_material`; returns the draw calls recorded.
+/// Draws `batches` (instanced, indexed), binding each batch's material (group 2) when
+/// `bind_material`: the batches between two material changes are one multi-draw where `args`
+/// allows it ([`DrawArgs`]). Returns the draw commands recorded.
 pub fn draw_batches(
     pass: &mut wgpu::RenderPass<'_>,
     scene: &SceneGpu,
     batches: &[DrawBatch],
     bind_material: bool,
+    args: &mut DrawArgs,
 ) -> u32 {
     let mut last_material = None;
     let mut calls = 0;
@@ -70,15 +74,17 @@ pub fn draw_batches(
             let Some(group) = scene.material_groups.get(batch.material.0 as usize) else {
                 continue;
             };
+            calls += args.flush(pass);
             pass.set_bind_group(2, group, &[]);
             last_material = Some(batch.material);
         }
-        pass.draw_indexed(
-            range.first_index..range.first_index + range.index_count,
-            range.base_vertex,
-            batch.first..batch.first + batch.count,
-        );
-        calls += 1;
+        args.push(IndexedArgs {
+            index_count: range.index_count,
+            instance_count: batch.count,
+            first_index: range.first_index,
+            base_vertex: range.base_vertex,
+            first_instance: batch.first,
+        });
     }
-    calls
+    calls + args.flush(pass)
 }

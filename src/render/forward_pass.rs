@@ -10,11 +10,13 @@ use std::collections::HashMap;
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::depth_bounds::wants_depth_bounds;
 use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
+use crate::render::draw_args::DrawArgs;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
 use crate::render::prepass::camera_depth;
+use crate::render::scene_gpu::SceneGpu;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::render::variant::forward_variant;
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -176,7 +178,7 @@ impl ForwardPass {
 /// single-sided and double-sided pipelines; returns the draw calls recorded.
 fn draw_sided(
     pass: &mut wgpu::RenderPass<'_>,
-    ctx: &FrameContext<'_>,
+    (scene, args): (&SceneGpu, &mut DrawArgs),
     batches: &[DrawBatch],
     pipelines: [&Option<wgpu::RenderPipeline>; 2],
 ) -> u32 {
@@ -185,7 +187,7 @@ fn draw_sided(
     for (part, pipeline) in [&batches[..split], &batches[split..]].into_iter().zip(pipelines) {
         if let (false, Some(pipeline)) = (part.is_empty(), pipeline) {
             pass.set_pipeline(pipeline);
-            calls += draw_batches(pass, ctx.scene, part, true);
+            calls += draw_batches(pass, scene, part, true, args);
         }
     }
     calls
@@ -381,8 +383,10 @@ impl RenderNode for ForwardPass {
             pass.begin_pipeline_statistics_query(&counter.query_set, 0);
         }
         let group = &ctx.view_groups.group;
-        let mut calls = draw_sided(&mut pass, ctx, &group.opaque, [&pipelines[0], &pipelines[1]]);
-        calls += draw_sided(&mut pass, ctx, &group.masked, [&pipelines[2], &pipelines[3]]);
+        let target = (ctx.scene, &mut *ctx.draw_args);
+        let mut calls = draw_sided(&mut pass, target, &group.opaque, [&pipelines[0], &pipelines[1]]);
+        let target = (ctx.scene, &mut *ctx.draw_args);
+        calls += draw_sided(&mut pass, target, &group.masked, [&pipelines[2], &pipelines[3]]);
         if ctx.fragments.is_some() {
             pass.end_pipeline_statistics_query();
         }

@@ -8,6 +8,7 @@ use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::ShadowViews;
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
+use crate::render::draw_args::DrawArgs;
 use crate::render::fragment_count::FragmentCounter;
 pub use crate::render::frame_inputs::FrameInputs;
 use crate::render::layouts::Layouts;
@@ -40,7 +41,9 @@ pub struct FrameContext<'a> {
     pub timer: &'a mut GpuTimer,
     /// Counts the lighting pass's fragment invocations, when asked for.
     pub fragments: Option<&'a FragmentCounter>,
-    /// Draw calls recorded so far this frame.
+    /// The frame's multi-draw arguments.
+    pub draw_args: &'a mut DrawArgs,
+    /// Draw commands recorded so far this frame (a multi-draw counts once).
     pub draw_calls: u32,
     /// Shadow views drawn so far this frame (views whose layer already held them are not).
     pub shadow_views_drawn: u32,

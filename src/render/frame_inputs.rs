@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use crate::ecs::assets::{Images, Materials, Meshes};
 use crate::ecs::components::AmbientLight;
-use crate::ecs::draw_groups::ViewDrawGroups;
+use crate::ecs::draw_groups::{DrawGroup, ViewDrawGroups};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::origin::RenderOrigin;
@@ -66,6 +66,18 @@ impl<'a> FrameInputs<'a> {
             skin_sources: world.get_resource::<SkinSources>(),
             skinning: world.get_resource::<SkinningFrame>(),
         }
+    }
+
+    /// About how many draws the frame records: the camera's batches twice (prepass and
+    /// lighting pass) and every shadow group's once (what [`DrawArgs`](crate::render::draw_args::DrawArgs) reserves room for).
+    pub fn expected_draws(&self) -> usize {
+        let views = self.shadow_views;
+        let shadow: usize = (views.groups.iter())
+            .chain(views.single_pass.iter().map(|p| &p.group))
+            .chain(views.regions.iter().map(|r| &r.group))
+            .map(DrawGroup::draw_count)
+            .sum();
+        2 * self.view_groups.group.draw_count() + shadow
     }
 
     /// The most passes a frame of these inputs can time: one per shadow view and one more per

@@ -5,6 +5,7 @@ pub mod context;
 pub mod counters;
 pub mod depth_bounds;
 pub mod draw;
+pub mod draw_args;
 pub mod forward_pass;
 pub mod fragment_count;
 pub mod frame;

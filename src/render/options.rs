@@ -113,6 +113,10 @@ pub struct RenderOptions {
     /// always renders one sample per pixel, so every analysis pixel holds one surface's values
     /// (what the bench scores).
     pub msaa: Msaa,
+    /// Record a pass's consecutive batches that bind nothing between them as one
+    /// `multi_draw_indexed_indirect` (default on), where the device draws indirect with a
+    /// first instance; off (or without it), one `draw_indexed` per batch.
+    pub multi_draw: bool,
 }
 
 impl Default for RenderOptions {
@@ -123,6 +127,7 @@ impl Default for RenderOptions {
             visibility_resolve: true,
             single_pass_cascades: false,
             msaa: Msaa::Off,
+            multi_draw: true,
         }
     }
 }

@@ -254,7 +254,7 @@ impl RenderNode for DepthPrepass {
                     samples,
                 };
                 pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
-                ctx.draw_calls += draw_batches(&mut pass, ctx.scene, part, masked);
+                ctx.draw_calls += draw_batches(&mut pass, ctx.scene, part, masked, ctx.draw_args);
             }
         }
     }

@@ -8,12 +8,13 @@ use crate::math::pages::pixel_per_depth;
 use crate::render::context::{GpuContext, GpuError};
 use crate::render::counters::RenderCounters;
 use crate::render::depth_bounds::DepthBoundsPass;
+use crate::render::draw_args::DrawArgs;
 use crate::render::forward_pass::ForwardPass;
 use crate::render::fragment_count::FragmentCounter;
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::gpu_types::FrameUniformsGpu;
-use crate::render::graph::{FrameResources, GraphError, RenderGraph, RenderNode};
+use crate::render::graph::{RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::options::Msaa;
@@ -29,7 +30,7 @@ use crate::render::shadows::depth_pass::DepthPass;
 use crate::render::shadows::moments_pass::MomentsPass;
 use crate::render::shadows::pages_pass::PagesPass;
 use crate::render::shadows::visibility::ResolvePlan;
-use crate::render::target::{DEPTH_FORMAT, HeadlessTarget, TargetViews};
+use crate::render::target::{HeadlessTarget, TargetViews};
 use crate::render::timer::{FrameTimings, GpuTimer};
 use crate::settings::ShadowDebugView;
 use crate::shader::{ShaderError, ShaderLibrary};
@@ -57,6 +58,8 @@ pub struct Renderer {
     msaa_warned: Option<(Msaa, wgpu::TextureFormat)>,
     /// The depth-bounds reduction's readback ring (the depths the camera saw).
     seen: SeenReadback,
+    /// The frame's multi-draw arguments.
+    draw_args: DrawArgs,
     /// The scrolling views the last frame drew whole from an earlier window's casters.
     scroll_resync: Vec<(bevy_ecs::entity::Entity, u32)>,
     /// The last frame's GPU report.
@@ -138,6 +141,7 @@ impl Renderer {
             problems: UploadProblems::default(),
             msaa_warned: None,
             seen: SeenReadback::default(),
+            draw_args: DrawArgs::default(),
             scroll_resync: Vec::new(),
             last_report: FrameReport::default(),
         }
@@ -358,6 +362,9 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.scroll_resync.clear();
         let skinned_meshes_posed = self.scene.skinning.record(&mut encoder, &mut self.timer);
+        let multi_draw = input.options.multi_draw && self.gpu.indirect_first_instance;
+        self.draw_args
+            .begin(&self.gpu.device, input.expected_draws(), multi_draw);
         let mut ctx = FrameContext {
             gpu: &self.gpu,
             layouts: &self.layouts,
@@ -378,6 +385,7 @@ impl Renderer {
             counters: &mut self.counters,
             pipeline_error: &mut self.pipeline_error,
             seen: &mut self.seen,
+            draw_args: &mut self.draw_args,
             scroll_resync: &mut self.scroll_resync,
         };
         if input.view.camera.is_some() && drawable {
@@ -391,6 +399,7 @@ impl Renderer {
         );
         let (shadow_views_scrolled, shadow_drawn_texels) = (ctx.shadow_views_scrolled, ctx.shadow_drawn_texels);
         overlay(&self.gpu, &mut encoder);
+        self.draw_args.upload(&self.gpu.queue);
         self.timer.resolve(&mut encoder);
         if let Some(counter) = &self.fragments {
             counter.resolve(&mut encoder);
@@ -406,6 +415,7 @@ impl Renderer {
         report.passes.clone_from(&latest.passes);
         report.timed_frame = latest.frame;
         report.draw_calls = draw_calls;
+        report.draws = self.draw_args.draws() as u32;
         report.shadow_views_drawn = shadow_views_drawn;
         report.shadow_draw_calls = shadow_draw_calls;
         report.shadow_cleared_texels = shadow_cleared_texels;
@@ -418,78 +428,9 @@ impl Renderer {
         report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));
         &self.last_report
     }
-
-    /// Samples per pixel of this frame's camera view: what `msaa` asks for, or the largest
-    /// count the device can multisample and resolve the target's format with (warned once
-    /// per request and format); one for a target with analysis outputs (each analysis pixel
-    /// holds one surface's values).
-    fn frame_samples(&mut self, msaa: Msaa, target: &TargetViews, problems: &mut UploadProblems) -> u32 {
-        if target.analysis.is_some() {
-            return 1;
-        }
-        let gpu = &self.gpu;
-        let resolves = gpu
-            .format_flags(target.format)
-            .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
-        let used = msaa
-            .fallback(|n| resolves && gpu.supports_samples(target.format, n) && gpu.supports_samples(DEPTH_FORMAT, n));
-        if used != msaa && self.msaa_warned != Some((msaa, target.format)) {
-            self.msaa_warned = Some((msaa, target.format));
-            problems.warnings.push(format!(
-                "MSAA: {}× asked for, but `{}` cannot multisample {:?} that many times; using {}×",
-                msaa.samples(),
-                gpu.adapter_info.name,
-                target.format,
-                used.samples()
-            ));
-        }
-        used.samples()
-    }
-
-    /// Declares this frame's graph: imports the target and the shadow storages, lets every
-    /// node declare its work, and allocates the transients.
-    fn build_graph(
-        &mut self,
-        input: &FrameInputs<'_>,
-        target: &TargetViews,
-        (depth_prepass, samples): (bool, u32),
-    ) -> Result<u32, GraphError> {
-        let graph = &mut self.graph;
-        graph.begin_frame();
-        let color = graph.import_texture("target colour", &target.color);
-        let analysis = target.analysis.as_ref().map(|[shadow, position, normal]| {
-            [
-                graph.import_texture("analysis shadow", shadow),
-                graph.import_texture("analysis position", position),
-                graph.import_texture("analysis normal", normal),
-            ]
-        });
-        let mut frame = FrameResources {
-            color,
-            color_format: target.format,
-            size: (target.width, target.height),
-            samples,
-            analysis,
-            shadow_maps: ShadowStorage::ALL.map(|s| {
-                let array = self.shadows.shared_array(s);
-                graph.import_object(s.desc().label, array.array_view.clone(), array)
-            }),
-            shadow_moments: ShadowStorage::ALL.map(|s| {
-                let moments = self.shadows.shared_moments(s);
-                graph.import_object(s.desc().moments_label, moments.moments.sampled.clone(), moments)
-            }),
-            depth_prepass,
-            depth: None,
-            normals: None,
-            visibility: self
-                .shadows
-                .resolved
-                .as_ref()
-                .map(|r| graph.import_texture("resolved visibility", &r.target.view)),
-        };
-        graph.build(&self.gpu.device, &mut frame, input)
-    }
 }
 
+#[path = "renderer_graph.rs"]
+mod graph_build;
 #[path = "renderer_readback.rs"]
 mod readback;

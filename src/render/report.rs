@@ -12,8 +12,10 @@ pub struct FrameReport {
     pub passes: Vec<PassTiming>,
     /// The frame `passes` belong to (see [`Renderer::frames_rendered`](crate::render::Renderer::frames_rendered)).
     pub timed_frame: u64,
-    /// Draw calls recorded.
+    /// Draw commands recorded (a multi-draw of many batches counts once).
     pub draw_calls: u32,
+    /// Instanced draws recorded, one per batch, in multi-draws or one by one.
+    pub draws: u32,
     /// Shadow views drawn (a view whose layer still holds its content is not).
     pub shadow_views_drawn: u32,
     /// Draw calls of the shadow views.

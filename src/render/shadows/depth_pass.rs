@@ -355,10 +355,10 @@ impl DepthPass {
         pass.set_bind_group(0, views_group, &[offset]);
         pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
         pass.set_pipeline(&opaque);
-        let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false);
+        let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false, ctx.draw_args);
         if let Some(masked) = &masked {
             pass.set_pipeline(masked);
-            calls += draw_batches(&mut pass, ctx.scene, &group.masked, true);
+            calls += draw_batches(&mut pass, ctx.scene, &group.masked, true, ctx.draw_args);
         }
         ctx.draw_calls += calls;
         ctx.shadow_draw_calls += calls;

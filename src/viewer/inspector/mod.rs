@@ -22,6 +22,7 @@ use crate::ecs::components::DirectionalLight;
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
 use crate::ecs::view_list::ShadowViews;
+use crate::ecs::view_lod::CameraLod;
 use crate::render::{FrameReport, RenderOptions};
 use crate::scene::save_settings;
 use crate::settings::ShadowSettings;
@@ -109,6 +110,12 @@ impl Inspector {
                 let mut edited = *options;
                 if render::render_options_ui(ui, &mut edited) {
                     *options = edited;
+                }
+            }
+            if let Some(mut lod) = world.get_resource_mut::<CameraLod>() {
+                let mut edited = *lod;
+                if render::camera_lod_ui(ui, &mut edited) {
+                    *lod = edited;
                 }
             }
         });

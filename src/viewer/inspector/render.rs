@@ -1,8 +1,10 @@
 //! The render-wide switches of [`RenderOptions`]: the depth prepass, the shadow cache, the
-//! compute visibility resolve, single-pass cascades and MSAA.
+//! compute visibility resolve, single-pass cascades, multi-draw and MSAA; and the camera
+//! view's LOD ([`CameraLod`]).
 
 use egui::Ui;
 
+use crate::ecs::view_lod::CameraLod;
 use crate::render::{DepthPrepass, Msaa, RenderOptions};
 
 /// Draws the switches over `options`; true when one changed.
@@ -27,6 +29,9 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
         .on_hover_text("filter the shadows per pixel in a compute pass after the prepass");
     ui.checkbox(&mut edited.single_pass_cascades, "single-pass cascades")
         .on_hover_text("draw a sun's cascades in one multiview pass where the GPU supports it");
+    ui.checkbox(&mut edited.multi_draw, "multi-draw").on_hover_text(
+        "draw the batches a pass binds nothing between (meshes of any size) with one indirect multi-draw",
+    );
     ui.horizontal(|ui| {
         ui.label("MSAA").on_hover_text(
             "samples per pixel: smooth edges, and alpha-to-coverage for alpha-masked materials; 1× alpha-tests them",
@@ -36,4 +41,11 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
         }
     });
     *edited != before
+}
+
+/// Draws the camera view's LOD slider over `lod`; true when it changed.
+pub fn camera_lod_ui(ui: &mut Ui, lod: &mut CameraLod) -> bool {
+    ui.add(egui::Slider::new(&mut lod.max_error_pixels, 0.0..=4.0).text("camera LOD error (px)"))
+        .on_hover_text("the largest geometric error of a coarser mesh level on screen; 0 draws every mesh whole")
+        .changed()
 }

@@ -1,0 +1,82 @@
+//! How a [`Renderer`] sets up a frame's graph: the camera view's sample count (MSAA with its
+//! fallback), and the graph's imports, declarations and transients.
+
+use crate::layout::ShadowStorage;
+use crate::render::frame_inputs::FrameInputs;
+use crate::render::graph::{FrameResources, GraphError};
+use crate::render::options::Msaa;
+use crate::render::renderer::{Renderer, UploadProblems};
+use crate::render::target::{DEPTH_FORMAT, TargetViews};
+
+impl Renderer {
+    /// Samples per pixel of this frame's camera view: what `msaa` asks for, or the largest
+    /// count the device can multisample and resolve the target's format with (warned once
+    /// per request and format); one for a target with analysis outputs (each analysis pixel
+    /// holds one surface's values).
+    pub(super) fn frame_samples(&mut self, msaa: Msaa, target: &TargetViews, problems: &mut UploadProblems) -> u32 {
+        if target.analysis.is_some() {
+            return 1;
+        }
+        let gpu = &self.gpu;
+        let resolves = gpu
+            .format_flags(target.format)
+            .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE);
+        let used = msaa
+            .fallback(|n| resolves && gpu.supports_samples(target.format, n) && gpu.supports_samples(DEPTH_FORMAT, n));
+        if used != msaa && self.msaa_warned != Some((msaa, target.format)) {
+            self.msaa_warned = Some((msaa, target.format));
+            problems.warnings.push(format!(
+                "MSAA: {}× asked for, but `{}` cannot multisample {:?} that many times; using {}×",
+                msaa.samples(),
+                gpu.adapter_info.name,
+                target.format,
+                used.samples()
+            ));
+        }
+        used.samples()
+    }
+
+    /// Declares this frame's graph: imports the target and the shadow storages, lets every
+    /// node declare its work, and allocates the transients.
+    pub(super) fn build_graph(
+        &mut self,
+        input: &FrameInputs<'_>,
+        target: &TargetViews,
+        (depth_prepass, samples): (bool, u32),
+    ) -> Result<u32, GraphError> {
+        let graph = &mut self.graph;
+        graph.begin_frame();
+        let color = graph.import_texture("target colour", &target.color);
+        let analysis = target.analysis.as_ref().map(|[shadow, position, normal]| {
+            [
+                graph.import_texture("analysis shadow", shadow),
+                graph.import_texture("analysis position", position),
+                graph.import_texture("analysis normal", normal),
+            ]
+        });
+        let mut frame = FrameResources {
+            color,
+            color_format: target.format,
+            size: (target.width, target.height),
+            samples,
+            analysis,
+            shadow_maps: ShadowStorage::ALL.map(|s| {
+                let array = self.shadows.shared_array(s);
+                graph.import_object(s.desc().label, array.array_view.clone(), array)
+            }),
+            shadow_moments: ShadowStorage::ALL.map(|s| {
+                let moments = self.shadows.shared_moments(s);
+                graph.import_object(s.desc().moments_label, moments.moments.sampled.clone(), moments)
+            }),
+            depth_prepass,
+            depth: None,
+            normals: None,
+            visibility: self
+                .shadows
+                .resolved
+                .as_ref()
+                .map(|r| graph.import_texture("resolved visibility", &r.target.view)),
+        };
+        graph.build(&self.gpu.device, &mut frame, input)
+    }
+}
