@@ -333,7 +333,10 @@ impl PreparedScene {
         let mut levels = Vec::new();
         for (segments, rings) in [(16, 8), (8, 4)] {
             self.meshes.push(sphere(radius, segments, rings));
-            levels.push((self.meshes.len() - 1, sphere_error(segments, rings)));
+            // NOTE: a level's error is relative to an instance's bounding radius, the sphere
+            // around its world box: at least √3 times the sphere's radius (times its scale).
+            let relative = sphere_error(segments, rings) / 3f32.sqrt();
+            levels.push((self.meshes.len() - 1, relative));
         }
         self.shadow_lods.push((full, levels));
         vec![MeshPart {

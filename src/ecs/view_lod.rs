@@ -14,8 +14,8 @@ use crate::ecs::shadow_lods::{MAX_ERROR_TEXELS, ShadowLods};
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct CameraLod {
     /// Largest geometric error of a level on screen, in pixels (0 draws every mesh whole).
-    /// Default 0.25: on the 100k field at 320×180 it draws 2.44 M of 28.2 M triangles, and
-    /// 0.5 only 9 % fewer for 60 % more flipped edge pixels.
+    /// Default 0.25: on the 100k field at 320×180 the camera draws 2.30 M of its 28.2 M
+    /// triangles (`cargo test --test camera_lod -- --nocapture`).
     pub max_error_pixels: f32,
 }
 
