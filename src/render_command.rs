@@ -124,6 +124,10 @@ pub struct RenderArgs {
     /// batches that bind nothing between them.
     #[arg(long)]
     no_multi_draw: bool,
+    /// Draw every instance in the camera's frustum, hidden or not (by default instances
+    /// hidden behind others are culled on the GPU, around the depth prepass).
+    #[arg(long)]
+    no_occlusion_culling: bool,
     /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
     /// or one pass per cascade (`false`).
     #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
@@ -272,6 +276,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_visibility_resolve,
         single_pass_cascades,
         no_multi_draw,
+        no_occlusion_culling,
         count_fragments,
         camera_step,
         camera_turn,
@@ -375,6 +380,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             single_pass_cascades,
             msaa,
             multi_draw: !no_multi_draw,
+            occlusion_culling: !no_occlusion_culling,
         },
         shadow_budget,
         count_fragments,

@@ -250,9 +250,14 @@ fn the_depth_prepass_changes_no_pixel() {
 fn the_automatic_prepass_runs_only_below_one_triangle_per_pixel() {
     // The default scene has tens of thousands of triangles drawn whole: more than 64×40
     // pixels, fewer than 320×180. (With its LOD the camera draws its spheres coarser at 64×40,
-    // under one triangle a pixel.)
+    // under one triangle a pixel.) Occlusion culling off: it runs the prepass whatever the count.
     let mut small = app_sized(64, 40);
     small.insert_resource(CameraLod { max_error_pixels: 0.0 });
+    // NOTE: the occlusion culling would turn the automatic prepass on.
+    small.insert_resource(RenderOptions {
+        occlusion_culling: false,
+        ..RenderOptions::default()
+    });
     small.update();
     assert_eq!(renderer(&small).graph_order(), ["shadow", "forward"]);
     assert_eq!(

@@ -309,3 +309,20 @@ fn the_skinning_shader_validates() {
     let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(entry_points, ["main"]);
 }
+
+#[test]
+fn the_occlusion_culling_shaders_validate() {
+    let mut library = ShaderLibrary::new().unwrap();
+    for late in [false, true] {
+        let module = library
+            .occlusion_cull(late)
+            .unwrap_or_else(|e| panic!("late {late}: {e}"));
+        assert_eq!(module.entry_points[0].name, "main");
+    }
+    for first in [false, true] {
+        let module = library
+            .occlusion_pyramid(first)
+            .unwrap_or_else(|e| panic!("first {first}: {e}"));
+        assert_eq!(module.entry_points[0].name, "main");
+    }
+}

@@ -24,6 +24,7 @@ pub mod light_budget;
 pub mod light_space;
 pub mod moments;
 pub mod msm;
+pub mod occlusion;
 pub mod page_sampling;
 pub mod pages;
 pub mod pcss;

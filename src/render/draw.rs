@@ -2,7 +2,7 @@
 //! rasterisation, and the instanced draws of a list of batches (multi-draws where nothing is
 //! bound between them).
 
-use crate::ecs::draw_groups::DrawBatch;
+use crate::ecs::draw_groups::{DrawBatch, DrawGroup};
 use crate::mesh::Vertex;
 use crate::render::draw_args::{DrawArgs, IndexedArgs};
 use crate::render::scene_gpu::SceneGpu;
@@ -42,16 +42,37 @@ pub fn mesh_primitive(double_sided: bool) -> wgpu::PrimitiveState {
 }
 
 /// Binds what every camera-view mesh pass shares: the mesh buffers, the frame (group 0) and
-/// the camera's instances (group 1). False (nothing bound) while the scene has no mesh.
-pub fn bind_camera_view(pass: &mut wgpu::RenderPass<'_>, scene: &SceneGpu) -> bool {
+/// the camera's instances (group 1: the view's list, or `instances` over a culling phase's).
+/// False (nothing bound) while the scene has no mesh.
+pub fn bind_camera_view(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &SceneGpu,
+    instances: Option<&wgpu::BindGroup>,
+) -> bool {
     let Some((vertices, indices)) = scene.mesh_buffers() else {
         return false;
     };
     pass.set_vertex_buffer(0, vertices.slice(..));
     pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
     pass.set_bind_group(0, &scene.view_group, &[]);
-    pass.set_bind_group(1, &scene.view_instances_group, &[]);
+    pass.set_bind_group(1, instances.unwrap_or(&scene.view_instances_group), &[]);
     true
+}
+
+/// The camera view's batches, opaque then masked, each split into single- and double-sided
+/// parts (the draw key sorts single-sided first): `(masked, double_sided, part, its first
+/// batch in opaque-then-masked order)`. With `masked` false the masked batches are left out.
+pub fn camera_parts(group: &DrawGroup, masked: bool) -> [(bool, bool, &[DrawBatch], u32); 4] {
+    let masked_batches: &[DrawBatch] = if masked { &group.masked } else { &[] };
+    let base = group.opaque.len() as u32;
+    let split = |b: &[DrawBatch]| b.partition_point(|b| !b.double_sided);
+    let (o, m) = (split(&group.opaque), split(masked_batches));
+    [
+        (false, false, &group.opaque[..o], 0),
+        (false, true, &group.opaque[o..], o as u32),
+        (true, false, &masked_batches[..m], base),
+        (true, true, &masked_batches[m..], base + m as u32),
+    ]
 }
 
 /// Draws `batches` (instanced, indexed), binding each batch's material (group 2) when
@@ -87,4 +108,45 @@ pub fn draw_batches(
         });
     }
     calls + args.flush(pass)
+}
+
+/// Draws `batches` from a culling phase's indirect arguments, batch `i` of the slice at
+/// argument `first + i` ([`crate::render::occlusion`]): one multi-draw per run of batches
+/// between material changes (materials bound as [`draw_batches`] binds them). Returns the
+/// draw commands recorded.
+pub fn draw_culled(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &SceneGpu,
+    batches: &[DrawBatch],
+    bind_material: bool,
+    (args, first): (&wgpu::Buffer, u32),
+) -> u32 {
+    let stride = size_of::<IndexedArgs>() as u64;
+    let mut calls = 0;
+    let mut flush = |pass: &mut wgpu::RenderPass<'_>, run: std::ops::Range<usize>| {
+        if !run.is_empty() {
+            let offset = (u64::from(first) + run.start as u64) * stride;
+            pass.multi_draw_indexed_indirect(args, offset, run.len() as u32);
+            calls += 1;
+        }
+    };
+    let (mut start, mut last_material, mut bound) = (0, None, true);
+    for (i, batch) in batches.iter().enumerate() {
+        if bind_material && last_material != Some(batch.material) {
+            flush(pass, start..i);
+            start = i;
+            last_material = Some(batch.material);
+            let group = scene.material_groups.get(batch.material.0 as usize);
+            if let Some(group) = group {
+                pass.set_bind_group(2, group, &[]);
+            }
+            bound = group.is_some();
+        }
+        // NOTE: a batch whose material has no group is not drawn.
+        if !bound {
+            start = i + 1;
+        }
+    }
+    flush(pass, start..batches.len());
+    calls
 }

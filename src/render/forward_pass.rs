@@ -9,14 +9,15 @@ use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
 use crate::render::depth_bounds::wants_depth_bounds;
-use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
-use crate::render::draw_args::DrawArgs;
+use crate::render::draw::{
+    bind_camera_view, camera_parts, draw_batches, draw_culled, mesh_primitive, mesh_vertex_state,
+};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
+use crate::render::occlusion::Phase;
 use crate::render::prepass::camera_depth;
-use crate::render::scene_gpu::SceneGpu;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::render::variant::forward_variant;
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -172,25 +173,6 @@ impl ForwardPass {
         }
         built.pipeline.clone()
     }
-}
-
-/// Draws `batches` (single-sided ones first, as the draw key sorts them) with the
-/// single-sided and double-sided pipelines; returns the draw calls recorded.
-fn draw_sided(
-    pass: &mut wgpu::RenderPass<'_>,
-    (scene, args): (&SceneGpu, &mut DrawArgs),
-    batches: &[DrawBatch],
-    pipelines: [&Option<wgpu::RenderPipeline>; 2],
-) -> u32 {
-    let split = batches.partition_point(|b| !b.double_sided);
-    let mut calls = 0;
-    for (part, pipeline) in [&batches[..split], &batches[split..]].into_iter().zip(pipelines) {
-        if let (false, Some(pipeline)) = (part.is_empty(), pipeline) {
-            pass.set_pipeline(pipeline);
-            calls += draw_batches(pass, scene, part, true, args);
-        }
-    }
-    calls
 }
 
 impl RenderNode for ForwardPass {
@@ -368,7 +350,7 @@ impl RenderNode for ForwardPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if !bind_camera_view(&mut pass, ctx.scene) {
+        if !bind_camera_view(&mut pass, ctx.scene, None) {
             return;
         }
         // NOTE: a frame that resolved its shadows reads them through the group that binds the
@@ -383,10 +365,33 @@ impl RenderNode for ForwardPass {
             pass.begin_pipeline_statistics_query(&counter.query_set, 0);
         }
         let group = &ctx.view_groups.group;
-        let target = (ctx.scene, &mut *ctx.draw_args);
-        let mut calls = draw_sided(&mut pass, target, &group.opaque, [&pipelines[0], &pipelines[1]]);
-        let target = (ctx.scene, &mut *ctx.draw_args);
-        calls += draw_sided(&mut pass, target, &group.masked, [&pipelines[2], &pipelines[3]]);
+        let (scene, args) = (ctx.scene, &mut *ctx.draw_args);
+        // Every batch with its pipeline, from the view's list or a culling phase's arguments.
+        let mut draw = |pass: &mut wgpu::RenderPass<'_>, culled: Option<&Phase<'_>>| {
+            let mut calls = 0;
+            for (masked, double_sided, part, first) in camera_parts(group, true) {
+                let pipeline = &pipelines[masked as usize * 2 + double_sided as usize];
+                let (false, Some(pipeline)) = (part.is_empty(), pipeline) else {
+                    continue;
+                };
+                pass.set_pipeline(pipeline);
+                calls += match culled {
+                    Some(c) => draw_culled(pass, scene, part, true, (c.args, first)),
+                    None => draw_batches(pass, scene, part, true, args),
+                };
+            }
+            calls
+        };
+        let mut calls = 0;
+        match ctx.occlusion.phases() {
+            Some(phases) => {
+                for phase in &phases {
+                    pass.set_bind_group(1, phase.instances, &[]);
+                    calls += draw(&mut pass, Some(phase));
+                }
+            }
+            None => calls += draw(&mut pass, None),
+        }
         if ctx.fragments.is_some() {
             pass.end_pipeline_statistics_query();
         }

@@ -12,6 +12,7 @@ use crate::render::draw_args::DrawArgs;
 use crate::render::fragment_count::FragmentCounter;
 pub use crate::render::frame_inputs::FrameInputs;
 use crate::render::layouts::Layouts;
+use crate::render::occlusion::OcclusionGpu;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::seen_readback::SeenReadback;
 use crate::render::shadows::ShadowResources;
@@ -43,6 +44,8 @@ pub struct FrameContext<'a> {
     pub fragments: Option<&'a FragmentCounter>,
     /// The frame's multi-draw arguments.
     pub draw_args: &'a mut DrawArgs,
+    /// The camera view's occlusion culling (prepared for this frame).
+    pub occlusion: &'a mut OcclusionGpu,
     /// Draw commands recorded so far this frame (a multi-draw counts once).
     pub draw_calls: u32,
     /// Shadow views drawn so far this frame (views whose layer already held them are not).

@@ -92,8 +92,8 @@ impl<'a> FrameInputs<'a> {
         } else {
             0
         };
-        // NOTE: the skinning, the prepass, the resolve, the forward pass and the depth-bounds
-        // reduction.
-        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 5
+        // NOTE: the skinning, the prepass (twice), the occlusion culling's three passes, the
+        // resolve, the forward pass and the depth-bounds reduction.
+        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 9
     }
 }

@@ -51,26 +51,31 @@ impl GrowBuffer {
         Ok(replaced)
     }
 
+    /// Grows the buffer to hold at least `bytes` (its contents are then undefined); returns
+    /// true when it was replaced. Refused past one storage binding, as [`write`](Self::write).
+    pub fn reserve(&mut self, gpu: &GpuContext, bytes: u64) -> Result<bool, LimitError> {
+        let limits = &gpu.limits;
+        let whole_binding = self.usage.contains(wgpu::BufferUsages::STORAGE);
+        limits.check_buffer(self.label, bytes, whole_binding)?;
+        if bytes <= self.buffer.size() {
+            return Ok(false);
+        }
+        let most = if whole_binding {
+            limits.max_storage_binding_bytes.min(limits.max_buffer_bytes)
+        } else {
+            limits.max_buffer_bytes
+        };
+        let size = bytes.next_power_of_two().min(most & !3).max(bytes);
+        *self = Self::with_usage(&gpu.device, self.label, size, self.usage);
+        Ok(true)
+    }
+
     /// Writes `data`, growing first if needed; returns true when the buffer was replaced.
     /// Data larger than one storage binding is refused before any wgpu call.
     pub fn write(&mut self, gpu: &GpuContext, data: &[u8]) -> Result<bool, LimitError> {
-        let limits = &gpu.limits;
-        let needed = data.len() as u64;
-        // NOTE: a storage buffer is bound whole; a uniform one only in slices.
-        let whole_binding = self.usage.contains(wgpu::BufferUsages::STORAGE);
-        limits.check_buffer(self.label, needed, whole_binding)?;
-        let mut replaced = false;
-        if needed > self.buffer.size() {
-            let most = if whole_binding {
-                limits.max_storage_binding_bytes.min(limits.max_buffer_bytes)
-            } else {
-                limits.max_buffer_bytes
-            };
-            // NOTE: storage bindings are sized in multiples of 4 bytes.
-            let size = needed.next_power_of_two().min(most & !3).max(needed);
-            *self = Self::with_usage(&gpu.device, self.label, size, self.usage);
-            replaced = true;
-        }
+        // NOTE: a storage buffer is bound whole; a uniform one only in slices; storage
+        // bindings are sized in multiples of 4 bytes.
+        let replaced = self.reserve(gpu, data.len() as u64)?;
         if !data.is_empty() {
             gpu.queue.write_buffer(&self.buffer, 0, data);
         }

@@ -16,6 +16,8 @@ pub mod grow_buffer;
 pub mod layouts;
 pub mod limits;
 pub mod mips;
+pub mod occlusion;
+mod occlusion_kernels;
 pub mod options;
 pub mod plugin;
 pub mod prepass;

@@ -117,6 +117,11 @@ pub struct RenderOptions {
     /// `multi_draw_indexed_indirect` (default on), where the device draws indirect with a
     /// first instance; off (or without it), one `draw_indexed` per batch.
     pub multi_draw: bool,
+    /// Cull the camera view's instances hidden behind others on the GPU, in two phases
+    /// around the depth prepass (default on; see [`crate::render::occlusion`]). Where it can
+    /// run (one sample per pixel, a device that draws indirect with a first instance) it
+    /// turns the automatic prepass on.
+    pub occlusion_culling: bool,
 }
 
 impl Default for RenderOptions {
@@ -128,6 +133,7 @@ impl Default for RenderOptions {
             single_pass_cascades: false,
             msaa: Msaa::Off,
             multi_draw: true,
+            occlusion_culling: true,
         }
     }
 }

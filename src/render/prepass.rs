@@ -13,18 +13,21 @@
 
 use std::borrow::Cow;
 
-use crate::ecs::draw_groups::DrawBatch;
-use crate::render::draw::{bind_camera_view, draw_batches, mesh_primitive, mesh_vertex_state};
+use crate::render::draw::{
+    bind_camera_view, camera_parts, draw_batches, draw_culled, mesh_primitive, mesh_vertex_state,
+};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
-use crate::render::options::DepthPrepass as PrepassMode;
+use crate::render::options::{DepthPrepass as PrepassMode, Msaa};
 use crate::render::target::DEPTH_FORMAT;
 use crate::shader::ShaderLibrary;
 
 /// Name of the prepass in GPU timings and the graph.
 pub const PREPASS_NAME: &str = "depth prepass";
+/// Name of the prepass's second render pass, the late occlusion phase's draws.
+pub const PREPASS_LATE_NAME: &str = "depth prepass late";
 
 /// The camera's depth buffer at the target's size, with `samples` samples per pixel.
 pub fn camera_depth((width, height): (u32, u32), samples: u32) -> TextureDesc {
@@ -145,11 +148,14 @@ fn create_pipeline(
 /// Whether the prepass runs this frame on a target of `size` pixels: as
 /// [`RenderOptions::depth_prepass`](crate::render::RenderOptions::depth_prepass) decides,
 /// and always for a paged sun (its pages are marked from the prepass's depth) or, unless the
-/// prepass is off, for a light with contact shadows (they march over its depth).
+/// prepass is off, for a light with contact shadows (they march over its depth); `Auto` runs
+/// it too for the occlusion culling (which draws the hidden instances in neither pass).
 pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bool {
     let pixels = u64::from(width) * u64::from(height);
     let mode = inputs.options.depth_prepass;
+    let occlusion = inputs.options.occlusion_culling && inputs.options.msaa == Msaa::Off;
     mode.runs(|| visible_triangles(inputs), pixels)
+        || (mode == PrepassMode::Auto && occlusion)
         || inputs.lights.paged_sun().is_some()
         || (mode != PrepassMode::Off && inputs.lights.any_contact_shadows())
 }
@@ -200,8 +206,35 @@ impl RenderNode for DepthPrepass {
         }
     }
 
+    /// Draws the view's depth (and normals); with occlusion culling, the early phase's list,
+    /// then the pyramid and the late test, then the late list over it.
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         let Some(depth) = self.depth else { return };
+        if !ctx.occlusion.active() {
+            self.draw(ctx, resources, encoder, None);
+            return;
+        }
+        ctx.occlusion.record_early(encoder, ctx.timer);
+        self.draw(ctx, resources, encoder, Some(0));
+        ctx.occlusion
+            .record_late(&ctx.gpu.device, encoder, ctx.timer, resources.view(depth));
+        self.draw(ctx, resources, encoder, Some(1));
+    }
+}
+
+impl DepthPrepass {
+    /// One render pass over the depth (cleared unless it draws the late phase): the view's
+    /// list, or occlusion `phase` 0 (early) or 1 (late).
+    fn draw(
+        &mut self,
+        ctx: &mut FrameContext<'_>,
+        resources: &GraphResources,
+        encoder: &mut wgpu::CommandEncoder,
+        phase: Option<usize>,
+    ) {
+        let Some(depth) = self.depth else { return };
+        let late = phase == Some(1);
+        let load = |clear| if late { wgpu::LoadOp::Load } else { clear };
         let normals = self.normals.map(|n| {
             Some(wgpu::RenderPassColorAttachment {
                 view: resources.view(n),
@@ -217,45 +250,45 @@ impl RenderNode for DepthPrepass {
                 },
             })
         });
+        let name = if late { PREPASS_LATE_NAME } else { PREPASS_NAME };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(PREPASS_NAME),
+            label: Some(name),
             color_attachments: normals.as_slice(),
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: resources.view(depth),
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: load(wgpu::LoadOp::Clear(0.0)),
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: ctx.timer.pass(PREPASS_NAME),
+            timestamp_writes: ctx.timer.pass(name),
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if !bind_camera_view(&mut pass, ctx.scene) {
+        let phases = ctx.occlusion.phases();
+        let culled = phase.and_then(|p| phases.as_ref().map(|phases| &phases[p]));
+        if !bind_camera_view(&mut pass, ctx.scene, culled.map(|c| c.instances)) {
             return;
         }
-        let group = &ctx.view_groups.group;
         let samples = self.frame_samples.max(1);
         // NOTE: with MSAA the lighting pass draws masked batches itself (alpha-to-coverage).
-        let masked_batches: &[DrawBatch] = if samples > 1 { &[] } else { &group.masked };
-        for (masked, batches) in [(false, &group.opaque[..]), (true, masked_batches)] {
-            // NOTE: batches are sorted single-sided first (the draw key), as in the forward pass.
-            let split = batches.partition_point(|b: &DrawBatch| !b.double_sided);
-            for (double_sided, part) in [(false, &batches[..split]), (true, &batches[split..])] {
-                if part.is_empty() {
-                    continue;
-                }
-                let device = &ctx.gpu.device;
-                let key = Key {
-                    masked,
-                    double_sided,
-                    normals: self.normals.is_some(),
-                    samples,
-                };
-                pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
-                ctx.draw_calls += draw_batches(&mut pass, ctx.scene, part, masked, ctx.draw_args);
+        for (masked, double_sided, part, first) in camera_parts(&ctx.view_groups.group, samples == 1) {
+            if part.is_empty() {
+                continue;
             }
+            let device = &ctx.gpu.device;
+            let key = Key {
+                masked,
+                double_sided,
+                normals: self.normals.is_some(),
+                samples,
+            };
+            pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
+            ctx.draw_calls += match culled {
+                Some(c) => draw_culled(&mut pass, ctx.scene, part, masked, (c.args, first)),
+                None => draw_batches(&mut pass, ctx.scene, part, masked, ctx.draw_args),
+            };
         }
     }
 }

@@ -17,6 +17,7 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
+use crate::render::occlusion::OcclusionGpu;
 use crate::render::options::Msaa;
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
 use crate::render::probe::ProbePass;
@@ -60,6 +61,8 @@ pub struct Renderer {
     seen: SeenReadback,
     /// The frame's multi-draw arguments.
     draw_args: DrawArgs,
+    /// The camera view's occlusion culling.
+    occlusion: OcclusionGpu,
     /// The scrolling views the last frame drew whole from an earlier window's casters.
     scroll_resync: Vec<(bevy_ecs::entity::Entity, u32)>,
     /// The last frame's GPU report.
@@ -142,6 +145,7 @@ impl Renderer {
             msaa_warned: None,
             seen: SeenReadback::default(),
             draw_args: DrawArgs::default(),
+            occlusion: OcclusionGpu::default(),
             scroll_resync: Vec::new(),
             last_report: FrameReport::default(),
         }
@@ -333,6 +337,18 @@ impl Renderer {
                     &mut self.counters,
                     &mut problems,
                 )
+            })
+            .and_then(|_| {
+                let wanted =
+                    prepass && samples == 1 && input.options.occlusion_culling && self.gpu.indirect_first_instance;
+                self.occlusion.prepare(
+                    (&self.gpu, &self.layouts, &mut self.library),
+                    &self.scene,
+                    (input.instances, input.view_groups),
+                    input.view.camera.as_ref().map(|(c, _)| c),
+                    size,
+                    wanted,
+                )
             });
         let mut drawable = prepared.is_ok();
         if let Err(e) = prepared {
@@ -386,6 +402,7 @@ impl Renderer {
             pipeline_error: &mut self.pipeline_error,
             seen: &mut self.seen,
             draw_args: &mut self.draw_args,
+            occlusion: &mut self.occlusion,
             scroll_resync: &mut self.scroll_resync,
         };
         if input.view.camera.is_some() && drawable {

@@ -15,6 +15,24 @@ use crate::render::target::AnalysisImage;
 use crate::render::variant::forward_variant;
 
 impl Renderer {
+    /// Instances the last frame's occlusion culling drew in its early and late phases (None
+    /// when it did not run; waits for the GPU).
+    pub fn read_occlusion_drawn(&self) -> Option<(u64, u64)> {
+        self.occlusion.read_drawn(&self.gpu)
+    }
+
+    /// The occlusion culling's seen flag of each of the first `n` instances after the last
+    /// frame (1: seen; empty before it ran; waits for the GPU).
+    pub fn read_occlusion_seen(&self, n: usize) -> Vec<u32> {
+        self.occlusion.read_seen(&self.gpu, n)
+    }
+
+    /// The occlusion culling's depth pyramid of the last frame, every level's width, height
+    /// and depths (empty before it was built; waits for the GPU).
+    pub fn read_occlusion_pyramid(&self) -> Vec<(u32, u32, Vec<f32>)> {
+        self.occlusion.read_pyramid(&self.gpu)
+    }
+
     /// The latest depths the camera saw that have come back from the GPU (frames that fit
     /// cascades with [`CascadeFit::DepthBounds`](crate::settings::CascadeFit) reduce them),
     /// with the render origin their world boxes are relative to.

@@ -24,7 +24,7 @@ use crate::render::textures::{fit_image, upload, white};
 type TextureKey = (Option<usize>, Option<(u32, u32)>);
 
 /// Where one mesh lives in the mega-buffers.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct MeshRange {
     /// First index in the index buffer.
     pub first_index: u32,
@@ -137,6 +137,12 @@ impl SceneGpu {
             skinning: SkinningGpu::default(),
             any_transmission: false,
         }
+    }
+
+    /// The instance buffer and the camera view's draw list (what the occlusion culling reads
+    /// and draws its lists with).
+    pub fn view_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.instances.buffer, &self.view_indices.buffer)
     }
 
     /// The mesh vertex and index buffers (None before any mesh was uploaded).

@@ -139,6 +139,14 @@ const SKINNING: ModuleSource = ModuleSource {
     file: "skinning.wgsl",
     source: include_str!("../../shaders/skinning.wgsl"),
 };
+const OCCLUSION_CULL: ModuleSource = ModuleSource {
+    file: "occlusion_cull.wgsl",
+    source: include_str!("../../shaders/occlusion_cull.wgsl"),
+};
+const OCCLUSION_PYRAMID: ModuleSource = ModuleSource {
+    file: "occlusion_pyramid.wgsl",
+    source: include_str!("../../shaders/occlusion_pyramid.wgsl"),
+};
 const SHADOW_CLEAR: ModuleSource = ModuleSource {
     file: "shadow_clear.wgsl",
     source: include_str!("../../shaders/shadow_clear.wgsl"),
@@ -351,6 +359,22 @@ impl ShaderLibrary {
     /// The compute skinning of bind-pose vertices into posed ones (`main`).
     pub fn skinning(&mut self) -> Result<naga::Module, ShaderError> {
         self.compose(SKINNING.file, SKINNING.source, defs_of([]))
+    }
+
+    /// The occlusion culling of the camera view's entries (`main`): the early phase, or the
+    /// late phase's pyramid test (`late`).
+    pub fn occlusion_cull(&mut self, late: bool) -> Result<naga::Module, ShaderError> {
+        self.compose(OCCLUSION_CULL.file, OCCLUSION_CULL.source, defs_of([("LATE", late)]))
+    }
+
+    /// One level of the occlusion culling's depth pyramid (`main`): level 0 from the camera
+    /// depth (`first`), or a level from the one above it.
+    pub fn occlusion_pyramid(&mut self, first: bool) -> Result<naga::Module, ShaderError> {
+        self.compose(
+            OCCLUSION_PYRAMID.file,
+            OCCLUSION_PYRAMID.source,
+            defs_of([("FIRST", first)]),
+        )
     }
 
     /// The VSM moments shader (`resolve` and `blur`), for point lights' cubes (`point`) or

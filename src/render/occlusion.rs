@@ -1,0 +1,388 @@
+//! Two-phase occlusion culling of the camera view on the GPU (`shaders/occlusion_cull.wgsl`,
+//! `occlusion_pyramid.wgsl`; the math is `math::occlusion`). The CPU culls the view's
+//! instances to the frustum into batches; then each frame the early phase lists the entries
+//! whose instance was seen last frame and the prepass draws them; a depth pyramid is built
+//! from that depth; the late phase tests every entry's bounding sphere against it, keeps the
+//! answer as the instance's "seen" flag for the next frame, and lists the instances seen now
+//! but not before, which the prepass then draws too. The lighting pass draws both lists. Each
+//! list has a batch's instances at the batch's range of the view's list, counted by the
+//! batch's indirect draw arguments, so the passes draw with one multi-draw per run of batches
+//! as before. Runs where the prepass runs with one sample per pixel and the device draws
+//! indirect with a first instance ([`OcclusionGpu::active`]).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+
+use crate::ecs::draw_groups::ViewDrawGroups;
+use crate::ecs::instances::RenderInstances;
+use crate::math::frustum::CameraView;
+use crate::math::occlusion::level_count;
+use crate::render::context::GpuContext;
+use crate::render::draw_args::IndexedArgs;
+use crate::render::grow_buffer::GrowBuffer;
+use crate::render::layouts::Layouts;
+use crate::render::limits::LimitError;
+use crate::render::occlusion_kernels::{Kernels, Pyramid};
+use crate::render::scene_gpu::{SceneGpu, instances_group};
+use crate::render::timer::GpuTimer;
+use crate::shader::ShaderLibrary;
+
+/// The culling's uniforms, as `Cull` in the shader.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct CullGpu {
+    clip_from_view: Mat4,
+    view_from_world: Mat4,
+    size: [f32; 2],
+    levels: u32,
+    entries: u32,
+    near: f32,
+    _pad: [u32; 3],
+}
+
+/// Timing names of the culling's passes.
+pub const EARLY_NAME: &str = "occlusion early";
+/// The depth pyramid's build.
+pub const PYRAMID_NAME: &str = "occlusion pyramid";
+/// The late test.
+pub const LATE_NAME: &str = "occlusion late";
+
+/// Invocations per culling workgroup (the shader's `workgroup_size`).
+const CULL_WORKGROUP: u32 = 64;
+
+/// Bind groups over this frame's buffers: the two phases' culling and drawing groups.
+struct Groups {
+    early_cull: wgpu::BindGroup,
+    late_cull: wgpu::BindGroup,
+    early_draw: wgpu::BindGroup,
+    late_draw: wgpu::BindGroup,
+}
+
+/// The occlusion culling's buffers, pyramid and pipelines.
+#[derive(Default)]
+pub struct OcclusionGpu {
+    kernels: Option<Kernels>,
+    /// Uniforms, bounds, seen flags, entry batches, early and late lists and arguments.
+    buffers: Option<Buffers>,
+    pyramid: Option<Pyramid>,
+    groups: Option<Groups>,
+    /// The buffers `groups` were made over (instances, view list), to notice replacements.
+    bound: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    template: Vec<IndexedArgs>,
+    entry_batch: Vec<u32>,
+    /// Bounds and seen flags as uploaded (kept to reuse their allocations).
+    bounds: Vec<Vec4>,
+    ones: Vec<u32>,
+    instance_generation: Option<u64>,
+    view_generation: Option<u64>,
+    entries: u32,
+    active: bool,
+}
+
+/// The culling's buffers.
+struct Buffers {
+    uniform: wgpu::Buffer,
+    bounds: GrowBuffer,
+    seen: GrowBuffer,
+    entry_batch: GrowBuffer,
+    early_list: GrowBuffer,
+    late_list: GrowBuffer,
+    early_args: GrowBuffer,
+    late_args: GrowBuffer,
+}
+
+impl Buffers {
+    fn new(device: &wgpu::Device) -> Buffers {
+        let storage = |label| GrowBuffer::new(device, label, 256);
+        let args = |label| {
+            GrowBuffer::with_usage(
+                device,
+                label,
+                256,
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+            )
+        };
+        Buffers {
+            uniform: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("occlusion uniforms"),
+                size: size_of::<CullGpu>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            bounds: storage("occlusion bounds"),
+            seen: GrowBuffer::with_usage(
+                device,
+                "occlusion seen",
+                256,
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            entry_batch: storage("occlusion entry batches"),
+            early_list: storage("occlusion early list"),
+            late_list: storage("occlusion late list"),
+            early_args: args("occlusion early arguments"),
+            late_args: args("occlusion late arguments"),
+        }
+    }
+}
+
+/// One phase's draws: the instances bind group (group 1) over its list, and its arguments
+/// (one [`IndexedArgs`] per batch of the view, opaque then masked).
+pub struct Phase<'a> {
+    /// Group 1 over the instances and the phase's list.
+    pub instances: &'a wgpu::BindGroup,
+    /// The phase's indirect arguments.
+    pub args: &'a wgpu::Buffer,
+}
+
+/// The view's batches in argument order (opaque, then masked), with their mesh ranges.
+fn batch_args(scene: &SceneGpu, views: &ViewDrawGroups, out: &mut Vec<IndexedArgs>) {
+    out.clear();
+    let group = &views.group;
+    out.extend(group.opaque.iter().chain(&group.masked).map(|b| {
+        let range = scene.mesh_ranges.get(b.mesh.0 as usize).copied().unwrap_or_default();
+        IndexedArgs {
+            index_count: range.index_count,
+            instance_count: 0,
+            first_index: range.first_index,
+            base_vertex: range.base_vertex,
+            first_instance: b.first,
+        }
+    }));
+}
+
+impl OcclusionGpu {
+    /// Whether this frame culls the camera view by occlusion (set by
+    /// [`prepare`](Self::prepare)).
+    pub fn active(&self) -> bool {
+        self.active
+    }
+
+    /// The two phases' draws (None while inactive).
+    pub fn phases(&self) -> Option<[Phase<'_>; 2]> {
+        let (groups, buffers) = (self.groups.as_ref()?, self.buffers.as_ref()?);
+        self.active.then_some([
+            Phase {
+                instances: &groups.early_draw,
+                args: &buffers.early_args.buffer,
+            },
+            Phase {
+                instances: &groups.late_draw,
+                args: &buffers.late_args.buffer,
+            },
+        ])
+    }
+
+    /// Prepares the frame's culling when `wanted` (the prepass runs with one sample, the
+    /// options ask for it, the device draws indirect with a first instance): uploads the
+    /// instances' bounds (and marks every one seen) when the instance list changed, the
+    /// entries' batches when the view's list did, resets both phases' arguments, and sizes the
+    /// pyramid to `size`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn prepare(
+        &mut self,
+        (gpu, layouts, library): (&GpuContext, &Layouts, &mut ShaderLibrary),
+        scene: &SceneGpu,
+        (instances, views): (&RenderInstances, &ViewDrawGroups),
+        camera: Option<&CameraView>,
+        size: (u32, u32),
+        wanted: bool,
+    ) -> Result<(), LimitError> {
+        self.active = false;
+        let Some(camera) = camera.filter(|_| wanted && !views.indices.is_empty()) else {
+            return Ok(());
+        };
+        let device = &gpu.device;
+        let kernels = self.kernels.get_or_insert_with(|| Kernels::new(device, library));
+        let buffers = self.buffers.get_or_insert_with(|| Buffers::new(device));
+        let mut replaced = false;
+        // NOTE: a rebuilt instance list renumbers the instances: every one counts as seen, so
+        // that frame's early phase draws them all.
+        if self.instance_generation != Some(instances.generation) {
+            self.bounds.clear();
+            self.bounds
+                .extend((instances.centers.iter().zip(&instances.radii)).map(|(c, &r)| c.extend(r)));
+            replaced |= buffers.bounds.write(gpu, bytemuck::cast_slice(&self.bounds))?;
+            self.ones.resize(instances.centers.len(), 1);
+            replaced |= buffers
+                .seen
+                .write(gpu, bytemuck::cast_slice(&self.ones[..instances.centers.len()]))?;
+            self.instance_generation = Some(instances.generation);
+        }
+        if self.view_generation != Some(views.generation) {
+            self.entry_batch.clear();
+            self.entry_batch.resize(views.indices.len(), 0);
+            let group = &views.group;
+            for (b, batch) in (0u32..).zip(group.opaque.iter().chain(&group.masked)) {
+                let range = batch.first as usize..(batch.first + batch.count) as usize;
+                if let Some(entries) = self.entry_batch.get_mut(range) {
+                    entries.fill(b);
+                }
+            }
+            replaced |= buffers
+                .entry_batch
+                .write(gpu, bytemuck::cast_slice(&self.entry_batch))?;
+            // NOTE: the lists need room, not contents: the culling writes what the draws read.
+            let bytes = views.indices.len() as u64 * 4;
+            replaced |= buffers.early_list.reserve(gpu, bytes)?;
+            replaced |= buffers.late_list.reserve(gpu, bytes)?;
+            self.view_generation = Some(views.generation);
+        }
+        batch_args(scene, views, &mut self.template);
+        replaced |= buffers.early_args.write(gpu, bytemuck::cast_slice(&self.template))?;
+        replaced |= buffers.late_args.write(gpu, bytemuck::cast_slice(&self.template))?;
+        self.entries = views.indices.len() as u32;
+        let levels = level_count(size.0, size.1);
+        let uniforms = CullGpu {
+            clip_from_view: camera.clip_from_view(),
+            view_from_world: camera.view_from_world(),
+            size: [size.0 as f32, size.1 as f32],
+            levels,
+            entries: self.entries,
+            near: camera.near,
+            _pad: [0; 3],
+        };
+        gpu.queue
+            .write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
+        if self.pyramid.as_ref().is_none_or(|p| p.size != size) {
+            self.pyramid = Some(Pyramid::new(device, &gpu.queue, kernels, size));
+            replaced = true;
+        }
+        let (instance_buffer, view_list) = scene.view_buffers();
+        replaced |= self
+            .bound
+            .as_ref()
+            .is_none_or(|(i, v)| i != instance_buffer || v != view_list);
+        if replaced || self.groups.is_none() {
+            let pyramid = self.pyramid.as_ref().map(|p| &p.buffer);
+            let Some(pyramid) = pyramid else {
+                return Ok(());
+            };
+            let cull = |args: &GrowBuffer, list: &GrowBuffer| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("occlusion cull"),
+                    layout: &kernels.cull_layout,
+                    entries: &[
+                        buffer(0, &buffers.uniform),
+                        buffer(1, &buffers.bounds.buffer),
+                        buffer(2, view_list),
+                        buffer(3, &buffers.entry_batch.buffer),
+                        buffer(4, &buffers.seen.buffer),
+                        buffer(5, &args.buffer),
+                        buffer(6, &list.buffer),
+                        buffer(7, pyramid),
+                    ],
+                })
+            };
+            self.groups = Some(Groups {
+                early_cull: cull(&buffers.early_args, &buffers.early_list),
+                late_cull: cull(&buffers.late_args, &buffers.late_list),
+                early_draw: instances_group(
+                    device,
+                    layouts,
+                    instance_buffer,
+                    &buffers.early_list.buffer,
+                    "occlusion early",
+                ),
+                late_draw: instances_group(
+                    device,
+                    layouts,
+                    instance_buffer,
+                    &buffers.late_list.buffer,
+                    "occlusion late",
+                ),
+            });
+            self.bound = Some((instance_buffer.clone(), view_list.clone()));
+        }
+        self.active = true;
+        Ok(())
+    }
+
+    /// The depth pyramid's levels, read back (waits for the GPU; for tests).
+    pub fn read_pyramid(&self, gpu: &GpuContext) -> Vec<(u32, u32, Vec<f32>)> {
+        self.pyramid.as_ref().map_or_else(Vec::new, |p| p.read(gpu))
+    }
+
+    /// Instances the last frame drew in its early and its late phase (waits for the GPU; for
+    /// tests and reports). None while inactive.
+    pub fn read_drawn(&self, gpu: &GpuContext) -> Option<(u64, u64)> {
+        let buffers = self.buffers.as_ref().filter(|_| self.active)?;
+        let bytes = (self.template.len() * size_of::<IndexedArgs>()) as u64;
+        let count = |args: &GrowBuffer| -> Option<u64> {
+            let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("occlusion counts readback"),
+                size: bytes.max(4),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(&args.buffer, 0, &staging, 0, bytes);
+            gpu.queue.submit([encoder.finish()]);
+            let data = crate::render::readback::read_buffer(&gpu.device, &staging, bytes)?;
+            let args: &[IndexedArgs] = bytemuck::cast_slice(&data);
+            Some(args.iter().map(|a| u64::from(a.instance_count)).sum())
+        };
+        Some((count(&buffers.early_args)?, count(&buffers.late_args)?))
+    }
+
+    /// The instances' seen flags after the last frame (1: seen), the first `n` (waits for
+    /// the GPU; for tests).
+    pub fn read_seen(&self, gpu: &GpuContext, n: usize) -> Vec<u32> {
+        let Some(buffers) = self.buffers.as_ref() else {
+            return Vec::new();
+        };
+        let bytes = (n.min((buffers.seen.buffer.size() / 4) as usize) * 4) as u64;
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("occlusion seen readback"),
+            size: bytes.max(4),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&buffers.seen.buffer, 0, &staging, 0, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let data = crate::render::readback::read_buffer(&gpu.device, &staging, bytes).unwrap_or_default();
+        bytemuck::cast_slice(&data).to_vec()
+    }
+
+    /// Records the early phase's listing.
+    pub fn record_early(&self, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer) {
+        self.record_cull(encoder, timer, false);
+    }
+
+    /// Records the pyramid's build from the early draws' `depth`, then the late phase's test.
+    pub fn record_late(
+        &mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        depth: &wgpu::TextureView,
+    ) {
+        let (Some(kernels), Some(pyramid), true) = (&self.kernels, &mut self.pyramid, self.active) else {
+            return;
+        };
+        pyramid.record(device, kernels, depth, encoder, timer.compute_pass(PYRAMID_NAME));
+        self.record_cull(encoder, timer, true);
+    }
+
+    fn record_cull(&self, encoder: &mut wgpu::CommandEncoder, timer: &mut GpuTimer, late: bool) {
+        let (Some(kernels), Some(groups), true) = (&self.kernels, &self.groups, self.active) else {
+            return;
+        };
+        let name = if late { LATE_NAME } else { EARLY_NAME };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(name),
+            timestamp_writes: timer.compute_pass(name),
+        });
+        pass.set_pipeline(if late { &kernels.late } else { &kernels.early });
+        pass.set_bind_group(0, if late { &groups.late_cull } else { &groups.early_cull }, &[]);
+        pass.dispatch_workgroups(self.entries.div_ceil(CULL_WORKGROUP), 1, 1);
+    }
+}
+
+/// A whole buffer at `binding`.
+fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
