@@ -57,6 +57,7 @@ pub fn summary_json(
         "pages": result.frames.iter().map(|f| f.pages).collect::<Vec<_>>(),
         "forward_fragments": report.forward_fragments,
         "shadow_views_drawn_per_frame": result.frames.iter().map(|f| f.shadow_views_drawn).collect::<Vec<_>>(),
+        "occlusion_drawn_per_frame": result.frames.iter().map(|f| f.occlusion_drawn.map(|(e, l)| [e, l])).collect::<Vec<_>>(),
         "skinned_meshes_posed_per_frame": result.frames.iter().map(|f| f.skinned_meshes_posed).collect::<Vec<_>>(),
         "cpu_ms": {
             "cascades": stats.cascades_cpu.as_secs_f64() * 1e3,

@@ -78,6 +78,16 @@ pub fn print_summary(
     let drawn: Vec<String> = result.frames.iter().map(|f| f.shadow_views_drawn.to_string()).collect();
     println!("shadow views drawn per frame [{}]", drawn.join(", "));
     print_pages(&result.frames, result.memory.pages);
+    if result.frames.iter().any(|f| f.occlusion_drawn.is_some()) {
+        let drawn: Vec<String> = (result.frames.iter())
+            .map(|f| f.occlusion_drawn.map_or("-".to_owned(), |(e, l)| format!("{e}+{l}")))
+            .collect();
+        println!(
+            "occlusion  instances drawn early+late per frame [{}] of {} in the frustum",
+            drawn.join(", "),
+            result.stats.visible_instances
+        );
+    }
     if result.frames.iter().any(|f| f.skinned_meshes_posed > 0) {
         let posed: Vec<String> = result
             .frames

@@ -74,7 +74,15 @@ fn choose(h: &mut Harness<'_, State>, combo: &str, option: &str) {
 
 #[test]
 fn mode_and_pcss_switches_reach_the_settings_and_the_renderer() {
-    let mut h = harness(state("mode"));
+    let mut state = state("mode");
+    // NOTE: the lighting pass filters the shadows (so its pipelines follow the mode) where the
+    // prepass does not run.
+    state.app.insert_resource(RenderOptions {
+        depth_prepass: DepthPrepass::Off,
+        ..RenderOptions::default()
+    });
+    state.app.update();
+    let mut h = harness(state);
     h.run();
     // The default scene starts with PCSS, so its pipelines exist.
     assert_eq!(settings(&mut h).filter.mode, ShadowMode::Pcss);

@@ -14,9 +14,11 @@ fn frame(scene: &str, multi_draw: bool) -> (image::RgbaImage, u32, u32, u32) {
     let renderer = Renderer::headless(320, 180)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app: App = still_scene(renderer, scene);
+    // NOTE: without occlusion culling, whose phases always draw from GPU-written arguments.
     app.insert_resource(RenderOptions {
         multi_draw,
         shadow_cache: false,
+        occlusion_culling: false,
         ..RenderOptions::default()
     });
     app.update();

@@ -15,6 +15,7 @@ use bevy_ecs::query::With;
 use glam::Vec3;
 use image::RgbaImage;
 use penumbra::app::{headless_app, spawn_scene};
+use penumbra::ecs::shadow_lods::ShadowLods;
 use penumbra::ecs::shadow_memory::ShadowMemoryBudget;
 use penumbra::ecs::{Camera3d, Transform};
 use penumbra::render::{Msaa, PageStats, RenderOptions, Renderer};
@@ -90,6 +91,9 @@ fn app_set(text: &str, (layout, mode): (SunLayout, ShadowMode), msaa: Msaa, set:
     // NOTE: texture paths are written as from `assets/scenes`.
     desc.base_dir = "assets/scenes".into();
     spawn_scene(app.world_mut(), &desc).expect("the scene spawns");
+    // NOTE: no shadow LODs: a plain level and a page of other texel sizes would draw the
+    // sphere with other levels (each within half its texel), which is not what is compared.
+    app.world_mut().resource_mut::<ShadowLods>().clear();
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {

@@ -243,6 +243,7 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
             .map(|t| t.passes)
             .unwrap_or_default();
         report.pages = renderer.read_page_stats();
+        report.occlusion_drawn = renderer.read_occlusion_drawn();
         reports.push(report);
     }
     let world = app.world();

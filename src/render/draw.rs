@@ -120,7 +120,9 @@ pub fn draw_culled(
     batches: &[DrawBatch],
     bind_material: bool,
     (args, first): (&wgpu::Buffer, u32),
+    counted: &mut DrawArgs,
 ) -> u32 {
+    counted.count_gpu_written(batches.len());
     let stride = size_of::<IndexedArgs>() as u64;
     let mut calls = 0;
     let mut flush = |pass: &mut wgpu::RenderPass<'_>, run: std::ops::Range<usize>| {

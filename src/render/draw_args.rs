@@ -41,6 +41,8 @@ pub struct DrawArgs {
     wanted: usize,
     /// Whether this frame draws with multi-draw.
     enabled: bool,
+    /// Draws recorded this frame from arguments the GPU wrote (a culling phase's).
+    gpu_written: usize,
 }
 
 impl DrawArgs {
@@ -48,6 +50,7 @@ impl DrawArgs {
     /// grows the buffer to hold them (and what the last frame wanted) first.
     pub fn begin(&mut self, device: &wgpu::Device, expected: usize, enabled: bool) {
         self.args.clear();
+        self.gpu_written = 0;
         self.enabled = enabled;
         let needed = expected.max(self.wanted);
         self.wanted = 0;
@@ -105,8 +108,14 @@ impl DrawArgs {
         }
     }
 
-    /// Draws recorded this frame, in multi-draws or one by one.
+    /// Counts `n` draws recorded from arguments the GPU wrote.
+    pub fn count_gpu_written(&mut self, n: usize) {
+        self.gpu_written += n;
+    }
+
+    /// Draws recorded this frame, in multi-draws or one by one (some of a culling phase's may
+    /// draw no instance).
     pub fn draws(&self) -> usize {
-        self.wanted
+        self.wanted + self.gpu_written
     }
 }

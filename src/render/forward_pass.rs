@@ -376,7 +376,7 @@ impl RenderNode for ForwardPass {
                 };
                 pass.set_pipeline(pipeline);
                 calls += match culled {
-                    Some(c) => draw_culled(pass, scene, part, true, (c.args, first)),
+                    Some(c) => draw_culled(pass, scene, part, true, (c.args, first), args),
                     None => draw_batches(pass, scene, part, true, args),
                 };
             }

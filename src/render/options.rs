@@ -119,8 +119,8 @@ pub struct RenderOptions {
     pub multi_draw: bool,
     /// Cull the camera view's instances hidden behind others on the GPU, in two phases
     /// around the depth prepass (default on; see [`crate::render::occlusion`]). Where it can
-    /// run (one sample per pixel, a device that draws indirect with a first instance) it
-    /// turns the automatic prepass on.
+    /// run (one sample per pixel, [`multi_draw`](Self::multi_draw) on, a device that draws
+    /// indirect with a first instance) it turns the automatic prepass on.
     pub occlusion_culling: bool,
 }
 

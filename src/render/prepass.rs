@@ -153,7 +153,8 @@ fn create_pipeline(
 pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bool {
     let pixels = u64::from(width) * u64::from(height);
     let mode = inputs.options.depth_prepass;
-    let occlusion = inputs.options.occlusion_culling && inputs.options.msaa == Msaa::Off;
+    let options = &inputs.options;
+    let occlusion = options.occlusion_culling && options.multi_draw && options.msaa == Msaa::Off;
     mode.runs(|| visible_triangles(inputs), pixels)
         || (mode == PrepassMode::Auto && occlusion)
         || inputs.lights.paged_sun().is_some()
@@ -286,7 +287,7 @@ impl DepthPrepass {
             };
             pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
             ctx.draw_calls += match culled {
-                Some(c) => draw_culled(&mut pass, ctx.scene, part, masked, (c.args, first)),
+                Some(c) => draw_culled(&mut pass, ctx.scene, part, masked, (c.args, first), ctx.draw_args),
                 None => draw_batches(&mut pass, ctx.scene, part, masked, ctx.draw_args),
             };
         }

@@ -40,6 +40,10 @@ pub struct FrameReport {
     /// What a paged sun's pages did, where the frame was read back for it (headless renders
     /// read every frame; None without a paged sun).
     pub pages: Option<PageStats>,
+    /// Instances the camera view's occlusion culling drew in its early and late phases, where
+    /// the frame was read back for it (headless renders read every frame; None where the
+    /// culling did not run).
+    pub occlusion_drawn: Option<(u64, u64)>,
     /// Bytes of the resolved visibility (a 4-byte texel per pixel and shadowed light).
     pub resolved_memory: u64,
     /// Fragment-shader invocations of the lighting pass, while counted
