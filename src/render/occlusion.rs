@@ -23,6 +23,7 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::LimitError;
 use crate::render::occlusion_kernels::{Kernels, Pyramid};
+use crate::render::readback::copy_and_read;
 use crate::render::scene_gpu::{SceneGpu, instances_group};
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -308,16 +309,7 @@ impl OcclusionGpu {
         let buffers = self.buffers.as_ref().filter(|_| self.active)?;
         let bytes = (self.template.len() * size_of::<IndexedArgs>()) as u64;
         let count = |args: &GrowBuffer| -> Option<u64> {
-            let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("occlusion counts readback"),
-                size: bytes.max(4),
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            encoder.copy_buffer_to_buffer(&args.buffer, 0, &staging, 0, bytes);
-            gpu.queue.submit([encoder.finish()]);
-            let data = crate::render::readback::read_buffer(&gpu.device, &staging, bytes)?;
+            let data = copy_and_read(&gpu.device, &gpu.queue, &args.buffer, bytes)?;
             let args: &[IndexedArgs] = bytemuck::cast_slice(&data);
             Some(args.iter().map(|a| u64::from(a.instance_count)).sum())
         };
@@ -331,16 +323,7 @@ impl OcclusionGpu {
             return Vec::new();
         };
         let bytes = (n.min((buffers.seen.buffer.size() / 4) as usize) * 4) as u64;
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("occlusion seen readback"),
-            size: bytes.max(4),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&buffers.seen.buffer, 0, &staging, 0, bytes);
-        gpu.queue.submit([encoder.finish()]);
-        let data = crate::render::readback::read_buffer(&gpu.device, &staging, bytes).unwrap_or_default();
+        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.seen.buffer, bytes).unwrap_or_default();
         bytemuck::cast_slice(&data).to_vec()
     }
 

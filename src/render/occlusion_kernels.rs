@@ -3,6 +3,7 @@
 
 use crate::math::occlusion::level_count;
 use crate::render::layouts::main_compute_pipeline;
+use crate::render::readback::copy_and_read;
 use crate::shader::ShaderLibrary;
 
 /// A compute-visible binding of `ty`.
@@ -280,16 +281,7 @@ impl Pyramid {
     /// Every level's width, height and depths, read back (waits for the GPU).
     pub fn read(&self, gpu: &crate::render::context::GpuContext) -> Vec<(u32, u32, Vec<f32>)> {
         let size = self.buffer.size();
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("occlusion pyramid readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.buffer, 0, &staging, 0, size);
-        gpu.queue.submit([encoder.finish()]);
-        let bytes = crate::render::readback::read_buffer(&gpu.device, &staging, size).unwrap_or_default();
+        let bytes = copy_and_read(&gpu.device, &gpu.queue, &self.buffer, size).unwrap_or_default();
         let depths: &[f32] = bytemuck::cast_slice(&bytes);
         self.levels
             .iter()

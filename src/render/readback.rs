@@ -60,6 +60,21 @@ pub fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer, size: u64) -> O
     bytes
 }
 
+/// Copies `source[..size]` (a `COPY_SRC` buffer) into a fresh readable buffer, submits the
+/// copy and returns its bytes as [`read_buffer`] does (waits for the device).
+pub fn copy_and_read(device: &wgpu::Device, queue: &wgpu::Queue, source: &wgpu::Buffer, size: u64) -> Option<Vec<u8>> {
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: size.max(4),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(source, 0, &staging, 0, size);
+    queue.submit([encoder.finish()]);
+    read_buffer(device, &staging, size)
+}
+
 /// Polls `device` once without blocking, or with `wait` until every submission has finished.
 /// A failed poll is ignored: what it would have finished is looked at on the next one.
 pub fn poll_device(device: &wgpu::Device, wait: bool) {
