@@ -10,6 +10,7 @@ use std::hint::black_box;
 
 use bevy_app::App;
 use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
+use bevy_transform::StaticTransformOptimizations;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
 use penumbra::ecs::culling::cull_view;
@@ -217,6 +218,23 @@ fn shadow_plugin_frame(c: &mut Criterion) {
     }
 }
 
+/// A still frame of the whole plugin at 100k casters with each of `bevy_transform`'s static
+/// scene options: its dirty-tree marking on (the default) or off.
+fn static_transform_options(c: &mut Criterion) {
+    let mut group = c.benchmark_group("still_frame_static_transforms_100k");
+    group.sample_size(30);
+    for (name, option) in [
+        ("enabled", StaticTransformOptimizations::Enabled),
+        ("disabled", StaticTransformOptimizations::Disabled),
+    ] {
+        let mut app = plugin_app(100_000, true);
+        app.insert_resource(option);
+        app.update();
+        group.bench_function(name, |b| b.iter(|| app.update()));
+    }
+    group.finish();
+}
+
 /// Spot lights: the shadow view of each light (`spot_view`) and a brute-force cull of 10k
 /// casters against its frustum, for 1, 16 and 64 lights of 30 m range scattered over the
 /// casters' square. Throughput is in lights, so the per-light time reads off directly.
@@ -392,6 +410,7 @@ criterion_group!(
     cascades_and_culling,
     cascade_and_culling_systems,
     shadow_plugin_frame,
+    static_transform_options,
     spot_views_and_culling
 );
 criterion_main!(benches);
