@@ -54,11 +54,7 @@ fn every_frame_is_timed_or_counted_and_numbered() {
                 "shadow cascade 1",
                 "shadow cascade 2",
                 "shadow cascade 3",
-                "occlusion early",
                 "depth prepass",
-                "occlusion pyramid",
-                "occlusion late",
-                "depth prepass late",
                 "visibility resolve",
                 "forward"
             ],

@@ -7,8 +7,9 @@
 //! but not before, which the prepass then draws too. The lighting pass draws both lists. Each
 //! list has a batch's instances at the batch's range of the view's list, counted by the
 //! batch's indirect draw arguments, so the passes draw with one multi-draw per run of batches
-//! as before. Runs where the prepass runs with one sample per pixel and the device draws
-//! indirect with a first instance ([`OcclusionGpu::active`]).
+//! as before. Runs for views of at least [`MIN_INSTANCES`] instances where the prepass runs
+//! with one sample per pixel and the device draws indirect with a first instance
+//! ([`OcclusionGpu::active`]).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
@@ -19,10 +20,12 @@ use crate::math::frustum::CameraView;
 use crate::math::occlusion::level_count;
 use crate::render::context::GpuContext;
 use crate::render::draw_args::IndexedArgs;
+use crate::render::frame_inputs::FrameInputs;
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::LimitError;
 use crate::render::occlusion_kernels::{Kernels, Pyramid};
+use crate::render::options::Msaa;
 use crate::render::readback::copy_and_read;
 use crate::render::scene_gpu::{SceneGpu, instances_group};
 use crate::render::timer::GpuTimer;
@@ -47,6 +50,22 @@ pub const EARLY_NAME: &str = "occlusion early";
 pub const PYRAMID_NAME: &str = "occlusion pyramid";
 /// The late test.
 pub const LATE_NAME: &str = "occlusion late";
+
+/// The fewest instances in the camera's frustum a frame culls by occlusion: below it the
+/// pyramid and the two phases (about 0.13 ms at 1920×1080 on an H200) outweigh what the few
+/// hidden instances could save (the 2 065-instance walkers bench took 2.54 ms without and
+/// 2.72 ms with; the million's 783 770 went from 54.5 to 18.4 ms).
+pub const MIN_INSTANCES: usize = 16_384;
+
+/// Whether the options and the view ask for occlusion culling this frame: it is on, with
+/// multi-draw, one sample per pixel, and at least [`MIN_INSTANCES`] in the camera's list.
+pub fn occlusion_wanted(inputs: &FrameInputs<'_>) -> bool {
+    let options = &inputs.options;
+    options.occlusion_culling
+        && options.multi_draw
+        && options.msaa == Msaa::Off
+        && inputs.view_groups.indices.len() >= MIN_INSTANCES
+}
 
 /// Invocations per culling workgroup (the shader's `workgroup_size`).
 const CULL_WORKGROUP: u32 = 64;

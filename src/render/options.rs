@@ -118,8 +118,9 @@ pub struct RenderOptions {
     /// first instance; off (or without it), one `draw_indexed` per batch.
     pub multi_draw: bool,
     /// Cull the camera view's instances hidden behind others on the GPU, in two phases
-    /// around the depth prepass (default on; see [`crate::render::occlusion`]). Where it can
-    /// run (one sample per pixel, [`multi_draw`](Self::multi_draw) on, a device that draws
+    /// around the depth prepass (default on; see [`crate::render::occlusion`]), for views of
+    /// at least [`MIN_INSTANCES`](crate::render::occlusion::MIN_INSTANCES) instances. Where it
+    /// runs (one sample per pixel, [`multi_draw`](Self::multi_draw) on, a device that draws
     /// indirect with a first instance) it turns the automatic prepass on.
     pub occlusion_culling: bool,
 }

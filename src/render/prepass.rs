@@ -20,7 +20,8 @@ use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureDesc, TextureId};
 use crate::render::layouts::Layouts;
-use crate::render::options::{DepthPrepass as PrepassMode, Msaa};
+use crate::render::occlusion::occlusion_wanted;
+use crate::render::options::DepthPrepass as PrepassMode;
 use crate::render::target::DEPTH_FORMAT;
 use crate::shader::ShaderLibrary;
 
@@ -153,10 +154,8 @@ fn create_pipeline(
 pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bool {
     let pixels = u64::from(width) * u64::from(height);
     let mode = inputs.options.depth_prepass;
-    let options = &inputs.options;
-    let occlusion = options.occlusion_culling && options.multi_draw && options.msaa == Msaa::Off;
     mode.runs(|| visible_triangles(inputs), pixels)
-        || (mode == PrepassMode::Auto && occlusion)
+        || (mode == PrepassMode::Auto && occlusion_wanted(inputs))
         || inputs.lights.paged_sun().is_some()
         || (mode != PrepassMode::Off && inputs.lights.any_contact_shadows())
 }

@@ -17,7 +17,7 @@ use crate::render::gpu_types::FrameUniformsGpu;
 use crate::render::graph::{RenderGraph, RenderNode};
 use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
-use crate::render::occlusion::OcclusionGpu;
+use crate::render::occlusion::{OcclusionGpu, occlusion_wanted};
 use crate::render::options::Msaa;
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
 use crate::render::probe::ProbePass;
@@ -339,8 +339,7 @@ impl Renderer {
                 )
             })
             .and_then(|_| {
-                let wanted =
-                    prepass && samples == 1 && input.options.occlusion_culling && self.gpu.indirect_first_instance;
+                let wanted = prepass && samples == 1 && occlusion_wanted(input) && self.gpu.indirect_first_instance;
                 self.occlusion.prepare(
                     (&self.gpu, &self.layouts, &mut self.library),
                     &self.scene,
