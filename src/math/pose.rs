@@ -5,7 +5,6 @@
 use glam::{Mat4, Quat, Vec3};
 
 use crate::math::animation::Track;
-use crate::math::skinning::joint_matrices;
 
 /// Parent links followed at most this far up (deeper chains are cut: the node at the cut
 /// counts as a root).
@@ -66,13 +65,25 @@ pub fn local_pose<'a>(
     channels: impl IntoIterator<Item = (usize, &'a NodeProperty)>,
     time: f32,
 ) -> Vec<LocalTransform> {
-    let mut pose = rest.to_vec();
+    let mut pose = Vec::new();
+    local_pose_into(rest, channels, time, &mut pose);
+    pose
+}
+
+/// [`local_pose`] into `pose` (replacing what it held).
+fn local_pose_into<'a>(
+    rest: &[LocalTransform],
+    channels: impl IntoIterator<Item = (usize, &'a NodeProperty)>,
+    time: f32,
+    pose: &mut Vec<LocalTransform>,
+) {
+    pose.clear();
+    pose.extend_from_slice(rest);
     for (node, property) in channels {
         if let Some(n) = pose.get_mut(node) {
             property.apply(n, time);
         }
     }
-    pose
 }
 
 /// Every node's model-space matrix: its ancestors' local matrices (root first) times its own.
@@ -170,21 +181,17 @@ impl Skeleton {
     /// intermediate poses in `scratch`: no allocation once both have grown.
     pub fn joint_matrices_into(&self, clip: Option<usize>, time: f32, scratch: &mut PoseScratch, out: &mut Vec<Mat4>) {
         let channels = clip.and_then(|c| self.clips.get(c)).map_or(&[][..], |c| &c.channels);
-        scratch.local.clear();
-        scratch.local.extend_from_slice(&self.rest);
-        for (node, property) in channels {
-            if let Some(n) = scratch.local.get_mut(*node) {
-                property.apply(n, time);
-            }
-        }
-        let local = std::mem::take(&mut scratch.local);
+        let mut local = std::mem::take(&mut scratch.local);
+        local_pose_into(&self.rest, channels.iter().map(|(n, p)| (*n, p)), time, &mut local);
         compose_nodes(&self.parents, &local, scratch);
         scratch.local = local;
-        out.clear();
-        out.extend(self.joints.iter().zip(&self.inverse_bind).map(|(&j, b)| {
-            let model = scratch.model.get(j).copied().flatten().unwrap_or(Mat4::IDENTITY);
-            model * *b
-        }));
+        let model = &scratch.model;
+        skin_matrices_into(
+            &self.joints,
+            &self.inverse_bind,
+            |j| model.get(j).copied().flatten(),
+            out,
+        );
     }
 }
 
@@ -192,11 +199,27 @@ impl Skeleton {
 /// `inverse_bind`), in the pose whose node matrices are `model_from_node`: each joint's model
 /// matrix times its inverse bind matrix (a joint past the nodes counts as at the origin).
 pub fn skin_matrices(joints: &[usize], inverse_bind: &[Mat4], model_from_node: &[Mat4]) -> Vec<Mat4> {
-    let model: Vec<Mat4> = joints
-        .iter()
-        .map(|&j| model_from_node.get(j).copied().unwrap_or(Mat4::IDENTITY))
-        .collect();
-    joint_matrices(&model, inverse_bind)
+    let mut out = Vec::new();
+    skin_matrices_into(joints, inverse_bind, |j| model_from_node.get(j).copied(), &mut out);
+    out
+}
+
+/// [`skin_matrices`] into `out` (replacing what it held), with node `j`'s model matrix
+/// `model(j)` (None counts as the origin).
+fn skin_matrices_into(
+    joints: &[usize],
+    inverse_bind: &[Mat4],
+    model: impl Fn(usize) -> Option<Mat4>,
+    out: &mut Vec<Mat4>,
+) {
+    assert_eq!(joints.len(), inverse_bind.len(), "one inverse bind matrix per joint");
+    out.clear();
+    out.extend(
+        joints
+            .iter()
+            .zip(inverse_bind)
+            .map(|(&j, b)| model(j).unwrap_or(Mat4::IDENTITY) * *b),
+    );
 }
 
 #[cfg(test)]
