@@ -8,6 +8,8 @@
 // pyramid texel under its screen rectangle, read at the level where that rectangle spans at
 // most 2 × 2 texels (reverse-Z: farther is smaller). The CPU mirror is `math::occlusion`.
 
+#import penumbra::indirect::DrawArgs
+
 struct Cull {
     clip_from_view: mat4x4<f32>,
     view_from_world: mat4x4<f32>,
@@ -21,13 +23,6 @@ struct Cull {
     _pad2: u32,
 }
 
-struct DrawArgs {
-    index_count: u32,
-    instance_count: atomic<u32>,
-    first_index: u32,
-    base_vertex: i32,
-    first_instance: u32,
-}
 
 @group(0) @binding(0) var<uniform> cull: Cull;
 // Per instance: bounding-sphere centre (relative to the render origin) and radius.

@@ -19,6 +19,8 @@ enable clip_distances;
 
 const MAX_LEVELS: u32 = 8u;
 
+#import penumbra::indirect::DrawArgs
+
 struct Level {
     // The level's clip space (its whole window, reverse-Z) from world.
     clip_from_world: mat4x4<f32>,
@@ -55,13 +57,6 @@ struct Caster {
     material: vec4<f32>,
 }
 
-struct DrawArgs {
-    index_count: u32,
-    instance_count: atomic<u32>,
-    first_index: u32,
-    base_vertex: i32,
-    first_instance: u32,
-}
 
 @group(0) @binding(0) var<uniform> render: Render;
 @group(0) @binding(1) var<storage, read> draws: array<vec2<u32>>;

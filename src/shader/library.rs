@@ -49,7 +49,7 @@ const BINDINGS: (&str, fn() -> String) = ("shadows/bindings.wgsl (generated)", g
 const BEFORE_BINDINGS: usize = 3;
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 16] = [
+const MODULES: [ModuleSource; 17] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -109,6 +109,10 @@ const MODULES: [ModuleSource; 16] = [
     ModuleSource {
         file: "forward_io.wgsl",
         source: include_str!("../../shaders/forward_io.wgsl"),
+    },
+    ModuleSource {
+        file: "indirect.wgsl",
+        source: include_str!("../../shaders/indirect.wgsl"),
     },
     ModuleSource {
         file: "contact.wgsl",
