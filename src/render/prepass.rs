@@ -234,7 +234,6 @@ impl DepthPrepass {
     ) {
         let Some(depth) = self.depth else { return };
         let late = phase == Some(1);
-        let load = |clear| if late { wgpu::LoadOp::Load } else { clear };
         let normals = self.normals.map(|n| {
             Some(wgpu::RenderPassColorAttachment {
                 view: resources.view(n),
@@ -257,7 +256,11 @@ impl DepthPrepass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: resources.view(depth),
                 depth_ops: Some(wgpu::Operations {
-                    load: load(wgpu::LoadOp::Clear(0.0)),
+                    load: if late {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(0.0)
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

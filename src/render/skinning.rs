@@ -4,6 +4,7 @@
 //! layouts of its inputs are packed here; the CPU mirror is [`crate::math::skinning`].
 
 use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
 
 use crate::ecs::assets::MeshHandle;
 use crate::ecs::skinning::{SkinSources, SkinningFrame};
@@ -164,6 +165,8 @@ pub struct SkinningGpu {
     sources_generation: Option<u64>,
     /// This frame's jobs (kept to reuse its allocation).
     job_list: Vec<SkinJobGpu>,
+    /// The joint matrices of this frame's jobs, back to back (kept to reuse its allocation).
+    joint_list: Vec<Mat4>,
     /// Jobs prepared and not yet recorded.
     pending: u32,
     /// Vertices of the longest of those jobs.
@@ -204,22 +207,38 @@ impl SkinningGpu {
             self.sources_generation = Some(sources.generation());
         }
         let source_first = &self.source_first;
+        // NOTE: only the jobs run upload their joint matrices, packed in job order.
         self.job_list.clear();
-        self.job_list
-            .extend(frame.jobs.iter().filter(|j| all || j.changed).filter_map(|j| {
-                let source = sources.get(j.source)?;
-                let (first, count) = mesh_vertices(j.mesh)?;
-                Some(SkinJobGpu {
-                    source_first: *source_first.get(j.source.0 as usize)?,
-                    vertex_count: (source.vertices.len() as u32).min(count),
-                    joint_first: j.joint_first,
-                    dest_first: first,
-                })
-            }));
+        self.joint_list.clear();
+        let (job_list, joint_list) = (&mut self.job_list, &mut self.joint_list);
+        let joint_ends = frame.jobs.iter().skip(1).map(|j| j.joint_first as usize);
+        let joint_ends = joint_ends.chain([frame.joints.len()]);
+        for (j, end) in frame.jobs.iter().zip(joint_ends) {
+            if !(all || j.changed) {
+                continue;
+            }
+            let (Some(source), Some((first, count)), Some(&source_first)) = (
+                sources.get(j.source),
+                mesh_vertices(j.mesh),
+                source_first.get(j.source.0 as usize),
+            ) else {
+                continue;
+            };
+            let Some(matrices) = frame.joints.get(j.joint_first as usize..end) else {
+                continue;
+            };
+            job_list.push(SkinJobGpu {
+                source_first,
+                vertex_count: (source.vertices.len() as u32).min(count),
+                joint_first: joint_list.len() as u32,
+                dest_first: first,
+            });
+            joint_list.extend_from_slice(matrices);
+        }
         if self.job_list.is_empty() {
             return Ok(0);
         }
-        replaced |= joints.write(gpu, bytemuck::cast_slice(&frame.joints))?;
+        replaced |= joints.write(gpu, bytemuck::cast_slice(&self.joint_list))?;
         replaced |= jobs.write(gpu, bytemuck::cast_slice(&self.job_list))?;
         let kernel = self.kernel.get_or_insert_with(|| {
             let mut library = ShaderLibrary::new().expect("the shipped shader library composes (checked by tests)");
