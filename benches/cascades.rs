@@ -1,7 +1,9 @@
 //! Per-frame CPU cost of the directional shadow: computing 1–4 cascades and culling 1k, 10k,
 //! 100k and 1M casters against them into a reused mask buffer (`cascades_and_culling`), the
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
-//! camera culling — with the camera still and moving (`shadow_plugin_frame_*`), and spot-light views with a
+//! camera culling — with the camera still and moving (`shadow_plugin_frame_*`, 1k to 1M casters
+//! marked `Static`), a still frame with and without the marker and under `bevy_transform`'s own
+//! propagation (`still_frame`), and spot-light views with a
 //! brute-force cull of 10k casters per light (`spot_views_and_culling`) and as the engine's
 //! system does it (`spot_shadow_view_system`), and point lights' six faces each as the engine
 //! does them, still and moving (`point_shadow_view_system_*`).
@@ -10,7 +12,7 @@ use std::hint::black_box;
 
 use bevy_app::App;
 use bevy_ecs::schedule::{IntoScheduleConfigs, Schedule};
-use bevy_transform::StaticTransformOptimizations;
+use bevy_transform::{StaticTransformOptimizations, TransformPlugin};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec3};
 use penumbra::ecs::culling::cull_view;
@@ -20,7 +22,7 @@ use penumbra::ecs::view::update_active_view;
 use penumbra::ecs::view_list::ShadowLightBudget;
 use penumbra::ecs::{
     Camera3d, DirectionalLight, GlobalTransform, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, PointLight,
-    ShadowPlugin, ShadowViews, SpotLight, Transform,
+    ShadowPlugin, ShadowViews, SpotLight, Static, Transform,
 };
 use penumbra::math::aabb::Aabb;
 use penumbra::math::cascades::{CascadeInput, compute_cascades};
@@ -108,12 +110,35 @@ fn cascades_and_culling(c: &mut Criterion) {
     });
 }
 
-/// An app with `ShadowPlugin`, `n` static casters and (when `sun`) a shadowed sun, already
-/// run for a few frames.
+/// How a benchmark app propagates transforms and marks its casters.
+enum Setup {
+    /// `ShadowPlugin`'s own propagation; casters marked [`Static`] (as scenes spawn them).
+    Marked,
+    /// `ShadowPlugin`'s own propagation; casters without the marker.
+    Unmarked,
+    /// The app adds `bevy_transform`'s `TransformPlugin` first, with its static-scene option
+    /// on (`true`) or off; casters without the marker.
+    Bevy(bool),
+}
+
+/// An app with `ShadowPlugin`, `n` casters that do not move (marked [`Static`]) and (when
+/// `sun`) a shadowed sun, already run for a few frames.
 fn plugin_app(n: usize, sun: bool) -> App {
+    plugin_app_with(n, sun, Setup::Marked)
+}
+
+/// [`plugin_app`] with `setup`.
+fn plugin_app_with(n: usize, sun: bool, setup: Setup) -> App {
     let input = frame_input();
     let (centers, radii) = casters(n, 0x5EED + n as u64);
     let mut app = App::new();
+    if let Setup::Bevy(on) = setup {
+        app.add_plugins(TransformPlugin);
+        app.insert_resource(match on {
+            true => StaticTransformOptimizations::Enabled,
+            false => StaticTransformOptimizations::Disabled,
+        });
+    }
     app.add_plugins(ShadowPlugin);
     let world = app.world_mut();
     let mesh = world.resource_mut::<Meshes>().add(penumbra::mesh::cuboid(Vec3::ONE));
@@ -151,7 +176,10 @@ fn plugin_app(n: usize, sun: bool) -> App {
             rotation: Quat::IDENTITY,
             scale: Vec3::splat(*radius),
         };
-        world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material)));
+        let mut caster = world.spawn((transform, Mesh3d(mesh), MeshMaterial3d(material)));
+        if matches!(setup, Setup::Marked) {
+            caster.insert(Static);
+        }
     }
     for _ in 0..3 {
         app.update();
@@ -201,7 +229,7 @@ fn shadow_plugin_frame(c: &mut Criterion) {
     for (name, step) in [("shadow_plugin_frame_still", 0.0), ("shadow_plugin_frame_moving", 0.37)] {
         let mut group = c.benchmark_group(name);
         group.sample_size(30);
-        for n in [1_000usize, 10_000, 100_000] {
+        for n in [1_000usize, 10_000, 100_000, 1_000_000] {
             let mut app = plugin_app(n, true);
             let mut frame = 0;
             group.throughput(Throughput::Elements(n as u64));
@@ -218,19 +246,22 @@ fn shadow_plugin_frame(c: &mut Criterion) {
     }
 }
 
-/// A still frame of the whole plugin at 100k casters with each of `bevy_transform`'s static
-/// scene options: its dirty-tree marking on (the default) or off.
+/// A still frame of the whole plugin at 10k, 100k and 1M casters that do not move: marked
+/// [`Static`] (as scenes spawn them), unmarked, and unmarked under `bevy_transform`'s own
+/// `TransformPlugin` with its static-scene option (dirty-tree marking) on and off.
 fn static_transform_options(c: &mut Criterion) {
-    let mut group = c.benchmark_group("still_frame_static_transforms_100k");
-    group.sample_size(30);
-    for (name, option) in [
-        ("enabled", StaticTransformOptimizations::Enabled),
-        ("disabled", StaticTransformOptimizations::Disabled),
-    ] {
-        let mut app = plugin_app(100_000, true);
-        app.insert_resource(option);
-        app.update();
-        group.bench_function(name, |b| b.iter(|| app.update()));
+    let mut group = c.benchmark_group("still_frame");
+    group.sample_size(20);
+    for n in [10_000usize, 100_000, 1_000_000] {
+        for (name, setup) in [
+            ("static_marker", Setup::Marked),
+            ("unmarked", Setup::Unmarked),
+            ("bevy_static_optimizations_on", Setup::Bevy(true)),
+            ("bevy_static_optimizations_off", Setup::Bevy(false)),
+        ] {
+            let mut app = plugin_app_with(n, true, setup);
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| b.iter(|| app.update()));
+        }
     }
     group.finish();
 }

@@ -11,7 +11,7 @@ pub use crate::app::{headless_app, spawn_scene};
 pub use crate::ecs::{
     AlphaMode, AmbientLight, Camera3d, DirectionalLight, GlobalTransform, Material, MaterialHandle, Materials, Mesh3d,
     MeshHandle, MeshMaterial3d, Meshes, NotShadowCaster, NotShadowReceiver, PointLight, ShadowDiagnostics,
-    ShadowLightBudget, ShadowPlugin, ShadowStats, SpotLight, Transform,
+    ShadowLightBudget, ShadowPlugin, ShadowStats, SpotLight, Static, Transform,
 };
 pub use crate::mesh::{cuboid, plane, sphere};
 pub use crate::render::{DepthPrepass, GpuContext, Msaa, RenderOptions, RenderPlugin, Renderer};

@@ -81,8 +81,16 @@ fn instances_beyond_a_storage_binding_are_refused_and_the_frame_not_drawn() {
     assert_eq!(renderer(&mut app).take_errors(), Vec::<String>::new());
     // Room for 3 instances only: the scene has more.
     renderer(&mut app).gpu.limits.max_storage_binding_bytes = 3 * 160;
-    // Moving every instance makes the instance buffer upload again.
+    // Moving every instance makes the instance buffer upload again (scene objects are
+    // static until unmarked).
     let world = app.world_mut();
+    let statics: Vec<_> = world
+        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<penumbra::ecs::Static>>()
+        .iter(world)
+        .collect();
+    for e in statics {
+        world.entity_mut(e).remove::<penumbra::ecs::Static>();
+    }
     let mut q = world.query::<&mut penumbra::ecs::Transform>();
     for mut t in q.iter_mut(world) {
         t.translation += glam::Vec3::X * 0.01;

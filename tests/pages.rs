@@ -216,6 +216,7 @@ fn a_still_frame_and_a_view_seen_before_draw_no_page() {
 /// Moves every entity of `app` at `from` to `to`.
 fn move_box(app: &mut App, from: Vec3, to: Vec3) -> usize {
     let world = app.world_mut();
+    common::unmark_static(world);
     let mut moved = 0;
     let mut objects = world.query_filtered::<&mut Transform, bevy_ecs::query::Without<Camera3d>>();
     for mut t in objects.iter_mut(world) {

@@ -22,6 +22,7 @@ use crate::app::spawn::skinned::{SkinPart, SkinnedPlans, first_player};
 use crate::asset_io::{AssetError, AssetIo, AssetPath};
 use crate::ecs::assets::{AlphaMode, ImageData, ImageHandle, Images, Material, MaterialHandle, Materials, Meshes};
 use crate::ecs::components::{AmbientLight, Camera3d, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
+use crate::ecs::mobility::Static;
 use crate::ecs::shadow_lods::{ShadowLod, ShadowLods};
 use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSources};
 use crate::math::pose::Skeleton;
@@ -430,6 +431,7 @@ impl PreparedScene {
                 Mesh3d(meshes[e.mesh]),
                 MeshMaterial3d(materials[e.material]),
                 SceneEntity,
+                Static,
             )
         };
         let plans = |cast: bool, receive: bool| {

@@ -68,6 +68,30 @@ impl CasterChanges {
         }
         *before = next;
     }
+
+    /// Records an in-place update to `generation`: `updated` holds the new states of the
+    /// casters rewritten (every other caster kept its state), `before` the states of the last
+    /// change (updated here).
+    pub fn record_updates(
+        &mut self,
+        generation: u64,
+        before: &mut HashMap<Entity, CasterState>,
+        updated: impl Iterator<Item = (Entity, CasterState)>,
+    ) {
+        self.generation = generation;
+        self.everything = false;
+        self.regions.clear();
+        for (entity, state) in updated {
+            match before.insert(entity, state) {
+                Some(old) if old == state => {}
+                Some(old) => {
+                    self.regions.push(old.bounds);
+                    self.regions.push(state.bounds);
+                }
+                None => self.regions.push(state.bounds),
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -120,5 +144,13 @@ mod tests {
         // Nothing changed.
         changes.record(4, false, &mut before, [(a, state(0.0)), (c, state(20.0))].into_iter());
         assert!(changes.regions.is_empty() && !changes.everything);
+        // An in-place update: c moves to 30, a is rewritten unchanged.
+        changes.record_updates(5, &mut before, [(c, state(30.0)), (a, state(0.0))].into_iter());
+        let xs: Vec<f32> = changes.regions.iter().map(|r| r.min.x).collect();
+        assert_eq!((changes.generation, xs), (5, vec![20.0, 30.0]));
+        assert_eq!(before[&c], state(30.0));
+        // A full record afterwards compares against the updated state.
+        changes.record(6, false, &mut before, [(a, state(0.0)), (c, state(30.0))].into_iter());
+        assert!(changes.regions.is_empty());
     }
 }

@@ -1,35 +1,36 @@
 //! The flat, sorted list of mesh instances the renderer and the culling work on. It is
-//! rebuilt only when an instance is added, removed or changed, so a static scene costs
-//! nothing per frame here.
+//! rebuilt when an instance is added or removed or changes mesh, material or shadow flags;
+//! instances that only moved (or were posed) are rewritten in place
+//! ([`crate::ecs::instance_rows`]). The change scans skip [`Static`] entities by archetype, so
+//! a still frame of static casters costs nothing here.
 
 use bevy_ecs::change_detection::DetectChanges;
-use bevy_ecs::entity::Entity;
-use bevy_ecs::lifecycle::RemovedComponents;
-use bevy_ecs::query::{Changed, Has, Or, With};
+use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::resource::Resource;
 use bevy_ecs::system::{Local, Query, Res, ResMut};
-use bevy_transform::components::GlobalTransform;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use log::warn;
 
 use std::collections::HashMap;
 
 use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::{CasterChanges, CasterState};
-use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
 pub use crate::ecs::draw_groups::DrawKey;
+use crate::ecs::instance_changes::ChangedInstances;
+use crate::ecs::instance_rows::{
+    InstanceQueryData, InstanceQueryItem, NOT_A_CASTER, Row, Skip, fits_in_place, update_in_place,
+};
+#[cfg(doc)]
+use crate::ecs::mobility::Static;
 use crate::ecs::origin::RenderOrigin;
-use crate::ecs::placement::is_valid_placement;
 use crate::ecs::shadow_lods::ShadowLods;
-use crate::ecs::skinning::SkinnedMesh;
 use crate::math::aabb::Aabb;
 use crate::math::chunks::SphereChunks;
-use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 use crate::shader::instance::InstanceGpu;
 
 /// Cells per side of the grid the receivers' bounds given to the cascades are grown onto
 /// ([`Aabb::snapped_out`]): a receiver moving inside them leaves every cascade as it was.
-const RECEIVER_GRID: f32 = 256.0;
+pub(crate) const RECEIVER_GRID: f32 = 256.0;
 
 /// Every drawable instance, sorted by [`DrawKey`] and, within a key, along a Morton curve
 /// through the scene (so consecutive instances are close in space and cull together), in
@@ -68,77 +69,134 @@ pub struct RenderInstances {
     pub receiver_bounds: Aabb,
     /// The render origin every position here is relative to.
     pub origin: Vec3,
-    /// Bumped on every rebuild, so the renderer knows to re-upload.
+    /// Bumped on every rebuild and every in-place update, so the renderer knows to upload.
     pub generation: u64,
+    /// The generation of the latest rebuild: instance indices (and whatever is kept per
+    /// index, such as the camera's seen flags) hold from it until the next rebuild.
+    pub layout: u64,
+    /// The instances rewritten by the latest change when it was an in-place update (from
+    /// `generation - 1`); empty after a rebuild. See [`RenderInstances::patch_from`].
+    pub updated: Vec<u32>,
+    /// The entity of each instance.
+    pub entities: Vec<Entity>,
+    /// Per instance: its index in `casters`, or `u32::MAX` for an instance that casts no
+    /// shadow.
+    pub caster_index: Vec<u32>,
+    /// The instance of each entity drawn.
+    slots: EntityHashMap<u32>,
     /// Entities skipped because of an invalid transform, mesh or material.
     pub skipped: usize,
 }
 
-type InstanceQueryData = (
-    Entity,
-    &'static GlobalTransform,
-    &'static Mesh3d,
-    &'static MeshMaterial3d,
-    Has<NotShadowCaster>,
-    Has<NotShadowReceiver>,
-    Option<&'static SkinnedMesh>,
-);
-type InstanceQueryItem<'a> = (
-    Entity,
-    &'a GlobalTransform,
-    &'a Mesh3d,
-    &'a MeshMaterial3d,
-    bool,
-    bool,
-    Option<&'a SkinnedMesh>,
-);
+impl RenderInstances {
+    /// The instances to patch for a copy that holds generation `held`: `Some(updated)` when
+    /// the only change since is the latest in-place update, `None` when the copy must be
+    /// written whole.
+    pub fn patch_from(&self, held: Option<u64>) -> Option<&[u32]> {
+        (held == Some(self.generation.wrapping_sub(1)) && self.layout != self.generation).then_some(&self.updated[..])
+    }
 
-/// Rebuilds [`RenderInstances`] when any mesh entity, mesh or material changed.
-#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+    /// The instance index of `entity`, if it is drawn.
+    pub fn slot(&self, entity: Entity) -> Option<u32> {
+        self.slots.get(&entity).copied()
+    }
+}
+
+/// Reused storage of [`sync_instances`].
+#[derive(Default)]
+pub struct SyncScratch {
+    dirty: Vec<Entity>,
+    rows: Vec<(u32, Row)>,
+    casters: Vec<(Entity, CasterState)>,
+}
+
+/// Mirrors mesh entities into [`RenderInstances`]: rebuilds it when an instance appeared, went
+/// or changed its draw key or shadow flags (or any mesh or material asset, the shadow LODs or
+/// the render origin changed), and rewrites in place the instances that only moved or were
+/// posed.
+#[allow(clippy::too_many_arguments)]
 pub fn sync_instances(
     mut instances: ResMut<RenderInstances>,
     all: Query<InstanceQueryData>,
-    // NOTE: only mesh entities count; a moving camera must not trigger a rebuild. One
-    // query per component: a still frame scans every entity of each, and single-filter
-    // loops run several times faster than one loop over an `Or` of them.
-    moved: Query<(), (With<Mesh3d>, Changed<GlobalTransform>)>,
-    meshes_changed: Query<(), Changed<Mesh3d>>,
-    materials_changed: Query<(), (With<Mesh3d>, Changed<MeshMaterial3d>)>,
-    flags_changed: Query<(), (With<Mesh3d>, Or<(Changed<NotShadowCaster>, Changed<NotShadowReceiver>)>)>,
-    posed: Query<(), (With<Mesh3d>, Changed<SkinnedMesh>)>,
-    mut removed_meshes: RemovedComponents<Mesh3d>,
-    mut removed_non_casters: RemovedComponents<NotShadowCaster>,
-    mut removed_receivers: RemovedComponents<NotShadowReceiver>,
+    mut changed: ChangedInstances,
     meshes: Res<Meshes>,
     materials: Res<Materials>,
     lods: Option<Res<ShadowLods>>,
     origin: Res<RenderOrigin>,
     mut changes: ResMut<CasterChanges>,
     mut casters_before: Local<HashMap<Entity, CasterState>>,
+    mut scratch: Local<SyncScratch>,
 ) {
-    let removed = removed_meshes.read().count() + removed_non_casters.read().count() + removed_receivers.read().count();
+    let scratch = &mut *scratch;
+    let removed = changed.collect(&mut scratch.dirty);
     let everything = instances.generation == 0
         || meshes.is_changed()
         || materials.is_changed()
         || lods.is_some_and(|l| l.is_changed())
         || instances.origin != origin.0;
-    let changed = || {
-        !moved.is_empty()
-            || !meshes_changed.is_empty()
-            || !materials_changed.is_empty()
-            || !flags_changed.is_empty()
-            || !posed.is_empty()
-    };
-    if !everything && removed == 0 && !changed() {
-        return;
+    if !everything && removed == 0 {
+        if scratch.dirty.is_empty() {
+            return;
+        }
+        if in_place_rows(
+            &instances,
+            &all,
+            &scratch.dirty,
+            &meshes,
+            &materials,
+            origin.0,
+            &mut scratch.rows,
+        ) {
+            if scratch.rows.is_empty() {
+                return;
+            }
+            update_in_place(&mut instances, &scratch.rows, &materials, &mut scratch.casters);
+            changed.stats.updates += 1;
+            changes.record_updates(instances.generation, &mut casters_before, scratch.casters.drain(..));
+            return;
+        }
     }
     let casters = rebuild(&mut instances, all.iter(), &meshes, &materials, origin.0);
+    changed.stats.rebuilds += 1;
     changes.record(
         instances.generation,
         everything,
         &mut casters_before,
         casters.into_iter(),
     );
+}
+
+/// The rows of the `dirty` entities, sorted by slot, when every one can be rewritten in place
+/// (it is drawn, still drawable, and kept its draw key and shadow flags); false when the list
+/// must be rebuilt. Entities that are not mesh entities and were not drawn are ignored.
+fn in_place_rows(
+    instances: &RenderInstances,
+    all: &Query<InstanceQueryData>,
+    dirty: &[Entity],
+    meshes: &Meshes,
+    materials: &Materials,
+    origin: Vec3,
+    rows: &mut Vec<(u32, Row)>,
+) -> bool {
+    rows.clear();
+    for &entity in dirty {
+        let item = all.get(entity).ok();
+        let Some(slot) = instances.slot(entity) else {
+            if item.is_some() {
+                return false;
+            }
+            continue;
+        };
+        let Some(Ok(row)) = item.map(|item| Row::of(item, meshes, materials, origin)) else {
+            return false;
+        };
+        if !fits_in_place(instances, slot, &row) {
+            return false;
+        }
+        rows.push((slot, row));
+    }
+    rows.sort_unstable_by_key(|r| r.0);
+    true
 }
 
 /// Rebuilds the instance list from scratch; returns the state of every caster.
@@ -149,41 +207,27 @@ fn rebuild<'a>(
     materials: &Materials,
     origin: Vec3,
 ) -> Vec<(Entity, CasterState)> {
-    let mut rows: Vec<(DrawKey, Entity, Mat4, bool, bool, Aabb, u64)> = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
     let mut skipped = 0;
-    for (entity, transform, mesh, material, no_cast, no_receive, skin) in items {
-        let (Some(mesh_data), Some(mat)) = (meshes.get(mesh.0), materials.get(material.0)) else {
-            warn!("entity {entity:?} refers to a missing mesh or material; it is not drawn");
-            skipped += 1;
-            continue;
-        };
-        if !is_valid_placement(transform) {
-            warn!("entity {entity:?} has a non-finite or zero-scale transform {transform:?}; it is not drawn");
-            skipped += 1;
-            continue;
+    for item in items {
+        let entity = item.0;
+        match Row::of(item, meshes, materials, origin) {
+            Ok(row) => rows.push(row),
+            Err(Skip::MissingAsset) => {
+                warn!("entity {entity:?} refers to a missing mesh or material; it is not drawn");
+                skipped += 1;
+            }
+            Err(Skip::BadPlacement) => {
+                warn!("entity {entity:?} has a non-finite or zero-scale transform; it is not drawn");
+                skipped += 1;
+            }
         }
-        // Relative to the render origin (exact: the origin is on a power-of-two grid).
-        let mut world_from_local = transform.to_matrix();
-        world_from_local.w_axis -= origin.extend(0.0);
-        // NOTE: a skinned mesh is bounded by its posed joints, never by its rest pose.
-        let (local_bounds, pose) = match skin {
-            Some(s) if !s.bounds.is_empty() => (s.bounds, s.pose),
-            _ => (mesh_data.bounds(), 0),
-        };
-        let bounds = local_bounds.transformed(&world_from_local);
-        let key = DrawKey {
-            masked: mat.is_masked(),
-            double_sided: mat.double_sided,
-            mesh: mesh.0,
-            material: material.0,
-        };
-        rows.push((key, entity, world_from_local, !no_cast, !no_receive, bounds, pose));
     }
     // NOTE: within a draw key, instances follow a Morton curve through the scene bounds so
     // culling chunks are compact; the entity tie-break keeps the order (and so the image)
     // identical from run to run.
-    let scene = rows.iter().fold(Aabb::EMPTY, |b, r| b.union(r.5));
-    rows.sort_by_cached_key(|r| (r.0, morton_code(&scene, r.5.center()), r.1));
+    let scene = rows.iter().fold(Aabb::EMPTY, |b, r| b.union(r.bounds));
+    rows.sort_by_cached_key(|r| (r.key, morton_code(&scene, r.bounds.center()), r.entity));
 
     out.gpu.clear();
     out.keys.clear();
@@ -194,40 +238,41 @@ fn rebuild<'a>(
     out.caster_radii.clear();
     out.caster_boxes.clear();
     out.mesh_caster_radius.clear();
+    out.entities.clear();
+    out.caster_index.clear();
+    out.slots.clear();
+    out.updated.clear();
     out.caster_bounds = Aabb::EMPTY;
     out.receiver_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
-    for (i, (key, _, world_from_local, cast, receive, bounds, _)) in rows.iter().enumerate() {
-        let mat = &materials.as_slice()[key.material.0 as usize];
-        let normal = Mat4::from_mat3(glam::Mat3::from_mat4(*world_from_local).inverse().transpose());
-        out.gpu.push(InstanceGpu {
-            world_from_local: *world_from_local,
-            normal_from_local: normal,
-            base_color: mat.base_color,
-            alpha_cutoff: mat.alpha_cutoff(),
-            flags: if *receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 },
-            transmission: mat.effective_transmission(),
-            _pad: 0,
-        });
-        if *receive {
-            out.receiver_bounds = out.receiver_bounds.union(*bounds);
+    for (i, row) in rows.iter().enumerate() {
+        out.gpu.push(row.gpu(materials));
+        if row.receive {
+            out.receiver_bounds = out.receiver_bounds.union(row.bounds);
         }
-        let (center, radius) = bounds.bounding_sphere();
-        out.keys.push(*key);
+        let (center, radius) = row.bounds.bounding_sphere();
+        out.keys.push(row.key);
         out.centers.push(center);
         out.radii.push(radius);
-        if *cast {
+        out.entities.push(row.entity);
+        out.slots.insert(row.entity, i as u32);
+        out.caster_index.push(if row.cast {
+            out.casters.len() as u32
+        } else {
+            NOT_A_CASTER
+        });
+        if row.cast {
             out.casters.push(i as u32);
             out.caster_centers.push(center);
             out.caster_radii.push(radius);
-            out.caster_boxes.push(*bounds);
-            let m = key.mesh.0 as usize;
+            out.caster_boxes.push(row.bounds);
+            let m = row.key.mesh.0 as usize;
             if out.mesh_caster_radius.len() <= m {
                 out.mesh_caster_radius.resize(m + 1, 0.0);
             }
             out.mesh_caster_radius[m] = out.mesh_caster_radius[m].max(radius);
-            out.caster_bounds = out.caster_bounds.union(*bounds);
-            if !key.masked {
+            out.caster_bounds = out.caster_bounds.union(row.bounds);
+            if !row.key.masked {
                 out.opaque_casters += 1;
             }
         }
@@ -238,9 +283,10 @@ fn rebuild<'a>(
     out.origin = origin;
     out.skipped = skipped;
     out.generation += 1;
+    out.layout = out.generation;
     rows.iter()
-        .filter(|r| r.3)
-        .map(|&(key, entity, _, _, _, bounds, pose)| (entity, CasterState { bounds, key, pose }))
+        .filter(|r| r.cast)
+        .map(|r| (r.entity, r.caster_state()))
         .collect()
 }
 

@@ -9,12 +9,15 @@ pub mod culling;
 pub mod draw_groups;
 pub mod footprints;
 pub mod frame_lights;
+pub mod instance_changes;
+pub mod instance_rows;
 pub mod instances;
 pub mod layout_views;
 pub mod light_checks;
 pub mod light_views;
 pub mod lights;
 pub mod lod_table;
+pub mod mobility;
 pub mod origin;
 pub mod placement;
 pub mod plugin;
@@ -38,9 +41,11 @@ pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
 pub use draw_groups::{DrawBatch, DrawGroup, ViewDrawGroups};
+pub use instance_changes::InstanceSync;
 pub use instances::RenderInstances;
 pub use light_views::{FrameLights, PointLightView, SpotLightView, SunView};
 pub use lights::{PointLight, SpotLight};
+pub use mobility::{Static, StaticChanges};
 pub use origin::RenderOrigin;
 pub use plugin::{ShadowPlugin, ShadowSystems};
 pub use shadow_memory::{ShadowMemory, ShadowMemoryBudget};

@@ -3,8 +3,9 @@
 //! their shadow views → cull casters per shadow view and cull the camera view. Rendering is added by
 //! [`RenderPlugin`](crate::render::RenderPlugin).
 
-use bevy_app::{App, Plugin, PostUpdate};
+use bevy_app::{App, Plugin, PostStartup, PostUpdate};
 use bevy_ecs::schedule::{IntoScheduleConfigs, SystemSet};
+use bevy_transform::systems::propagate_parent_transforms;
 use bevy_transform::{StaticTransformOptimizations, TransformPlugin, TransformSystems};
 
 use crate::ecs::assets::{Images, Materials, Meshes};
@@ -14,8 +15,10 @@ use crate::ecs::components::{AmbientLight, ViewportSize};
 use crate::ecs::culling::cull_view;
 use crate::ecs::draw_groups::ViewDrawGroups;
 use crate::ecs::frame_lights::update_frame_lights;
+use crate::ecs::instance_changes::InstanceSync;
 use crate::ecs::instances::{RenderInstances, sync_instances};
 use crate::ecs::light_views::FrameLights;
+use crate::ecs::mobility::{StaticChanges, sync_moving_transforms};
 use crate::ecs::origin::{RenderOrigin, update_render_origin};
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
@@ -42,22 +45,32 @@ pub enum ShadowSystems {
 }
 
 /// Adds lights and their shadows to an app: components are in [`crate::ecs`], settings in
-/// [`ShadowSettings`](crate::settings::ShadowSettings). Adds `bevy_transform`'s
-/// [`TransformPlugin`] unless the app already has it, with its static-scene optimisation
-/// ([`StaticTransformOptimizations`]) off: it slows still frames of flat entities.
+/// [`ShadowSettings`](crate::settings::ShadowSettings). Unless the app already has
+/// `bevy_transform`'s [`TransformPlugin`], propagates transforms itself in
+/// [`TransformSystems::Propagate`]: hierarchies with `bevy_transform`'s own system, flat
+/// entities with [`sync_moving_transforms`], which skips [`Static`](crate::ecs::Static)
+/// entities, so a still frame of static casters touches none of them.
 #[derive(Default)]
 pub struct ShadowPlugin;
 
 impl Plugin for ShadowPlugin {
     fn build(&self, app: &mut App) {
         if !app.is_plugin_added::<TransformPlugin>() {
-            app.add_plugins(TransformPlugin);
-            // NOTE: Bevy's static-scene optimisation marks dirty trees by scanning every
-            // changed-transform tick again; for flat entities (what scenes spawn) that only
-            // adds a second pass over them: a still frame of 100k casters took 413 µs with it
-            // and 273 µs without (`cargo bench --bench cascades -- still_frame_static`). An
-            // app that adds `TransformPlugin` itself keeps its own setting.
+            // NOTE: `TransformPlugin`'s flat-entity system scans every entity with a
+            // `Transform` each frame (100k casters: ~0.1 ms on one core), static or not, and its
+            // static-scene optimisation (`StaticTransformOptimizations`) adds a second scan for
+            // flat entities (a still frame of 100k casters took 413 µs with it, 273 µs without:
+            // `cargo bench --bench cascades -- still_frame_static`). The marker filters static
+            // archetypes out without looking at their entities. An app that adds
+            // `TransformPlugin` itself keeps Bevy's propagation.
             app.insert_resource(StaticTransformOptimizations::Disabled);
+            let propagate = || {
+                (propagate_parent_transforms, sync_moving_transforms)
+                    .chain()
+                    .in_set(TransformSystems::Propagate)
+            };
+            app.add_systems(PostStartup, propagate());
+            app.add_systems(PostUpdate, propagate());
         }
         app.init_resource::<Meshes>()
             .init_resource::<Materials>()
@@ -66,6 +79,8 @@ impl Plugin for ShadowPlugin {
             .init_resource::<ViewportSize>()
             .init_resource::<RenderInstances>()
             .init_resource::<CasterChanges>()
+            .init_resource::<StaticChanges>()
+            .init_resource::<InstanceSync>()
             .init_resource::<ScrollResync>()
             .init_resource::<RenderOrigin>()
             .init_resource::<ActiveView>()

@@ -34,34 +34,27 @@ impl SphereChunks {
     pub fn build(centers: &[Vec3], radii: &[f32]) -> Self {
         let mut chunks = SphereChunks::default();
         for (c, r) in centers.chunks(CHUNK).zip(radii.chunks(CHUNK)) {
-            let finite = c.iter().all(|p| p.is_finite()) && r.iter().all(|r| r.is_finite());
-            if !finite {
-                chunks.centers.push(Vec3::ZERO);
-                chunks.radii.push(f32::INFINITY);
-                chunks.boxes.push(Aabb::EMPTY);
-                continue;
-            }
-            let bounds = c.iter().zip(r).fold(Aabb::EMPTY, |b, (p, r)| {
-                let r = Vec3::splat(r.max(0.0));
-                b.union(Aabb {
-                    min: *p - r,
-                    max: *p + r,
-                })
-            });
-            chunks.boxes.push(bounds);
-            let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-            let center = (lo + hi) * 0.5;
-            let reach = c
-                .iter()
-                .zip(r)
-                .map(|(p, r)| p.distance(center) + r.max(0.0))
-                .fold(0.0, f32::max);
-            // NOTE: pad by a relative 1e-5 so f32 rounding of the distances can never leave a
-            // member poking out of its chunk.
+            let (center, radius, bounds) = chunk_sphere(c, r);
             chunks.centers.push(center);
-            chunks.radii.push(reach * (1.0 + 1e-5) + 1e-6);
+            chunks.radii.push(radius);
+            chunks.boxes.push(bounds);
         }
         chunks
+    }
+
+    /// Refits the chunk holding member `index` to its members now in `centers`/`radii` (the
+    /// arrays this was built from, with some members moved): as [`build`](Self::build) would,
+    /// for that chunk only. An index past the chunks does nothing.
+    pub fn refit(&mut self, index: usize, centers: &[Vec3], radii: &[f32]) {
+        let k = index / CHUNK;
+        let end = (k * CHUNK + CHUNK).min(centers.len()).min(radii.len());
+        if k >= self.len() || k * CHUNK >= end {
+            return;
+        }
+        let (center, radius, bounds) = chunk_sphere(&centers[k * CHUNK..end], &radii[k * CHUNK..end]);
+        self.centers[k] = center;
+        self.radii[k] = radius;
+        self.boxes[k] = bounds;
     }
 
     /// Number of chunks.
@@ -73,6 +66,32 @@ impl SphereChunks {
     pub fn is_empty(&self) -> bool {
         self.centers.is_empty()
     }
+}
+
+/// The sphere (centre, radius) and box around one chunk's member spheres `c`/`r` (non-empty,
+/// equal lengths); a member that is not finite gives an infinite sphere and an empty box.
+fn chunk_sphere(c: &[Vec3], r: &[f32]) -> (Vec3, f32, Aabb) {
+    let finite = c.iter().all(|p| p.is_finite()) && r.iter().all(|r| r.is_finite());
+    if !finite {
+        return (Vec3::ZERO, f32::INFINITY, Aabb::EMPTY);
+    }
+    let bounds = c.iter().zip(r).fold(Aabb::EMPTY, |b, (p, r)| {
+        let r = Vec3::splat(r.max(0.0));
+        b.union(Aabb {
+            min: *p - r,
+            max: *p + r,
+        })
+    });
+    let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let center = (lo + hi) * 0.5;
+    let reach = c
+        .iter()
+        .zip(r)
+        .map(|(p, r)| p.distance(center) + r.max(0.0))
+        .fold(0.0, f32::max);
+    // NOTE: pad by a relative 1e-5 so f32 rounding of the distances can never leave a
+    // member poking out of its chunk.
+    (center, reach * (1.0 + 1e-5) + 1e-6, bounds)
 }
 
 /// Cascade bits a chunk sphere overlaps, and those whose box contains it entirely.
@@ -257,6 +276,28 @@ mod tests {
         }
         cull_spheres_sphere_chunked(Vec3::NAN, 5.0, &centers, &radii, &chunks, &mut out);
         assert!(out.is_empty());
+    }
+
+    #[test]
+    fn refitting_the_chunks_of_moved_members_equals_building_again() {
+        let (mut centers, mut radii) = grid();
+        let mut chunks = SphereChunks::build(&centers, &radii);
+        for (i, p, r) in [
+            (70, Vec3::new(900.0, 3.0, -40.0), 2.0),
+            (64, Vec3::ZERO, 0.1),
+            (39_999, Vec3::splat(-7.0), 9.0),
+        ] {
+            centers[i] = p;
+            radii[i] = r;
+            chunks.refit(i, &centers, &radii);
+        }
+        assert_eq!(chunks, SphereChunks::build(&centers, &radii));
+        radii[3] = f32::NAN;
+        chunks.refit(3, &centers, &radii);
+        assert!(chunks.radii[0].is_infinite() && chunks.boxes[0].is_empty());
+        // Past the end: nothing changes.
+        chunks.refit(1_000_000, &centers, &radii);
+        assert_eq!(chunks, SphereChunks::build(&centers, &radii));
     }
 
     /// A grid of spheres over a 400 m square, in row order (spatially coherent chunks).

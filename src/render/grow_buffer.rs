@@ -81,4 +81,82 @@ impl GrowBuffer {
         }
         Ok(replaced)
     }
+
+    /// The generation written last by [`write_generation`](Self::write_generation) or
+    /// [`write_patch`](Self::write_patch).
+    pub fn generation(&self) -> Option<u64> {
+        self.generation
+    }
+
+    /// Writes generation `generation` of `data` (elements of `stride` bytes): only the
+    /// elements `patch` lists (sorted, each in `data`) when it is given, the buffer is large
+    /// enough and holds the data they were changed from; else whole, as
+    /// [`write_generation`](Self::write_generation). Runs of listed elements less than
+    /// [`PATCH_GAP`] elements apart are written as one range. Returns true when the buffer was
+    /// replaced.
+    pub fn write_patch(
+        &mut self,
+        gpu: &GpuContext,
+        generation: u64,
+        data: &[u8],
+        stride: usize,
+        patch: Option<&[u32]>,
+    ) -> Result<bool, LimitError> {
+        if self.generation == Some(generation) {
+            return Ok(false);
+        }
+        let Some(patch) = patch.filter(|_| data.len() as u64 <= self.buffer.size() && self.generation.is_some()) else {
+            return self.write_generation(gpu, generation, data);
+        };
+        // NOTE: the data must still fit the device's binding, as a whole write checks.
+        let whole_binding = self.usage.contains(wgpu::BufferUsages::STORAGE);
+        gpu.limits.check_buffer(self.label, data.len() as u64, whole_binding)?;
+        for (first, end) in patch_runs(patch, data.len() / stride.max(1)) {
+            let range = first * stride..end * stride;
+            gpu.queue.write_buffer(&self.buffer, range.start as u64, &data[range]);
+        }
+        self.generation = Some(generation);
+        Ok(false)
+    }
+}
+
+/// Listed elements closer than this are written with the ones between them, as one range.
+pub const PATCH_GAP: usize = 16;
+
+/// The ranges `(first, end)` covering the sorted element indices `patch` (those below `len`),
+/// merging indices less than [`PATCH_GAP`] apart.
+pub fn patch_runs(patch: &[u32], len: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        let (&first, rest) = patch.get(i..)?.split_first()?;
+        let first = first as usize;
+        if first >= len {
+            return None;
+        }
+        let mut end = first + 1;
+        i += 1;
+        for &next in rest {
+            let next = next as usize;
+            if next >= len || next >= end + PATCH_GAP {
+                break;
+            }
+            end = end.max(next + 1);
+            i += 1;
+        }
+        Some((first, end))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn patch_runs_merge_close_indices_and_stop_at_the_end() {
+        let runs: Vec<_> = patch_runs(&[0, 1, 2, 10, 40, 41, 200], 100).collect();
+        assert_eq!(runs, [(0, 11), (40, 42)]);
+        assert_eq!(patch_runs(&[], 10).count(), 0);
+        let runs: Vec<_> = patch_runs(&[5, 5, 6], 10).collect();
+        assert_eq!(runs, [(5, 7)]);
+    }
 }

@@ -216,16 +216,30 @@ impl OcclusionGpu {
         let buffers = self.buffers.get_or_insert_with(|| Buffers::new(device));
         let mut replaced = false;
         // NOTE: a rebuilt instance list renumbers the instances: every one counts as seen, so
-        // that frame's early phase draws them all.
+        // that frame's early phase draws them all. Instances that only moved keep their
+        // numbers and flags; their bounds are patched.
         if self.instance_generation != Some(instances.generation) {
-            self.bounds.clear();
-            self.bounds
-                .extend((instances.centers.iter().zip(&instances.radii)).map(|(c, &r)| c.extend(r)));
-            replaced |= buffers.bounds.write(gpu, bytemuck::cast_slice(&self.bounds))?;
-            self.ones.resize(instances.centers.len(), 1);
+            let patch = instances
+                .patch_from(self.instance_generation)
+                .filter(|_| self.bounds.len() == instances.centers.len());
+            if let Some(slots) = patch {
+                for &i in slots {
+                    let i = i as usize;
+                    self.bounds[i] = instances.centers[i].extend(instances.radii[i]);
+                }
+            } else {
+                self.bounds.clear();
+                self.bounds
+                    .extend((instances.centers.iter().zip(&instances.radii)).map(|(c, &r)| c.extend(r)));
+                self.ones.resize(instances.centers.len(), 1);
+                replaced |= buffers
+                    .seen
+                    .write(gpu, bytemuck::cast_slice(&self.ones[..instances.centers.len()]))?;
+            }
+            let bounds = bytemuck::cast_slice(&self.bounds);
             replaced |= buffers
-                .seen
-                .write(gpu, bytemuck::cast_slice(&self.ones[..instances.centers.len()]))?;
+                .bounds
+                .write_patch(gpu, instances.generation, bounds, 16, patch)?;
             self.instance_generation = Some(instances.generation);
         }
         if self.view_generation != Some(views.generation) {

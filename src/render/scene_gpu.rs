@@ -182,9 +182,15 @@ impl SceneGpu {
             self.upload_materials(gpu, layouts, input, problems);
         }
         let instances = bytemuck::cast_slice::<InstanceGpu, u8>(&input.instances.gpu);
-        let regroup = self
-            .instances
-            .write_generation(gpu, input.instances.generation, instances)?;
+        // NOTE: instances that only moved are patched, not uploaded whole.
+        let patch = input.instances.patch_from(self.instances.generation());
+        let regroup = self.instances.write_patch(
+            gpu,
+            input.instances.generation,
+            instances,
+            std::mem::size_of::<InstanceGpu>(),
+            patch,
+        )?;
         // NOTE: the draw lists are uploaded only when culling rebuilt them (a still frame
         // reuses them, and they are the largest per-frame upload: one index per drawn instance).
         let (shadow, view) = (input.shadow_views, input.view_groups);

@@ -7,7 +7,7 @@ use glam::{Mat4, Vec4};
 
 /// Mirror of WGSL `Instance`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct InstanceGpu {
     /// World from local transform.
     pub world_from_local: Mat4,

@@ -65,6 +65,19 @@ pub fn small_bench(scene: &str, presets: &[&str]) -> penumbra::bench::BenchConfi
     }
 }
 
+/// Removes [`Static`](penumbra::ecs::Static) from every entity (scenes spawn their objects
+/// static), so that moving them takes effect; returns how many were marked.
+pub fn unmark_static(world: &mut World) -> usize {
+    let marked: Vec<Entity> = world
+        .query_filtered::<Entity, bevy_ecs::query::With<penumbra::ecs::Static>>()
+        .iter(world)
+        .collect();
+    for &e in &marked {
+        world.entity_mut(e).remove::<penumbra::ecs::Static>();
+    }
+    marked.len()
+}
+
 /// Adds a box of `size` metres with a plain `color` material at `at`; returns its entity.
 pub fn spawn_box(world: &mut World, size: Vec3, color: Vec4, at: Vec3) -> Entity {
     let mesh = world.resource_mut::<Meshes>().add(cuboid(size));

@@ -11,6 +11,7 @@ use crate::app::scene_entity::SceneEntity;
 use crate::app::spawn::EntityPlan;
 use crate::ecs::assets::{MaterialHandle, MeshHandle, Meshes};
 use crate::ecs::components::{Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver};
+use crate::ecs::mobility::Static;
 use crate::ecs::skinning::{AnimationPlayer, SkinSource, SkinSourceHandle, SkinSources, SkinnedMesh};
 use crate::math::pose::{Clip, Skeleton};
 use crate::scene::AnimationDesc;
@@ -57,6 +58,7 @@ impl SkinnedPlans<'_> {
                 Mesh3d(mesh),
                 MeshMaterial3d(materials[plan.material]),
                 SceneEntity,
+                Static,
                 skin,
                 plan.player.unwrap_or_default(),
             ));
