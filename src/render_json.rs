@@ -63,6 +63,7 @@ pub fn summary_json(
             "cascades": stats.cascades_cpu.as_secs_f64() * 1e3,
             "culling": stats.culling_cpu.as_secs_f64() * 1e3,
             "view_culling": stats.view_culling_cpu.as_secs_f64() * 1e3,
+            "shadow_systems_median": result.median_frame_cpu_ms(),
         },
         "gpu_ms": { "passes": gpu, "total": if medians.is_empty() { None } else { Some(total) } },
         "warnings": result.warnings,

@@ -108,6 +108,9 @@ pub fn print_summary(
         result.stats.culling_cpu.as_secs_f64() * 1e3,
         result.stats.view_culling_cpu.as_secs_f64() * 1e3
     );
+    if let Some(ms) = result.median_frame_cpu_ms() {
+        println!("cpu        shadow systems {ms:.3} ms per frame (median; propagation to culling)");
+    }
     let passes: Vec<Vec<_>> = result.frames.iter().map(|f| f.passes.clone()).collect();
     let medians = median_passes(&passes);
     if medians.is_empty() {

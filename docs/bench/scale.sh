@@ -31,16 +31,17 @@ for scene in assets/scenes/field.ron assets/bench/many_boxes.ron assets/bench/mi
   done
 done
 # One line per run: the shadow maps, the prepass, the lighting pass and the whole GPU frame
-# (medians of frames 2–30, ms), the draw commands and draws of the last frame.
+# (medians of frames 2–30, ms), the draw commands and draws of the last frame, and the CPU time
+# of the shadow systems (median of frames 2–30, ms; absent from binaries before it was reported).
 python3 - "$OUT" <<'PY'
 import json, pathlib, sys
 out = pathlib.Path(sys.argv[1])
-print(f"{'run':28} {'shadow':>8} {'prepass':>8} {'forward':>8} {'total':>8} {'commands':>9} {'draws':>7}")
+print(f"{'run':28} {'shadow':>8} {'prepass':>8} {'forward':>8} {'total':>8} {'commands':>9} {'draws':>7} {'cpu':>7}")
 for f in sorted(out.glob("*.json")):
     j = json.loads(f.read_text())
     p = {x["pass"]: x["ms"] for x in j["gpu_ms"]["passes"]}
     shadow = sum(v for k, v in p.items() if k.startswith("shadow"))
     total = j["gpu_ms"]["total"] or 0
     print(f"{f.stem:28} {shadow:8.3f} {p.get('depth prepass', 0):8.3f} {p.get('forward', 0):8.3f} {total:8.3f} "
-          f"{j['draw_calls']:9} {j.get('draws', j['draw_calls']):7}")
+          f"{j['draw_calls']:9} {j.get('draws', j['draw_calls']):7} {j['cpu_ms'].get('shadow_systems_median') or 0:7.3f}")
 PY

@@ -99,6 +99,8 @@ pub struct HeadlessFrame {
     pub stats: ShadowStats,
     /// GPU reports of every frame (for medians).
     pub frames: Vec<FrameReport>,
+    /// CPU time of the shadow systems of every frame ([`ShadowStats::frame_cpu`]).
+    pub frames_cpu: Vec<std::time::Duration>,
     /// Warnings raised.
     pub warnings: Vec<String>,
     /// Adapter description.
@@ -107,6 +109,17 @@ pub struct HeadlessFrame {
     pub instances: usize,
     /// The last frame's shadow memory, as fitted to the budget before allocating.
     pub memory: ShadowMemory,
+}
+
+impl HeadlessFrame {
+    /// The median of [`frames_cpu`](Self::frames_cpu) in milliseconds, the first frame left
+    /// out when there are more (it builds everything); None without frames.
+    pub fn median_frame_cpu_ms(&self) -> Option<f64> {
+        let skip = usize::from(self.frames_cpu.len() > 1);
+        let mut ms: Vec<f64> = self.frames_cpu[skip..].iter().map(|d| d.as_secs_f64() * 1e3).collect();
+        ms.sort_by(f64::total_cmp);
+        ms.get(ms.len() / 2).copied()
+    }
 }
 
 /// Renders `frames` frames of a scene on a new headless device and returns the last image.
@@ -213,12 +226,14 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     let mut warnings = prepared.warnings().to_vec();
     let instances = prepared.spawn(app.world_mut());
     let mut reports = Vec::new();
+    let mut frames_cpu = Vec::new();
     let mut cameras = app.world_mut().query_filtered::<&mut Transform, With<Camera3d>>();
     for frame in 0..frames.max(1) {
         if frame > 0 && request.camera_motion != CameraMotion::default() {
             move_cameras(app.world_mut(), &mut cameras, request.camera_motion);
         }
         app.update();
+        frames_cpu.push(app.world().resource::<ShadowStats>().frame_cpu);
         // NOTE: the lights it names cast no shadow and nothing was allocated for them; a
         // headless render fails rather than write an image without them.
         if let Some(error) = &app.world().resource::<ShadowMemory>().error {
@@ -255,6 +270,7 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
         report: reports.last().cloned().unwrap_or_default(),
         stats: world.resource::<ShadowStats>().clone(),
         frames: reports,
+        frames_cpu,
         warnings,
         adapter,
         instances,

@@ -25,7 +25,9 @@ use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::shadow_views::update_shadow_views;
 use crate::ecs::skinning::{AnimationClock, SkinSources, SkinningFrame, animate_skins, collect_skinning};
-use crate::ecs::stats::{ShadowDiagnostics, ShadowStats, log_diagnostics};
+use crate::ecs::stats::{
+    FrameClock, ShadowDiagnostics, ShadowStats, log_diagnostics, start_frame_clock, stop_frame_clock,
+};
 use crate::ecs::view::{ActiveView, SeenByCamera, update_active_view};
 use crate::ecs::view_list::{ShadowLightBudget, ShadowViews};
 use crate::ecs::view_lod::CameraLod;
@@ -80,6 +82,7 @@ impl Plugin for ShadowPlugin {
             .init_resource::<RenderInstances>()
             .init_resource::<CasterChanges>()
             .init_resource::<StaticChanges>()
+            .init_resource::<FrameClock>()
             .init_resource::<InstanceSync>()
             .init_resource::<ScrollResync>()
             .init_resource::<RenderOrigin>()
@@ -125,6 +128,8 @@ impl Plugin for ShadowPlugin {
                 PostUpdate,
                 (cull_view, update_shadow_views).chain().in_set(ShadowSystems::Cull),
             )
-            .add_systems(PostUpdate, log_diagnostics.after(ShadowSystems::Cull));
+            .add_systems(PostUpdate, log_diagnostics.after(ShadowSystems::Cull))
+            .add_systems(PostUpdate, start_frame_clock.before(TransformSystems::Propagate))
+            .add_systems(PostUpdate, stop_frame_clock.after(ShadowSystems::Cull));
     }
 }

@@ -2,10 +2,10 @@
 //! input that was repaired), both readable by tools, tests and the inspector.
 
 use std::collections::{HashMap, HashSet};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::ResMut;
+use bevy_ecs::system::{Res, ResMut};
 use log::warn;
 
 /// What the shadow systems did in the last frame.
@@ -18,6 +18,9 @@ pub struct ShadowStats {
     pub culling_cpu: Duration,
     /// CPU time of camera culling.
     pub view_culling_cpu: Duration,
+    /// CPU time of all the shadow systems of the frame, from transform propagation to the
+    /// end of culling ([`ShadowSystems`](crate::ecs::plugin::ShadowSystems)).
+    pub frame_cpu: Duration,
     /// Casters drawn into each shadow view, in the order of
     /// [`ShadowViews`](crate::ecs::view_list::ShadowViews).
     pub casters_per_view: Vec<u32>,
@@ -27,6 +30,22 @@ pub struct ShadowStats {
     pub visible_instances: u32,
     /// Frames run so far.
     pub frames: u64,
+}
+
+/// When this frame's shadow systems started (see [`ShadowStats::frame_cpu`]).
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct FrameClock(Option<Instant>);
+
+/// Starts [`FrameClock`] (before transform propagation).
+pub fn start_frame_clock(mut clock: ResMut<FrameClock>) {
+    clock.0 = Some(Instant::now());
+}
+
+/// Stops [`FrameClock`] into [`ShadowStats::frame_cpu`] (after culling).
+pub fn stop_frame_clock(clock: Res<FrameClock>, mut stats: ResMut<ShadowStats>) {
+    if let Some(start) = clock.0 {
+        stats.frame_cpu = start.elapsed();
+    }
 }
 
 /// Most entity names a grouped warning lists.
