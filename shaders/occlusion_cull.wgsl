@@ -1,36 +1,51 @@
-// Two-phase occlusion culling of the camera view's instances (one invocation per entry of the
-// view's draw list, after the CPU's frustum culling). Early (the default): every entry whose
-// instance was seen last frame is appended to its batch's early list, the batch's indirect
-// instance count counting it. Late (`LATE`): every entry's bounding sphere is tested against
-// the depth pyramid the early draws left; the test's answer is the instance's "seen" flag for
-// the next frame, and an instance seen now but not last frame is appended to the late list.
-// A sphere is hidden when its nearest depth is farther than the farthest depth of every
-// pyramid texel under its screen rectangle, read at the level where that rectangle spans at
-// most 2 × 2 texels (reverse-Z: farther is smaller). The CPU mirror is `math::occlusion`.
+// GPU culling of the camera view's instances: one workgroup per run of instances (at most one
+// culling chunk's, each of one batch), one invocation per member. A member is culled when its
+// bounding sphere is outside the frustum. Early (the default): a member in the frustum (with
+// occlusion culling, only one seen last frame) is appended to its batch's early list, the
+// batch's indirect instance count counting it. Late (`LATE`, with occlusion culling only):
+// every member's bounding sphere is tested against the frustum and the depth pyramid the early
+// draws left; the answer is the instance's "seen" flag for the next frame, and an instance seen
+// now but not last frame is appended to the late list. A sphere is hidden when its nearest
+// depth is farther than the farthest depth of every pyramid texel under its screen rectangle,
+// read at the level where that rectangle spans at most 2 × 2 texels (reverse-Z: farther is
+// smaller). The CPU mirror is `math::occlusion`.
 
 #import penumbra::indirect::DrawArgs
 
 struct Cull {
     clip_from_view: mat4x4<f32>,
     view_from_world: mat4x4<f32>,
+    // The frustum's planes (unit normal inwards, offset), relative to the render origin.
+    planes: array<vec4<f32>, 6>,
     // The pyramid's level 0 (the depth buffer's size), pixels.
     size: vec2<f32>,
     levels: u32,
-    entries: u32,
+    runs: u32,
     near: f32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // 1: occlusion culling (the early phase lists only instances seen last frame).
+    occluding: u32,
+    // Workgroups per row of the dispatch.
+    row: u32,
+    _pad: u32,
+}
+
+// Instances `first..first + count` (or, when `listed` is 1, the instances at those entries of
+// the view's list), drawn by batch `batch`.
+struct Run {
+    first: u32,
+    count: u32,
+    batch: u32,
+    listed: u32,
 }
 
 
 @group(0) @binding(0) var<uniform> cull: Cull;
 // Per instance: bounding-sphere centre (relative to the render origin) and radius.
 @group(0) @binding(1) var<storage, read> bounds: array<vec4<f32>>;
-// The view's draw list: an instance per entry.
+// The view's draw list: an instance per entry (read by listed runs only).
 @group(0) @binding(2) var<storage, read> entries: array<u32>;
-// The batch of each entry.
-@group(0) @binding(3) var<storage, read> entry_batch: array<u32>;
+// The runs to cull.
+@group(0) @binding(3) var<storage, read> runs: array<Run>;
 // Per instance: 1 when seen last frame (the late phase writes this frame's answer).
 @group(0) @binding(4) var<storage, read_write> seen: array<u32>;
 // Per batch: the phase's draw arguments (instance counts start at 0).
@@ -43,6 +58,20 @@ struct Cull {
 fn append(batch: u32, instance: u32) {
     let slot = atomicAdd(&args[batch].instance_count, 1u);
     list[args[batch].first_instance + slot] = instance;
+}
+
+// True when the sphere `b` is finite and meets every plane of the frustum (its radius padded by
+// a relative 1e-5, as the CPU's chunk test pads, so rounding never culls a touching sphere).
+fn in_frustum(b: vec4<f32>) -> bool {
+    let r = max(b.w, 0.0);
+    let pad = r + 1e-5 * (abs(b.x) + abs(b.y) + abs(b.z) + r);
+    var inside = true;
+    for (var i = 0u; i < 6u; i++) {
+        let p = cull.planes[i];
+        inside = inside && dot(p.xyz, b.xyz) + p.w >= -pad;
+    }
+    // NOTE: a comparison with NaN is false: a sphere that is not finite is outside.
+    return inside;
 }
 
 // True when the sphere `b` lies behind the pyramid's depths everywhere it covers.
@@ -96,22 +125,30 @@ fn hidden(b: vec4<f32>) -> bool {
 }
 
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = id.x;
-    if e >= cull.entries {
+fn main(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let r = group.y * cull.row + group.x;
+    if r >= cull.runs {
         return;
     }
-    let instance = entries[e];
+    let run = runs[r];
+    if lane >= run.count {
+        return;
+    }
+    var instance = run.first + lane;
+    if run.listed != 0u {
+        instance = entries[instance];
+    }
+    let b = bounds[instance];
 #ifdef LATE
-    let now = !hidden(bounds[instance]);
+    let now = in_frustum(b) && !hidden(b);
     let before = seen[instance] != 0u;
     seen[instance] = select(0u, 1u, now);
     if now && !before {
-        append(entry_batch[e], instance);
+        append(run.batch, instance);
     }
 #else
-    if seen[instance] != 0u {
-        append(entry_batch[e], instance);
+    if in_frustum(b) && (cull.occluding == 0u || seen[instance] != 0u) {
+        append(run.batch, instance);
     }
 #endif
 }

@@ -128,6 +128,10 @@ pub struct RenderArgs {
     /// hidden behind others are culled on the GPU, around the depth prepass).
     #[arg(long)]
     no_occlusion_culling: bool,
+    /// Cull the camera view's instances on the CPU, one by one (by default the CPU only tests
+    /// culling chunks and the GPU tests their instances, in views of 16 384 or more).
+    #[arg(long)]
+    no_gpu_culling: bool,
     /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
     /// or one pass per cascade (`false`).
     #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
@@ -277,6 +281,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         single_pass_cascades,
         no_multi_draw,
         no_occlusion_culling,
+        no_gpu_culling,
         count_fragments,
         camera_step,
         camera_turn,
@@ -381,6 +386,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             msaa,
             multi_draw: !no_multi_draw,
             occlusion_culling: !no_occlusion_culling,
+            gpu_culling: !no_gpu_culling,
         },
         shadow_budget,
         count_fragments,

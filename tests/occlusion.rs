@@ -1,7 +1,9 @@
-//! Occlusion culling of the camera view (lavapipe): the depth pyramid's every level holds the
-//! farthest depth of the level above it; the GPU's test finds hidden exactly the instances the
-//! CPU mirror does; and over a camera path through the 100k field the image with occlusion
-//! culling equals the image without it, pixel for pixel, while it draws fewer instances.
+//! GPU culling of the camera view (lavapipe): the depth pyramid's every level holds the
+//! farthest depth of the level above it; the GPU's frustum and occlusion tests find culled
+//! exactly the instances the CPU mirror does; and over a camera path through the 100k field the
+//! image culled on the GPU (by chunk on the CPU, then frustum and occlusion per instance)
+//! equals the image culled on the CPU (every instance against the frustum), pixel for pixel,
+//! while it draws fewer instances.
 
 mod common;
 
@@ -12,12 +14,15 @@ use common::still_scene;
 use glam::{Quat, Vec3};
 use penumbra::ecs::view::ActiveView;
 use penumbra::ecs::{Camera3d, RenderInstances, ViewDrawGroups};
-use penumbra::math::occlusion::{CullCamera, Pyramid, hidden};
+use penumbra::math::frustum::Frustum;
+use penumbra::math::occlusion::{CullCamera, Pyramid, hidden, in_frustum};
 use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
+use std::collections::BTreeMap;
 
 const SCENE: &str = "assets/scenes/field.ron";
 
-/// The field with the prepass on and occlusion culling `on`.
+/// The field with the prepass on and culling on the GPU (by chunk on the CPU, then frustum and
+/// occlusion per instance) `on`, or on the CPU (every instance against the frustum).
 fn app(on: bool) -> App {
     let renderer = Renderer::headless(320, 180)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
@@ -25,6 +30,7 @@ fn app(on: bool) -> App {
     app.insert_resource(RenderOptions {
         depth_prepass: DepthPrepass::On,
         occlusion_culling: on,
+        gpu_culling: on,
         ..RenderOptions::default()
     });
     app
@@ -62,16 +68,20 @@ fn the_gpu_hides_what_the_cpu_mirror_hides() {
         levels: r.read_occlusion_pyramid(),
     };
     let (camera, _) = world.resource::<ActiveView>().camera.expect("a camera");
+    let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
     let camera = CullCamera {
         clip_from_view: camera.clip_from_view(),
         view_from_world: camera.view_from_world(),
         near: camera.near,
     };
-    let entries = &world.resource::<ViewDrawGroups>().indices;
+    let views = world.resource::<ViewDrawGroups>();
+    assert!(!views.runs.is_empty(), "the view is culled by chunk for the GPU");
+    let entries: Vec<u32> = views.candidates().collect();
     let (mut hidden_count, mut disagree) = (0, 0);
-    for &i in entries {
+    for &i in &entries {
         let i = i as usize;
-        let cpu = hidden(&pyramid, &camera, instances.centers[i], instances.radii[i]);
+        let (c, r) = (instances.centers[i], instances.radii[i]);
+        let cpu = !in_frustum(&frustum, c, r) || hidden(&pyramid, &camera, c, r);
         hidden_count += cpu as usize;
         disagree += (cpu != (seen[i] == 0)) as usize;
     }
@@ -109,7 +119,7 @@ fn culling_changes_no_pixel_along_a_camera_path() {
         let differing = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
         assert_eq!(differing, 0, "step {step}: {differing} pixels differ");
         let (early, late) = renderer(&culled).read_occlusion_drawn().expect("the culling ran");
-        let entries = culled.world().resource::<ViewDrawGroups>().indices.len() as u64;
+        let entries = culled.world().resource::<ViewDrawGroups>().entries() as u64;
         eprintln!("step {step}: {early} + {late} of {entries} instances drawn");
         // NOTE: the first frame draws everything (nothing was seen before it).
         if step > 0 {
@@ -124,4 +134,83 @@ fn culling_changes_no_pixel_along_a_camera_path() {
         drawn.0,
         drawn.1
     );
+}
+
+#[test]
+fn the_gpu_frustum_lists_hold_the_cpu_lists_and_what_the_mirror_keeps() {
+    // Occlusion off: the GPU tests the frustum only, as the CPU does instance by instance.
+    let mut apps = [true, false].map(|gpu| {
+        let mut app = app(false);
+        app.insert_resource(RenderOptions {
+            depth_prepass: DepthPrepass::On,
+            occlusion_culling: false,
+            gpu_culling: gpu,
+            ..RenderOptions::default()
+        });
+        app
+    });
+    for step in 0..3 {
+        for app in &mut apps {
+            let world = app.world_mut();
+            let mut q = world.query_filtered::<&mut Transform, With<Camera3d>>();
+            for mut t in q.iter_mut(world) {
+                t.rotation = Quat::from_rotation_y((step * 10) as f32 * 1f32.to_radians()) * t.rotation;
+            }
+            app.update();
+        }
+        let gpu_lists = renderer(&apps[0]).read_gpu_culled().expect("the GPU culled");
+        assert!(renderer(&apps[1]).read_gpu_culled().is_none(), "the CPU culled alone");
+        let world = apps[0].world();
+        let (instances, views) = (world.resource::<RenderInstances>(), world.resource::<ViewDrawGroups>());
+        let (camera, _) = world.resource::<ActiveView>().camera.expect("a camera");
+        let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
+        // Per (mesh, material): the sorted instances drawn by the GPU, kept by the mirror from
+        // the runs, and drawn by the CPU's list.
+        let mut gpu = BTreeMap::<(u32, u32), Vec<u32>>::new();
+        let mut mirror = BTreeMap::<(u32, u32), Vec<u32>>::new();
+        let batches: Vec<_> = views.group.opaque.iter().chain(&views.group.masked).collect();
+        for (b, batch) in batches.iter().enumerate() {
+            gpu.entry((batch.mesh.0, batch.material.0))
+                .or_default()
+                .extend(&gpu_lists[b]);
+        }
+        for run in &views.runs {
+            let batch = batches[run.batch as usize];
+            let kept = (run.first..run.first + run.count)
+                .filter(|&i| in_frustum(&frustum, instances.centers[i as usize], instances.radii[i as usize]));
+            mirror.entry((batch.mesh.0, batch.material.0)).or_default().extend(kept);
+        }
+        let cpu_views = apps[1].world().resource::<ViewDrawGroups>();
+        let mut cpu = BTreeMap::<(u32, u32), Vec<u32>>::new();
+        for batch in cpu_views.group.opaque.iter().chain(&cpu_views.group.masked) {
+            let listed = &cpu_views.indices[batch.first as usize..(batch.first + batch.count) as usize];
+            cpu.entry((batch.mesh.0, batch.material.0)).or_default().extend(listed);
+        }
+        for lists in [&mut gpu, &mut mirror, &mut cpu] {
+            lists.retain(|_, l| !l.is_empty());
+            lists.values_mut().for_each(|l| l.sort_unstable());
+        }
+        let total: usize = gpu.values().map(Vec::len).sum();
+        let cpu_total: usize = cpu.values().map(Vec::len).sum();
+        let missing: usize = (cpu.iter())
+            .map(|(k, l)| {
+                l.iter()
+                    .filter(|i| gpu.get(k).is_none_or(|g| g.binary_search(i).is_err()))
+                    .count()
+            })
+            .sum();
+        eprintln!(
+            "step {step}: GPU {total}, CPU {cpu_total} instances in {} lists",
+            cpu.len()
+        );
+        assert!(cpu_total > 20_000, "only {cpu_total} instances judged");
+        assert!(gpu == mirror, "step {step}: the GPU's lists differ from the mirror's");
+        assert_eq!(missing, 0, "step {step}: instances the CPU drew and the GPU did not");
+        // What only the GPU keeps touches a plane within its padding.
+        assert!(
+            total - cpu_total <= cpu_total / 1000,
+            "step {step}: {} more on the GPU",
+            total - cpu_total
+        );
+    }
 }

@@ -1,8 +1,9 @@
 //! Camera culling: every instance against the camera frustum, into [`ViewDrawGroups`] in
 //! draw-key order, front to back by culling chunk ([`crate::ecs::view_order`]), each run of
 //! a chunk drawn with the coarsest mesh level its size on screen allows
-//! ([`crate::ecs::view_lod`]). A frame whose camera matrix, viewport height, LOD setting and
-//! instance list are those of the last frame keeps its groups.
+//! ([`crate::ecs::view_lod`]); or, for a renderer that culls on the GPU, by chunk only
+//! ([`crate::ecs::camera_runs`]). A frame whose camera matrix, viewport height, LOD setting,
+//! culling and instance list are those of the last frame keeps its groups.
 //! (Shadow casters are culled per shadow view by
 //! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).)
 
@@ -11,15 +12,18 @@ use std::time::Instant;
 use bevy_ecs::system::{Local, Res, ResMut};
 use glam::Mat4;
 
+use crate::ecs::assets::MeshHandle;
+use crate::ecs::camera_runs::{ChunkRun, cull_chunk_runs};
 use crate::ecs::components::ViewportSize;
 use crate::ecs::draw_groups::{DrawKey, ViewDrawGroups, push_run};
 use crate::ecs::instances::RenderInstances;
+use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::stats::ShadowStats;
 use crate::ecs::view::ActiveView;
 use crate::ecs::view_lod::{CameraLod, ViewLod};
 use crate::ecs::view_order::{Run, front_to_back};
-use crate::math::chunks::cull_spheres_frustum_chunked;
+use crate::math::chunks::{CHUNK, cull_spheres_frustum_chunked};
 use crate::math::frustum::Frustum;
 
 /// Reused buffers of [`cull_view`].
@@ -28,11 +32,12 @@ pub struct ViewScratch {
     visible: Vec<u32>,
     scratch: Vec<u32>,
     runs: Vec<Run>,
+    chunk_runs: Vec<ChunkRun>,
 }
 
 /// What the camera view's groups were made for: the camera matrix, the instance list's
-/// generation, the viewport height and the LOD setting.
-type ViewKey = (Mat4, u64, u32, CameraLod);
+/// generation, the viewport height, the LOD setting and whether the GPU culls instances.
+type ViewKey = (Mat4, u64, u32, CameraLod, bool);
 
 /// Culls every instance against the camera frustum into one draw group, each run with the
 /// mesh level [`CameraLod`] allows (every mesh whole without [`ShadowLods`]).
@@ -43,16 +48,23 @@ pub fn cull_view(
     lods: Option<Res<ShadowLods>>,
     lod: Option<Res<CameraLod>>,
     viewport: Res<ViewportSize>,
+    culling: Option<Res<ShadowCulling>>,
     mut groups: ResMut<ViewDrawGroups>,
     (mut stats, mut visible): (ResMut<ShadowStats>, Local<ViewScratch>),
     mut last: Local<Option<ViewKey>>,
 ) {
     let start = Instant::now();
     let lod = lod.map_or_else(CameraLod::default, |l| *l);
-    let key = view
-        .camera
-        .as_ref()
-        .map(|(camera, _)| (camera.clip_from_world(), instances.generation, viewport.height, lod));
+    let gpu = culling.is_some_and(|c| c.gpu_camera);
+    let key = view.camera.as_ref().map(|(camera, _)| {
+        (
+            camera.clip_from_world(),
+            instances.generation,
+            viewport.height,
+            lod,
+            gpu,
+        )
+    });
     if key.is_some() && *last == key {
         stats.view_culling_cpu = start.elapsed();
         return;
@@ -61,10 +73,25 @@ pub fn cull_view(
     let groups = &mut *groups;
     groups.group.clear();
     groups.indices.clear();
+    groups.runs.clear();
     groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        let ViewScratch { visible, scratch, runs } = &mut *visible;
+        let ViewScratch {
+            visible,
+            scratch,
+            runs,
+            chunk_runs,
+        } = &mut *visible;
+        let eye = camera.position();
+        let view_lod = lods
+            .as_deref()
+            .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
+        if gpu && cull_chunk_runs(&frustum, eye, view_lod.as_ref(), &instances, groups, chunk_runs) {
+            stats.visible_instances = groups.entries() as u32;
+            stats.view_culling_cpu = start.elapsed();
+            return;
+        }
         cull_spheres_frustum_chunked(
             &frustum,
             &instances.centers,
@@ -73,16 +100,12 @@ pub fn cull_view(
             visible,
             scratch,
         );
-        let eye = camera.position();
         front_to_back(visible, &instances.keys, &instances.chunks.centers, eye, runs);
-        let view_lod = lods
-            .as_deref()
-            .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
         for run in runs.iter() {
             let members = run.of(visible);
             let key = match &view_lod {
                 Some(v) => DrawKey {
-                    mesh: v.mesh_for_run(run.key.mesh, members, &instances.centers, &instances.radii),
+                    mesh: chunk_mesh(v, run.key.mesh, &instances, members),
                     ..run.key
                 },
                 None => run.key,
@@ -92,4 +115,14 @@ pub fn cull_view(
     }
     stats.visible_instances = groups.indices.len() as u32;
     stats.view_culling_cpu = start.elapsed();
+}
+
+/// The mesh [`ViewLod::mesh_for_chunk`] gives the culling chunk of `members` (one chunk's).
+fn chunk_mesh(lod: &ViewLod, mesh: MeshHandle, instances: &RenderInstances, members: &[u32]) -> MeshHandle {
+    let chunks = &instances.chunks;
+    let k = members.first().map_or(0, |&i| i as usize / CHUNK);
+    match (chunks.centers.get(k), chunks.radii.get(k), chunks.max_radii.get(k)) {
+        (Some(&center), Some(&reach), Some(&radius)) => lod.mesh_for_chunk(mesh, center, reach, radius),
+        _ => mesh,
+    }
 }

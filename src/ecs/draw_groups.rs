@@ -3,6 +3,7 @@
 //! scene has been seen.
 
 use bevy_ecs::resource::Resource;
+use bytemuck::{Pod, Zeroable};
 
 use crate::ecs::assets::{MaterialHandle, MeshHandle};
 
@@ -87,14 +88,71 @@ pub fn push_run(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, run
     if run.is_empty() {
         return;
     }
+    let mut len = indices.len() as u32;
+    push_room(group, &mut len, key, run.len() as u32);
+    indices.extend_from_slice(run);
+}
+
+/// Instances `first..first + count` of the instance list, drawn by batch `batch` of a view
+/// (numbered opaque first, then masked) once the GPU has culled them one by one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+#[repr(C)]
+pub struct InstanceRun {
+    /// First instance.
+    pub first: u32,
+    /// Number of instances (at most one culling chunk's).
+    pub count: u32,
+    /// The batch drawing them.
+    pub batch: u32,
+    /// 0: the run is of instances; 1: of entries of the view's index list (the renderer's
+    /// runs over a list the CPU culled).
+    pub listed: u32,
+}
+
+/// The instances the camera sees.
+#[derive(Resource, Debug, Default)]
+pub struct ViewDrawGroups {
+    /// Draws.
+    pub group: DrawGroup,
+    /// Instance indices referenced by the batches (empty when the view is listed as `runs`).
+    pub indices: Vec<u32>,
+    /// The view culled by chunk only, for the GPU to cull instance by instance: runs of
+    /// consecutive instances, each drawn by one batch; a batch's range (`first..first +
+    /// count`) is then room in the list the GPU writes, as long as its runs together. Empty
+    /// when the CPU culled every instance (`indices`).
+    pub runs: Vec<InstanceRun>,
+    /// Bumped whenever `group` and `indices` are rebuilt (the renderer uploads them then).
+    pub generation: u64,
+}
+
+impl ViewDrawGroups {
+    /// The instances of the view's list before the GPU culls them: those listed, or every
+    /// instance of every run, in list order.
+    pub fn candidates(&self) -> impl Iterator<Item = u32> + '_ {
+        let runs = self.runs.iter().flat_map(|r| r.first..r.first + r.count);
+        self.indices.iter().copied().chain(runs)
+    }
+
+    /// Entries of the view's list: instances listed, or room for the instances of the runs.
+    pub fn entries(&self) -> usize {
+        match self.runs.is_empty() {
+            true => self.indices.len(),
+            false => self.runs.iter().map(|r| r.count as usize).sum(),
+        }
+    }
+}
+
+/// Reserves `count` entries for instances with `key` in `group` at position `*len` of a list
+/// only the GPU writes, as [`push_run`] would list them; returns the batch (masked or not, and
+/// its index in that list).
+pub fn push_room(group: &mut DrawGroup, len: &mut u32, key: DrawKey, count: u32) -> (bool, usize) {
     let list = if key.masked {
         &mut group.masked
     } else {
         &mut group.opaque
     };
-    let position = indices.len() as u32;
-    let count = run.len() as u32;
-    indices.extend_from_slice(run);
+    let position = *len;
+    *len += count;
     match list.last_mut() {
         Some(last) if last.mesh == key.mesh && last.material == key.material && last.first + last.count == position => {
             last.count += count
@@ -107,17 +165,7 @@ pub fn push_run(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, run
             count,
         }),
     }
-}
-
-/// The instances the camera sees.
-#[derive(Resource, Debug, Default)]
-pub struct ViewDrawGroups {
-    /// Draws.
-    pub group: DrawGroup,
-    /// Instance indices referenced by the batches.
-    pub indices: Vec<u32>,
-    /// Bumped whenever `group` and `indices` are rebuilt (the renderer uploads them then).
-    pub generation: u64,
+    (key.masked, list.len() - 1)
 }
 
 #[cfg(test)]

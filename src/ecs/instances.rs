@@ -25,7 +25,7 @@ use crate::ecs::mobility::Static;
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::math::aabb::Aabb;
-use crate::math::chunks::SphereChunks;
+use crate::math::chunks::{CHUNK, SphereChunks};
 use crate::shader::instance::InstanceGpu;
 
 /// Cells per side of the grid the receivers' bounds given to the cascades are grown onto
@@ -84,6 +84,12 @@ pub struct RenderInstances {
     pub caster_index: Vec<u32>,
     /// The instance of each entity drawn.
     slots: EntityHashMap<u32>,
+    /// Where each run of instances of one draw key within one culling chunk starts
+    /// (ascending; a run ends where the next one starts, the last at the list's end).
+    pub run_starts: Vec<u32>,
+    /// Per culling chunk, the index in `run_starts` of its first run, and one more entry: the
+    /// number of runs.
+    pub chunk_runs: Vec<u32>,
     /// Entities skipped because of an invalid transform, mesh or material.
     pub skipped: usize,
 }
@@ -94,6 +100,20 @@ impl RenderInstances {
     /// written whole.
     pub fn patch_from(&self, held: Option<u64>) -> Option<&[u32]> {
         (held == Some(self.generation.wrapping_sub(1)) && self.layout != self.generation).then_some(&self.updated[..])
+    }
+
+    /// The runs of culling chunk `chunk` (instances of one draw key each), as `first..end`
+    /// instance ranges.
+    pub fn runs_of_chunk(&self, chunk: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+        let runs = match (self.chunk_runs.get(chunk), self.chunk_runs.get(chunk + 1)) {
+            (Some(&a), Some(&b)) => a as usize..b as usize,
+            _ => 0..0,
+        };
+        let total = self.gpu.len() as u32;
+        runs.map(move |r| {
+            let end = self.run_starts.get(r + 1).copied().unwrap_or(total);
+            (self.run_starts[r], end)
+        })
     }
 
     /// The instance index of `entity`, if it is drawn.
@@ -277,6 +297,17 @@ fn rebuild<'a>(
             }
         }
     }
+    out.run_starts.clear();
+    out.chunk_runs.clear();
+    for (i, key) in out.keys.iter().enumerate() {
+        if i % CHUNK == 0 {
+            out.chunk_runs.push(out.run_starts.len() as u32);
+        }
+        if i % CHUNK == 0 || out.keys[i - 1] != *key {
+            out.run_starts.push(i as u32);
+        }
+    }
+    out.chunk_runs.push(out.run_starts.len() as u32);
     out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);

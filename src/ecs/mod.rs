@@ -2,6 +2,7 @@
 //! math each frame.
 
 pub mod assets;
+pub mod camera_runs;
 pub mod caster_changes;
 pub mod clipmap_scroll;
 pub mod components;
@@ -40,7 +41,7 @@ pub use bevy_transform::components::{GlobalTransform, Transform};
 pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
-pub use draw_groups::{DrawBatch, DrawGroup, ViewDrawGroups};
+pub use draw_groups::{DrawBatch, DrawGroup, InstanceRun, ViewDrawGroups};
 pub use instance_changes::InstanceSync;
 pub use instances::RenderInstances;
 pub use light_views::{FrameLights, PointLightView, SpotLightView, SunView};

@@ -49,6 +49,13 @@ pub struct ShadowCulling {
     /// plugin sets it): a clipmap level's whole caster list is then made only when the
     /// level must be drawn whole.
     pub cached: bool,
+    /// The renderer culls the camera view's instances one by one on the GPU (the render
+    /// plugin sets it where multi-draw with an indirect first instance is on): a view whose
+    /// frustum's chunks hold at least
+    /// [`GPU_CAMERA_MIN_INSTANCES`](crate::ecs::camera_runs::GPU_CAMERA_MIN_INSTANCES) is
+    /// then culled by chunk only and listed as runs
+    /// ([`ViewDrawGroups::runs`](crate::ecs::ViewDrawGroups::runs)).
+    pub gpu_camera: bool,
 }
 
 impl Default for ShadowCulling {
@@ -58,6 +65,7 @@ impl Default for ShadowCulling {
             single_pass: false,
             multiview_views: crate::settings::MAX_CASCADES as u32,
             cached: false,
+            gpu_camera: false,
         }
     }
 }

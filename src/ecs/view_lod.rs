@@ -56,21 +56,22 @@ impl<'a> ViewLod<'a> {
         })
     }
 
-    /// The mesh to draw the instances `run` of `mesh` with (bounding spheres `centers` and
-    /// `radii`, indexed by instance): the coarsest level whose error, for the largest of them
-    /// at the nearest view depth any of them reaches, stays within the allowed pixels; `mesh`
-    /// itself when one of them reaches the camera's plane.
-    pub fn mesh_for_run(&self, mesh: MeshHandle, run: &[u32], centers: &[Vec3], radii: &[f32]) -> MeshHandle {
+    /// The mesh to draw instances of `mesh` with that lie in a sphere (`center`, `reach`)
+    /// and have bounding radii up to `radius` (a culling chunk's: its sphere and its largest
+    /// member): the coarsest level whose error, for that radius at the sphere's nearest view
+    /// depth, stays within the allowed pixels; `mesh` itself when the sphere reaches the
+    /// camera's plane. Decided per chunk, so the CPU's culling and the GPU's pick alike.
+    pub fn mesh_for_chunk(&self, mesh: MeshHandle, center: Vec3, reach: f32, radius: f32) -> MeshHandle {
         if self.lods.get(mesh).is_empty() {
             return mesh;
         }
-        let (mut radius, mut depth) = (0.0f32, f32::INFINITY);
-        for &i in run {
-            let (c, r) = (centers[i as usize], radii[i as usize]);
-            radius = radius.max(r);
-            depth = depth.min((c - self.eye).dot(self.forward) - r);
-        }
-        if depth.is_nan() || depth <= 0.0 {
+        self.mesh_at(mesh, radius, (center - self.eye).dot(self.forward) - reach)
+    }
+
+    /// The coarsest level of `mesh` for instances of bounding radius up to `radius` whose
+    /// nearest view depth is `depth`; `mesh` for a depth at or before the camera's plane.
+    fn mesh_at(&self, mesh: MeshHandle, radius: f32, depth: f32) -> MeshHandle {
+        if depth.is_nan() || depth <= 0.0 || !radius.is_finite() {
             return mesh;
         }
         // NOTE: `pick` allows MAX_ERROR_TEXELS of its texel; the texel given is scaled so the
@@ -86,7 +87,7 @@ mod tests {
     use crate::ecs::shadow_lods::ShadowLod;
 
     #[test]
-    fn far_runs_draw_coarser_levels_and_near_ones_the_mesh() {
+    fn far_chunks_draw_coarser_levels_and_near_ones_the_mesh() {
         let mut lods = ShadowLods::default();
         let level = |mesh, relative_error| ShadowLod {
             mesh: MeshHandle(mesh),
@@ -97,21 +98,37 @@ mod tests {
         let fov = std::f32::consts::FRAC_PI_2;
         let view = ViewLod::new(&lods, CameraLod::default(), (Vec3::ZERO, Vec3::NEG_Z), fov, 1000)
             .expect("levels and an error budget");
-        let centers = [2.0, 20.0, 200.0, -5.0, 2000.0].map(|d| Vec3::new(0.0, 0.0, -d));
-        let radii = [1.0; 5];
-        let pick = |run: &[u32]| view.mesh_for_run(MeshHandle(0), run, &centers, &radii).0;
+        let pick = |depth: f32, reach: f32| {
+            view.mesh_for_chunk(MeshHandle(0), Vec3::new(0.0, 0.0, -depth), reach, 1.0)
+                .0
+        };
         // Depth 1: 0.0005 m allowed, below both levels' errors (0.01, 0.1 m).
-        assert_eq!(pick(&[0]), 0);
+        assert_eq!(pick(2.0, 1.0), 0);
         // Depth 19: 0.0095 m allowed: neither; depth 199: 0.0995 m: the first level.
-        assert_eq!(pick(&[1]), 0);
-        assert_eq!(pick(&[2]), 1);
-        // Depth 1999: the coarsest. A run takes its nearest member's level; one behind the
-        // camera draws the mesh.
-        assert_eq!(pick(&[4]), 2);
-        assert_eq!(pick(&[4, 2]), 1);
-        assert_eq!(pick(&[4, 3]), 0);
+        assert_eq!(pick(20.0, 1.0), 0);
+        assert_eq!(pick(200.0, 1.0), 1);
+        // Depth 1999: the coarsest. A wider chunk reaches nearer, with a finer level; one
+        // reaching behind the camera draws the mesh.
+        assert_eq!(pick(2000.0, 1.0), 2);
+        assert_eq!(pick(2000.0, 1801.0), 1);
+        assert_eq!(pick(2000.0, 2001.0), 0);
+        // A larger radius needs a finer level; a chunk with a member that is not finite draws
+        // the mesh.
+        assert_eq!(
+            view.mesh_for_chunk(MeshHandle(0), Vec3::new(0.0, 0.0, -2000.0), 1.0, 20.0)
+                .0,
+            1
+        );
+        assert_eq!(
+            view.mesh_for_chunk(MeshHandle(0), Vec3::ZERO, f32::INFINITY, f32::INFINITY)
+                .0,
+            0
+        );
         // A mesh without levels draws itself.
-        assert_eq!(view.mesh_for_run(MeshHandle(5), &[2], &centers, &radii), MeshHandle(5));
+        assert_eq!(
+            view.mesh_for_chunk(MeshHandle(5), Vec3::NEG_Z * 200.0, 1.0, 1.0),
+            MeshHandle(5)
+        );
         // No error allowed, or no levels: no choice to make.
         let off = CameraLod { max_error_pixels: 0.0 };
         assert!(ViewLod::new(&lods, off, (Vec3::ZERO, Vec3::NEG_Z), fov, 1000).is_none());

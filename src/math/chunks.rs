@@ -27,6 +27,9 @@ pub struct SphereChunks {
     /// Chunk boxes: the bounds of the member spheres (empty for a chunk with a member that is
     /// not finite). Tighter than the sphere for flat groups, such as casters on the ground.
     pub boxes: Vec<Aabb>,
+    /// The largest member radius of each chunk (infinite for a chunk with a member that is
+    /// not finite).
+    pub max_radii: Vec<f32>,
 }
 
 impl SphereChunks {
@@ -38,6 +41,7 @@ impl SphereChunks {
             chunks.centers.push(center);
             chunks.radii.push(radius);
             chunks.boxes.push(bounds);
+            chunks.max_radii.push(largest(r, radius));
         }
         chunks
     }
@@ -55,6 +59,7 @@ impl SphereChunks {
         self.centers[k] = center;
         self.radii[k] = radius;
         self.boxes[k] = bounds;
+        self.max_radii[k] = largest(&radii[k * CHUNK..end], radius);
     }
 
     /// Number of chunks.
@@ -66,6 +71,15 @@ impl SphereChunks {
     pub fn is_empty(&self) -> bool {
         self.centers.is_empty()
     }
+}
+
+/// The largest of a chunk's member radii `r`; infinite for a chunk whose sphere is (a member
+/// that is not finite).
+fn largest(r: &[f32], chunk_radius: f32) -> f32 {
+    if chunk_radius.is_infinite() {
+        return f32::INFINITY;
+    }
+    r.iter().fold(0.0, |m, &r| m.max(r))
 }
 
 /// The sphere (centre, radius) and box around one chunk's member spheres `c`/`r` (non-empty,

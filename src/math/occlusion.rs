@@ -6,6 +6,8 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+use crate::math::frustum::Frustum;
+
 /// The levels of a pyramid over a `width` × `height` depth buffer: down to one texel.
 pub fn level_count(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()
@@ -82,6 +84,14 @@ pub fn sphere_rect(camera: &CullCamera, centre: Vec3, r: f32, size: Vec2) -> Opt
     let nearest = camera.clip_from_view * Vec4::new(centre.x, centre.y, centre.z + r, 1.0);
     let to_pixels = |x: f32, y: f32| (Vec2::new(x * 0.5 + 0.5, 0.5 - y * 0.5) * size).clamp(Vec2::ZERO, size);
     Some((to_pixels(lo.x, hi.y), to_pixels(hi.x, lo.y), nearest.z / nearest.w))
+}
+
+/// True when the sphere (`centre`, `radius`, world space) is finite and meets every plane
+/// of `frustum`, its radius padded by a relative 1e-5 (as the shader's `in_frustum`).
+pub fn in_frustum(frustum: &Frustum, centre: Vec3, radius: f32) -> bool {
+    let r = radius.max(0.0);
+    let pad = r + 1e-5 * (centre.x.abs() + centre.y.abs() + centre.z.abs() + r);
+    centre.is_finite() && radius.is_finite() && frustum.planes.iter().all(|p| p.normal.dot(centre) + p.d >= -pad)
 }
 
 /// True when the sphere (`centre`, `radius`, world space) lies behind the pyramid's depths

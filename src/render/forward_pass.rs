@@ -385,7 +385,9 @@ impl RenderNode for ForwardPass {
         let mut calls = 0;
         match ctx.occlusion.phases() {
             Some(phases) => {
-                for phase in &phases {
+                // NOTE: without the occlusion test the late list stays empty.
+                let count = if ctx.occlusion.occluding() { 2 } else { 1 };
+                for phase in &phases[..count] {
                     pass.set_bind_group(1, phase.instances, &[]);
                     calls += draw(&mut pass, Some(phase));
                 }

@@ -1,22 +1,27 @@
-//! Two-phase occlusion culling of the camera view on the GPU (`shaders/occlusion_cull.wgsl`,
-//! `occlusion_pyramid.wgsl`; the math is `math::occlusion`). The CPU culls the view's
-//! instances to the frustum into batches; then each frame the early phase lists the entries
-//! whose instance was seen last frame and the prepass draws them; a depth pyramid is built
-//! from that depth; the late phase tests every entry's bounding sphere against it, keeps the
-//! answer as the instance's "seen" flag for the next frame, and lists the instances seen now
-//! but not before, which the prepass then draws too. The lighting pass draws both lists. Each
-//! list has a batch's instances at the batch's range of the view's list, counted by the
-//! batch's indirect draw arguments, so the passes draw with one multi-draw per run of batches
-//! as before. Runs for views of at least [`MIN_INSTANCES`] instances where the prepass runs
-//! with one sample per pixel and the device draws indirect with a first instance
+//! GPU culling of the camera view (`shaders/occlusion_cull.wgsl`, `occlusion_pyramid.wgsl`;
+//! the math is `math::occlusion`): instance by instance against the frustum, and with
+//! occlusion culling in two phases. The view comes as runs of instances ([`InstanceRun`]):
+//! those the ECS listed by culling chunk ([`ViewDrawGroups::runs`]), or runs over the list the
+//! CPU culled. At the frame's start the early phase lists every run member in the frustum
+//! (with occlusion culling, only those seen last frame) and the prepass draws them; with
+//! occlusion culling a depth pyramid is then built from that depth and the late phase tests
+//! every member's bounding sphere against the frustum and the pyramid, keeps the answer as the
+//! instance's "seen" flag for the next frame, and lists the instances seen now but not
+//! before, which the prepass then draws too. The lighting pass draws both lists. Each list has
+//! a batch's instances at the batch's range of the view's list, counted by the batch's
+//! indirect draw arguments, so the passes draw with one multi-draw per run of batches as
+//! before. Occlusion culling runs for views of at least [`MIN_INSTANCES`] entries where the
+//! prepass runs with one sample per pixel and the device draws indirect with a first
+//! instance ([`OcclusionGpu::occluding`]); the frustum test alone whenever the ECS listed runs
 //! ([`OcclusionGpu::active`]).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-use crate::ecs::draw_groups::ViewDrawGroups;
+use crate::ecs::camera_runs::GPU_CAMERA_MIN_INSTANCES;
+use crate::ecs::draw_groups::{InstanceRun, ViewDrawGroups};
 use crate::ecs::instances::RenderInstances;
-use crate::math::frustum::CameraView;
+use crate::math::frustum::{CameraView, Frustum};
 use crate::math::occlusion::level_count;
 use crate::render::context::GpuContext;
 use crate::render::draw_args::IndexedArgs;
@@ -37,11 +42,15 @@ use crate::shader::ShaderLibrary;
 struct CullGpu {
     clip_from_view: Mat4,
     view_from_world: Mat4,
+    planes: [Vec4; 6],
     size: [f32; 2],
     levels: u32,
-    entries: u32,
+    runs: u32,
     near: f32,
-    _pad: [u32; 3],
+    occluding: u32,
+    /// Workgroups per row of the dispatch (runs past it continue on the next row).
+    row: u32,
+    _pad: u32,
 }
 
 /// Timing names of the culling's passes.
@@ -51,24 +60,30 @@ pub const PYRAMID_NAME: &str = "occlusion pyramid";
 /// The late test.
 pub const LATE_NAME: &str = "occlusion late";
 
-/// The fewest instances in the camera's frustum a frame culls by occlusion: below it the
-/// pyramid and the two phases (about 0.13 ms at 1920×1080 on an H200) outweigh what the few
-/// hidden instances could save (the 2 065-instance walkers bench took 2.54 ms without and
-/// 2.72 ms with; the million's 783 770 went from 54.5 to 18.4 ms).
-pub const MIN_INSTANCES: usize = 16_384;
+/// The fewest entries in the camera's list a frame culls by occlusion: below it the pyramid
+/// and the two phases (about 0.13 ms at 1920×1080 on an H200) outweigh what the few hidden
+/// instances could save (the 2 065-instance walkers bench took 2.54 ms without and 2.72 ms
+/// with; the million's 783 770 went from 54.5 to 18.4 ms). The ECS lists runs for the GPU
+/// from the same count.
+pub const MIN_INSTANCES: usize = GPU_CAMERA_MIN_INSTANCES;
 
 /// Whether the options and the view ask for occlusion culling this frame: it is on, with
-/// multi-draw, one sample per pixel, and at least [`MIN_INSTANCES`] in the camera's list.
+/// multi-draw, one sample per pixel, and at least [`MIN_INSTANCES`] entries in the camera's
+/// list.
 pub fn occlusion_wanted(inputs: &FrameInputs<'_>) -> bool {
     let options = &inputs.options;
     options.occlusion_culling
         && options.multi_draw
         && options.msaa == Msaa::Off
-        && inputs.view_groups.indices.len() >= MIN_INSTANCES
+        && inputs.view_groups.entries() >= MIN_INSTANCES
 }
 
-/// Invocations per culling workgroup (the shader's `workgroup_size`).
+/// Invocations per culling workgroup (the shader's `workgroup_size`): one run each, a run
+/// holding at most one culling chunk.
 const CULL_WORKGROUP: u32 = 64;
+
+/// Most workgroups in one row of a dispatch (the device limit every adapter has).
+const DISPATCH_ROW: u32 = 65_535;
 
 /// Bind groups over this frame's buffers: the two phases' culling and drawing groups.
 struct Groups {
@@ -89,14 +104,14 @@ pub struct OcclusionGpu {
     /// The buffers `groups` were made over (instances, view list), to notice replacements.
     bound: Option<(wgpu::Buffer, wgpu::Buffer)>,
     template: Vec<IndexedArgs>,
-    entry_batch: Vec<u32>,
+    runs: Vec<InstanceRun>,
     /// Bounds and seen flags as uploaded (kept to reuse their allocations).
     bounds: Vec<Vec4>,
     ones: Vec<u32>,
     instance_generation: Option<u64>,
     view_generation: Option<u64>,
-    entries: u32,
     active: bool,
+    occluding: bool,
 }
 
 /// The culling's buffers.
@@ -104,7 +119,7 @@ struct Buffers {
     uniform: wgpu::Buffer,
     bounds: GrowBuffer,
     seen: GrowBuffer,
-    entry_batch: GrowBuffer,
+    runs: GrowBuffer,
     early_list: GrowBuffer,
     late_list: GrowBuffer,
     early_args: GrowBuffer,
@@ -114,6 +129,14 @@ struct Buffers {
 impl Buffers {
     fn new(device: &wgpu::Device) -> Buffers {
         let storage = |label| GrowBuffer::new(device, label, 256);
+        let listed = |label| {
+            GrowBuffer::with_usage(
+                device,
+                label,
+                256,
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            )
+        };
         let args = |label| {
             GrowBuffer::with_usage(
                 device,
@@ -136,9 +159,9 @@ impl Buffers {
                 256,
                 wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             ),
-            entry_batch: storage("occlusion entry batches"),
-            early_list: storage("occlusion early list"),
-            late_list: storage("occlusion late list"),
+            runs: storage("culling runs"),
+            early_list: listed("occlusion early list"),
+            late_list: listed("occlusion late list"),
             early_args: args("occlusion early arguments"),
             late_args: args("occlusion late arguments"),
         }
@@ -171,10 +194,15 @@ fn batch_args(scene: &SceneGpu, views: &ViewDrawGroups, out: &mut Vec<IndexedArg
 }
 
 impl OcclusionGpu {
-    /// Whether this frame culls the camera view by occlusion (set by
-    /// [`prepare`](Self::prepare)).
+    /// Whether this frame culls the camera view on the GPU (set by
+    /// [`prepare`](Self::prepare)): its draws are the two phases' lists.
     pub fn active(&self) -> bool {
         self.active
+    }
+
+    /// Whether this frame's GPU culling tests occlusion too (a pyramid and a late phase).
+    pub fn occluding(&self) -> bool {
+        self.active && self.occluding
     }
 
     /// The two phases' draws (None while inactive).
@@ -192,11 +220,11 @@ impl OcclusionGpu {
         ])
     }
 
-    /// Prepares the frame's culling when `wanted` (the prepass runs with one sample, the
-    /// options ask for it, the device draws indirect with a first instance): uploads the
-    /// instances' bounds (and marks every one seen) when the instance list changed, the
-    /// entries' batches when the view's list did, resets both phases' arguments, and sizes the
-    /// pyramid to `size`.
+    /// Prepares the frame's culling: with occlusion when `wanted` (the prepass runs with one
+    /// sample, the options ask for it, the device draws indirect with a first instance), else
+    /// against the frustum alone when the ECS listed the view as runs. Uploads the instances'
+    /// bounds (and marks every one seen) when the instance list changed, the runs when the
+    /// view's list did, resets both phases' arguments, and sizes the pyramid to `size`.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -208,7 +236,8 @@ impl OcclusionGpu {
         wanted: bool,
     ) -> Result<(), LimitError> {
         self.active = false;
-        let Some(camera) = camera.filter(|_| wanted && !views.indices.is_empty()) else {
+        let listed = !views.runs.is_empty();
+        let Some(camera) = camera.filter(|_| (wanted || listed) && views.entries() > 0) else {
             return Ok(());
         };
         let device = &gpu.device;
@@ -243,20 +272,10 @@ impl OcclusionGpu {
             self.instance_generation = Some(instances.generation);
         }
         if self.view_generation != Some(views.generation) {
-            self.entry_batch.clear();
-            self.entry_batch.resize(views.indices.len(), 0);
-            let group = &views.group;
-            for (b, batch) in (0u32..).zip(group.opaque.iter().chain(&group.masked)) {
-                let range = batch.first as usize..(batch.first + batch.count) as usize;
-                if let Some(entries) = self.entry_batch.get_mut(range) {
-                    entries.fill(b);
-                }
-            }
-            replaced |= buffers
-                .entry_batch
-                .write(gpu, bytemuck::cast_slice(&self.entry_batch))?;
+            list_runs(views, &mut self.runs);
+            replaced |= buffers.runs.write(gpu, bytemuck::cast_slice(&self.runs))?;
             // NOTE: the lists need room, not contents: the culling writes what the draws read.
-            let bytes = views.indices.len() as u64 * 4;
+            let bytes = views.entries() as u64 * 4;
             replaced |= buffers.early_list.reserve(gpu, bytes)?;
             replaced |= buffers.late_list.reserve(gpu, bytes)?;
             self.view_generation = Some(views.generation);
@@ -264,16 +283,20 @@ impl OcclusionGpu {
         batch_args(scene, views, &mut self.template);
         replaced |= buffers.early_args.write(gpu, bytemuck::cast_slice(&self.template))?;
         replaced |= buffers.late_args.write(gpu, bytemuck::cast_slice(&self.template))?;
-        self.entries = views.indices.len() as u32;
+        self.occluding = wanted;
         let levels = level_count(size.0, size.1);
+        let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
         let uniforms = CullGpu {
             clip_from_view: camera.clip_from_view(),
             view_from_world: camera.view_from_world(),
+            planes: frustum.planes.map(|p| p.normal.extend(p.d)),
             size: [size.0 as f32, size.1 as f32],
             levels,
-            entries: self.entries,
+            runs: self.runs.len() as u32,
             near: camera.near,
-            _pad: [0; 3],
+            occluding: u32::from(wanted),
+            row: DISPATCH_ROW,
+            _pad: 0,
         };
         gpu.queue
             .write_buffer(&buffers.uniform, 0, bytemuck::bytes_of(&uniforms));
@@ -299,7 +322,7 @@ impl OcclusionGpu {
                         buffer(0, &buffers.uniform),
                         buffer(1, &buffers.bounds.buffer),
                         buffer(2, view_list),
-                        buffer(3, &buffers.entry_batch.buffer),
+                        buffer(3, &buffers.runs.buffer),
                         buffer(4, &buffers.seen.buffer),
                         buffer(5, &args.buffer),
                         buffer(6, &list.buffer),
@@ -349,6 +372,28 @@ impl OcclusionGpu {
         Some((count(&buffers.early_args)?, count(&buffers.late_args)?))
     }
 
+    /// The instances each batch's early list held after the last frame, batch by batch
+    /// (opaque, then masked), in list order (waits for the GPU; for tests). None while
+    /// inactive.
+    pub fn read_early_lists(&self, gpu: &GpuContext) -> Option<Vec<Vec<u32>>> {
+        let buffers = self.buffers.as_ref().filter(|_| self.active)?;
+        let bytes = (self.template.len() * size_of::<IndexedArgs>()) as u64;
+        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.early_args.buffer, bytes)?;
+        let args: Vec<IndexedArgs> = bytemuck::cast_slice(&data).to_vec();
+        let end = args
+            .iter()
+            .map(|a| a.first_instance + a.instance_count)
+            .max()
+            .unwrap_or(0);
+        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.early_list.buffer, u64::from(end) * 4)?;
+        let list: &[u32] = bytemuck::cast_slice(&data);
+        let lists = args.iter().map(|a| {
+            let range = a.first_instance as usize..(a.first_instance + a.instance_count) as usize;
+            list.get(range).map_or_else(Vec::new, <[u32]>::to_vec)
+        });
+        Some(lists.collect())
+    }
+
     /// The instances' seen flags after the last frame (1: seen), the first `n` (waits for
     /// the GPU; for tests).
     pub fn read_seen(&self, gpu: &GpuContext, n: usize) -> Vec<u32> {
@@ -373,7 +418,8 @@ impl OcclusionGpu {
         timer: &mut GpuTimer,
         depth: &wgpu::TextureView,
     ) {
-        let (Some(kernels), Some(pyramid), true) = (&self.kernels, &mut self.pyramid, self.active) else {
+        let occluding = self.occluding();
+        let (Some(kernels), Some(pyramid), true) = (&self.kernels, &mut self.pyramid, occluding) else {
             return;
         };
         pyramid.record(device, kernels, depth, encoder, timer.compute_pass(PYRAMID_NAME));
@@ -391,7 +437,32 @@ impl OcclusionGpu {
         });
         pass.set_pipeline(if late { &kernels.late } else { &kernels.early });
         pass.set_bind_group(0, if late { &groups.late_cull } else { &groups.early_cull }, &[]);
-        pass.dispatch_workgroups(self.entries.div_ceil(CULL_WORKGROUP), 1, 1);
+        let runs = self.runs.len() as u32;
+        pass.dispatch_workgroups(runs.min(DISPATCH_ROW), runs.div_ceil(DISPATCH_ROW), 1);
+    }
+}
+
+/// The runs the culling goes through: the view's own (listed by culling chunk), or runs of at
+/// most [`CULL_WORKGROUP`] entries over the list the CPU culled, batch by batch.
+fn list_runs(views: &ViewDrawGroups, out: &mut Vec<InstanceRun>) {
+    out.clear();
+    if !views.runs.is_empty() {
+        out.extend_from_slice(&views.runs);
+        return;
+    }
+    let group = &views.group;
+    for (b, batch) in (0u32..).zip(group.opaque.iter().chain(&group.masked)) {
+        let end = batch.first + batch.count;
+        out.extend(
+            (batch.first..end)
+                .step_by(CULL_WORKGROUP as usize)
+                .map(|first| InstanceRun {
+                    first,
+                    count: (end - first).min(CULL_WORKGROUP),
+                    batch: b,
+                    listed: 1,
+                }),
+        );
     }
 }
 

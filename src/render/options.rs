@@ -123,6 +123,13 @@ pub struct RenderOptions {
     /// runs (one sample per pixel, [`multi_draw`](Self::multi_draw) on, a device that draws
     /// indirect with a first instance) it turns the automatic prepass on.
     pub occlusion_culling: bool,
+    /// Cull the camera view's instances one by one on the GPU (default on): the CPU then only
+    /// tests culling chunks against the frustum and lists their runs
+    /// ([`crate::ecs::camera_runs`]), for views whose chunks hold at least
+    /// [`GPU_CAMERA_MIN_INSTANCES`](crate::ecs::camera_runs::GPU_CAMERA_MIN_INSTANCES); needs
+    /// [`multi_draw`](Self::multi_draw) and a device that draws indirect with a first
+    /// instance. Off, the CPU culls every instance.
+    pub gpu_culling: bool,
 }
 
 impl Default for RenderOptions {
@@ -135,6 +142,7 @@ impl Default for RenderOptions {
             msaa: Msaa::Off,
             multi_draw: true,
             occlusion_culling: true,
+            gpu_culling: true,
         }
     }
 }

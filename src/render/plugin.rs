@@ -31,8 +31,8 @@ impl Plugin for RenderPlugin {
 }
 
 /// Hands culling what the renderer can do and was asked ([`ShadowCulling::single_pass`],
-/// [`ShadowCulling::multiview_views`], [`ShadowCulling::cached`]) before this frame's lists
-/// are made.
+/// [`ShadowCulling::multiview_views`], [`ShadowCulling::cached`],
+/// [`ShadowCulling::gpu_camera`]) before this frame's lists are made.
 pub fn sync_culling(
     options: Option<Res<RenderOptions>>,
     renderer: Option<Res<Renderer>>,
@@ -44,10 +44,20 @@ pub fn sync_culling(
     let asked = options.as_ref().is_some_and(|o| o.single_pass_cascades);
     let cached = options.as_ref().is_none_or(|o| o.shadow_cache);
     let views = renderer.gpu.multiview_views;
-    if (culling.single_pass, culling.multiview_views, culling.cached) != (asked, views, cached) {
+    let options = options.as_deref().copied().unwrap_or_default();
+    let gpu_camera = options.gpu_culling && options.multi_draw && renderer.gpu.indirect_first_instance;
+    let now = (asked, views, cached, gpu_camera);
+    if (
+        culling.single_pass,
+        culling.multiview_views,
+        culling.cached,
+        culling.gpu_camera,
+    ) != now
+    {
         culling.single_pass = asked;
         culling.multiview_views = views;
         culling.cached = cached;
+        culling.gpu_camera = gpu_camera;
     }
 }
 

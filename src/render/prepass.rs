@@ -206,19 +206,21 @@ impl RenderNode for DepthPrepass {
         }
     }
 
-    /// Draws the view's depth (and normals); with occlusion culling, the early phase's list,
-    /// then the pyramid and the late test, then the late list over it.
+    /// Draws the view's depth (and normals); with GPU culling, the early phase's list (culled
+    /// at the frame's start), and with occlusion culling then the pyramid and the late test,
+    /// then the late list over it.
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         let Some(depth) = self.depth else { return };
         if !ctx.occlusion.active() {
             self.draw(ctx, resources, encoder, None);
             return;
         }
-        ctx.occlusion.record_early(encoder, ctx.timer);
         self.draw(ctx, resources, encoder, Some(0));
-        ctx.occlusion
-            .record_late(&ctx.gpu.device, encoder, ctx.timer, resources.view(depth));
-        self.draw(ctx, resources, encoder, Some(1));
+        if ctx.occlusion.occluding() {
+            ctx.occlusion
+                .record_late(&ctx.gpu.device, encoder, ctx.timer, resources.view(depth));
+            self.draw(ctx, resources, encoder, Some(1));
+        }
     }
 }
 

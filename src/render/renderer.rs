@@ -377,6 +377,8 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.scroll_resync.clear();
         let skinned_meshes_posed = self.scene.skinning.record(&mut encoder, &mut self.timer);
+        // NOTE: the early phase needs no depth: it runs first, prepass or not.
+        self.occlusion.record_early(&mut encoder, &mut self.timer);
         let multi_draw = input.options.multi_draw && self.gpu.indirect_first_instance;
         self.draw_args
             .begin(&self.gpu.device, input.expected_draws(), multi_draw);

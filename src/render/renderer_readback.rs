@@ -21,6 +21,13 @@ impl Renderer {
         self.occlusion.read_drawn(&self.gpu)
     }
 
+    /// The instances each batch of the camera view drew in the last frame's early phase of
+    /// its GPU culling, batch by batch (opaque, then masked; None when it did not run; waits
+    /// for the GPU).
+    pub fn read_gpu_culled(&self) -> Option<Vec<Vec<u32>>> {
+        self.occlusion.read_early_lists(&self.gpu)
+    }
+
     /// The occlusion culling's seen flag of each of the first `n` instances after the last
     /// frame (1: seen; empty before it ran; waits for the GPU).
     pub fn read_occlusion_seen(&self, n: usize) -> Vec<u32> {
