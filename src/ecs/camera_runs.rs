@@ -1,11 +1,9 @@
 //! The camera view culled by culling chunk only, for a renderer that culls instance by
 //! instance on the GPU ([`ShadowCulling::gpu_camera`](crate::ecs::receiver_culling::ShadowCulling::gpu_camera)):
 //! every chunk whose sphere meets the frustum gives its runs (instances of one draw key) to
-//! [`ViewDrawGroups::runs`], ordered by draw key and then front to back by chunk, each drawn
-//! with the coarsest mesh level the chunk's nearest depth allows. The CPU touches no instance:
-//! a frame costs one sphere test per chunk and one entry per run.
-
-use glam::Vec3;
+//! [`ViewDrawGroups::runs`], each drawn with the coarsest mesh level the chunk's nearest depth
+//! allows, ordered by draw key and level. The CPU touches no instance: a frame costs one
+//! sphere test per chunk and one entry per run.
 
 use crate::ecs::draw_groups::{DrawKey, InstanceRun, ViewDrawGroups, push_room};
 use crate::ecs::instances::RenderInstances;
@@ -22,19 +20,20 @@ pub const GPU_CAMERA_MIN_INSTANCES: usize = 16_384;
 #[derive(Clone, Copy, Debug)]
 pub struct ChunkRun {
     key: DrawKey,
-    distance: f32,
-    chunk: u32,
+    /// The run's place: its draw key's rank among the keys listed, then its LOD mesh.
+    order: u64,
     first: u32,
     end: u32,
 }
 
 /// Lists in `groups` (emptied first) the runs of the chunks of `instances` that meet
-/// `frustum`, seen from `eye`, with their batches; returns false, listing nothing, when they
-/// hold fewer than [`GPU_CAMERA_MIN_INSTANCES`] instances. A chunk with a member that is not
-/// finite is listed (the GPU tests its members).
+/// `frustum`, each with the mesh level `view_lod` gives its chunk, ordered by draw key and then
+/// by level (so runs of one level share a batch: the GPU appends a batch's instances in no
+/// particular order, so a front-to-back order inside it would be lost anyway); returns false,
+/// listing nothing, when they hold fewer than [`GPU_CAMERA_MIN_INSTANCES`] instances. A chunk
+/// with a member that is not finite is listed (the GPU tests its members).
 pub fn cull_chunk_runs(
     frustum: &Frustum,
-    eye: Vec3,
     view_lod: Option<&ViewLod>,
     instances: &RenderInstances,
     groups: &mut ViewDrawGroups,
@@ -43,18 +42,25 @@ pub fn cull_chunk_runs(
     runs.clear();
     groups.runs.clear();
     let chunks = &instances.chunks;
-    let mut candidates = 0;
+    let (mut candidates, mut rank, mut last) = (0, 0u64, None);
     for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
         if radius.is_finite() && !frustum.intersects_sphere(center, radius) {
             continue;
         }
-        let distance = center.distance_squared(eye);
+        // NOTE: instances are sorted by draw key, so runs come key after key.
         for (first, end) in instances.runs_of_chunk(k) {
+            let key = instances.keys[first as usize];
+            if last != Some(key) {
+                rank += u64::from(last.is_some());
+                last = Some(key);
+            }
+            let mesh = match view_lod {
+                Some(v) => v.mesh_for_chunk(key.mesh, &chunks.boxes[k], chunks.max_radii[k]),
+                None => key.mesh,
+            };
             runs.push(ChunkRun {
-                key: instances.keys[first as usize],
-                // NOTE: a non-finite distance (a chunk with a non-finite member) sorts last.
-                distance: if distance.is_nan() { f32::INFINITY } else { distance },
-                chunk: k as u32,
+                key: DrawKey { mesh, ..key },
+                order: rank << 32 | u64::from(mesh.0),
                 first,
                 end,
             });
@@ -65,16 +71,10 @@ pub fn cull_chunk_runs(
         runs.clear();
         return false;
     }
-    runs.sort_by(|a, b| a.key.cmp(&b.key).then(a.distance.total_cmp(&b.distance)));
+    runs.sort_by_key(|r| r.order);
     let mut len = 0;
     for run in runs.iter() {
-        let k = run.chunk as usize;
-        let mesh = match view_lod {
-            Some(v) => v.mesh_for_chunk(run.key.mesh, chunks.centers[k], chunks.radii[k], chunks.max_radii[k]),
-            None => run.key.mesh,
-        };
-        let key = DrawKey { mesh, ..run.key };
-        let (masked, batch) = push_room(&mut groups.group, &mut len, key, run.end - run.first);
+        let (masked, batch) = push_room(&mut groups.group, &mut len, run.key, run.end - run.first);
         groups.runs.push(InstanceRun {
             first: run.first,
             count: run.end - run.first,

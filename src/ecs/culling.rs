@@ -87,7 +87,7 @@ pub fn cull_view(
         let view_lod = lods
             .as_deref()
             .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
-        if gpu && cull_chunk_runs(&frustum, eye, view_lod.as_ref(), &instances, groups, chunk_runs) {
+        if gpu && cull_chunk_runs(&frustum, view_lod.as_ref(), &instances, groups, chunk_runs) {
             stats.visible_instances = groups.entries() as u32;
             stats.view_culling_cpu = start.elapsed();
             return;
@@ -121,8 +121,8 @@ pub fn cull_view(
 fn chunk_mesh(lod: &ViewLod, mesh: MeshHandle, instances: &RenderInstances, members: &[u32]) -> MeshHandle {
     let chunks = &instances.chunks;
     let k = members.first().map_or(0, |&i| i as usize / CHUNK);
-    match (chunks.centers.get(k), chunks.radii.get(k), chunks.max_radii.get(k)) {
-        (Some(&center), Some(&reach), Some(&radius)) => lod.mesh_for_chunk(mesh, center, reach, radius),
+    match (chunks.boxes.get(k), chunks.max_radii.get(k)) {
+        (Some(bounds), Some(&radius)) => lod.mesh_for_chunk(mesh, bounds, radius),
         _ => mesh,
     }
 }

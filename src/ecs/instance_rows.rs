@@ -1,7 +1,6 @@
-//! One mesh entity as a row of [`RenderInstances`], and the in-place update of the rows whose
-//! entities moved (or were posed) while keeping their mesh, material and shadow flags: their
-//! slots, sphere chunks and bounds are rewritten and listed in [`RenderInstances::updated`], so
-//! the GPU copy is patched instead of uploaded whole.
+//! One mesh entity as a row of the instance list
+//! ([`RenderInstances`](crate::ecs::instances::RenderInstances)): what the instance sync reads
+//! of it, its draw key, placement, bounds and GPU data.
 
 use bevy_ecs::entity::Entity;
 use bevy_transform::components::GlobalTransform;
@@ -11,7 +10,6 @@ use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::CasterState;
 use crate::ecs::components::{Mesh3d, MeshMaterial3d};
 use crate::ecs::draw_groups::DrawKey;
-use crate::ecs::instances::{RECEIVER_GRID, RenderInstances};
 use crate::ecs::placement::is_valid_placement;
 use crate::ecs::skinning::SkinnedMesh;
 use crate::math::aabb::Aabb;
@@ -132,70 +130,4 @@ impl Row {
 /// The normal matrix of a placement: the inverse transpose of its linear part.
 fn normal_from_local(world_from_local: &Mat4) -> Mat4 {
     Mat4::from_mat3(Mat3::from_mat4(*world_from_local).inverse().transpose())
-}
-
-/// True when `row` can replace instance `slot` in place: same draw key and shadow flags.
-pub(crate) fn fits_in_place(out: &RenderInstances, slot: u32, row: &Row) -> bool {
-    let i = slot as usize;
-    let receives = out.gpu[i].flags & INSTANCE_FLAG_RECEIVE_SHADOWS != 0;
-    out.keys[i] == row.key && receives == row.receive && (out.caster_index[i] != NOT_A_CASTER) == row.cast
-}
-
-/// Rewrites the instances of `rows` (`(slot, row)` pairs sorted by slot, each accepted by
-/// [`fits_in_place`]) and refits their chunks; the bounds of all casters and receivers only
-/// grow. Bumps the generation, keeps the layout, lists the slots in `updated` and returns the
-/// casters' new states in `casters`.
-pub(crate) fn update_in_place(
-    out: &mut RenderInstances,
-    rows: &[(u32, Row)],
-    materials: &Materials,
-    casters: &mut Vec<(Entity, CasterState)>,
-) {
-    out.updated.clear();
-    casters.clear();
-    let mut receivers = Aabb::EMPTY;
-    for (slot, row) in rows {
-        let i = *slot as usize;
-        out.gpu[i] = row.gpu(materials);
-        let (center, radius) = row.bounds.bounding_sphere();
-        out.centers[i] = center;
-        out.radii[i] = radius;
-        if row.receive {
-            receivers = receivers.union(row.bounds);
-        }
-        let c = out.caster_index[i];
-        if c != NOT_A_CASTER {
-            let c = c as usize;
-            out.caster_centers[c] = center;
-            out.caster_radii[c] = radius;
-            out.caster_boxes[c] = row.bounds;
-            let m = &mut out.mesh_caster_radius[row.key.mesh.0 as usize];
-            *m = m.max(radius);
-            out.caster_bounds = out.caster_bounds.union(row.bounds);
-            casters.push((row.entity, row.caster_state()));
-        }
-        out.updated.push(*slot);
-    }
-    // NOTE: one refit per chunk touched (rows are sorted by slot, so equal chunks are adjacent).
-    let mut last = usize::MAX;
-    for &(slot, _) in rows {
-        let chunk = slot as usize / crate::math::chunks::CHUNK;
-        if chunk != last {
-            out.chunks.refit(slot as usize, &out.centers, &out.radii);
-            last = chunk;
-        }
-    }
-    let mut last = usize::MAX;
-    for &(slot, _) in rows {
-        let c = out.caster_index[slot as usize];
-        if c != NOT_A_CASTER && c as usize / crate::math::chunks::CHUNK != last {
-            out.caster_chunks
-                .refit(c as usize, &out.caster_centers, &out.caster_radii);
-            last = c as usize / crate::math::chunks::CHUNK;
-        }
-    }
-    if !receivers.is_empty() && out.receiver_bounds.union(receivers) != out.receiver_bounds {
-        out.receiver_bounds = out.receiver_bounds.union(receivers).snapped_out(RECEIVER_GRID);
-    }
-    out.generation += 1;
 }

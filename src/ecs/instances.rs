@@ -1,29 +1,17 @@
-//! The flat, sorted list of mesh instances the renderer and the culling work on. It is
-//! rebuilt when an instance is added or removed or changes mesh, material or shadow flags;
-//! instances that only moved (or were posed) are rewritten in place
-//! ([`crate::ecs::instance_rows`]). The change scans skip [`Static`] entities by archetype, so
-//! a still frame of static casters costs nothing here.
+//! The flat, sorted list of mesh instances the renderer and the culling work on, and its
+//! rebuild. The instance sync ([`crate::ecs::instance_sync`]) rebuilds it when an instance is
+//! added or removed or changes mesh, material or shadow flags, and rewrites in place the
+//! instances that only moved (or were posed).
 
-use bevy_ecs::change_detection::DetectChanges;
 use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::resource::Resource;
-use bevy_ecs::system::{Local, Query, Res, ResMut};
 use glam::Vec3;
 use log::warn;
 
-use std::collections::HashMap;
-
 use crate::ecs::assets::{Materials, Meshes};
-use crate::ecs::caster_changes::{CasterChanges, CasterState};
+use crate::ecs::caster_changes::CasterState;
 pub use crate::ecs::draw_groups::DrawKey;
-use crate::ecs::instance_changes::ChangedInstances;
-use crate::ecs::instance_rows::{
-    InstanceQueryData, InstanceQueryItem, NOT_A_CASTER, Row, Skip, fits_in_place, update_in_place,
-};
-#[cfg(doc)]
-use crate::ecs::mobility::Static;
-use crate::ecs::origin::RenderOrigin;
-use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::instance_rows::{InstanceQueryItem, NOT_A_CASTER, Row, Skip};
 use crate::math::aabb::Aabb;
 use crate::math::chunks::{CHUNK, SphereChunks};
 use crate::shader::instance::InstanceGpu;
@@ -122,105 +110,8 @@ impl RenderInstances {
     }
 }
 
-/// Reused storage of [`sync_instances`].
-#[derive(Default)]
-pub struct SyncScratch {
-    dirty: Vec<Entity>,
-    rows: Vec<(u32, Row)>,
-    casters: Vec<(Entity, CasterState)>,
-}
-
-/// Mirrors mesh entities into [`RenderInstances`]: rebuilds it when an instance appeared, went
-/// or changed its draw key or shadow flags (or any mesh or material asset, the shadow LODs or
-/// the render origin changed), and rewrites in place the instances that only moved or were
-/// posed.
-#[allow(clippy::too_many_arguments)]
-pub fn sync_instances(
-    mut instances: ResMut<RenderInstances>,
-    all: Query<InstanceQueryData>,
-    mut changed: ChangedInstances,
-    meshes: Res<Meshes>,
-    materials: Res<Materials>,
-    lods: Option<Res<ShadowLods>>,
-    origin: Res<RenderOrigin>,
-    mut changes: ResMut<CasterChanges>,
-    mut casters_before: Local<HashMap<Entity, CasterState>>,
-    mut scratch: Local<SyncScratch>,
-) {
-    let scratch = &mut *scratch;
-    let removed = changed.collect(&mut scratch.dirty);
-    let everything = instances.generation == 0
-        || meshes.is_changed()
-        || materials.is_changed()
-        || lods.is_some_and(|l| l.is_changed())
-        || instances.origin != origin.0;
-    if !everything && removed == 0 {
-        if scratch.dirty.is_empty() {
-            return;
-        }
-        if in_place_rows(
-            &instances,
-            &all,
-            &scratch.dirty,
-            &meshes,
-            &materials,
-            origin.0,
-            &mut scratch.rows,
-        ) {
-            if scratch.rows.is_empty() {
-                return;
-            }
-            update_in_place(&mut instances, &scratch.rows, &materials, &mut scratch.casters);
-            changed.stats.updates += 1;
-            changes.record_updates(instances.generation, &mut casters_before, scratch.casters.drain(..));
-            return;
-        }
-    }
-    let casters = rebuild(&mut instances, all.iter(), &meshes, &materials, origin.0);
-    changed.stats.rebuilds += 1;
-    changes.record(
-        instances.generation,
-        everything,
-        &mut casters_before,
-        casters.into_iter(),
-    );
-}
-
-/// The rows of the `dirty` entities, sorted by slot, when every one can be rewritten in place
-/// (it is drawn, still drawable, and kept its draw key and shadow flags); false when the list
-/// must be rebuilt. Entities that are not mesh entities and were not drawn are ignored.
-fn in_place_rows(
-    instances: &RenderInstances,
-    all: &Query<InstanceQueryData>,
-    dirty: &[Entity],
-    meshes: &Meshes,
-    materials: &Materials,
-    origin: Vec3,
-    rows: &mut Vec<(u32, Row)>,
-) -> bool {
-    rows.clear();
-    for &entity in dirty {
-        let item = all.get(entity).ok();
-        let Some(slot) = instances.slot(entity) else {
-            if item.is_some() {
-                return false;
-            }
-            continue;
-        };
-        let Some(Ok(row)) = item.map(|item| Row::of(item, meshes, materials, origin)) else {
-            return false;
-        };
-        if !fits_in_place(instances, slot, &row) {
-            return false;
-        }
-        rows.push((slot, row));
-    }
-    rows.sort_unstable_by_key(|r| r.0);
-    true
-}
-
 /// Rebuilds the instance list from scratch; returns the state of every caster.
-fn rebuild<'a>(
+pub(crate) fn rebuild<'a>(
     out: &mut RenderInstances,
     items: impl Iterator<Item = InstanceQueryItem<'a>>,
     meshes: &Meshes,

@@ -12,6 +12,7 @@ pub mod footprints;
 pub mod frame_lights;
 pub mod instance_changes;
 pub mod instance_rows;
+pub mod instance_sync;
 pub mod instances;
 pub mod layout_views;
 pub mod light_checks;

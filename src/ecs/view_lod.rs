@@ -9,6 +9,7 @@ use glam::Vec3;
 
 use crate::ecs::assets::MeshHandle;
 use crate::ecs::shadow_lods::{MAX_ERROR_TEXELS, ShadowLods};
+use crate::math::aabb::Aabb;
 
 /// How coarse a mesh the camera view may draw.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
@@ -56,16 +57,17 @@ impl<'a> ViewLod<'a> {
         })
     }
 
-    /// The mesh to draw instances of `mesh` with that lie in a sphere (`center`, `reach`)
-    /// and have bounding radii up to `radius` (a culling chunk's: its sphere and its largest
-    /// member): the coarsest level whose error, for that radius at the sphere's nearest view
-    /// depth, stays within the allowed pixels; `mesh` itself when the sphere reaches the
-    /// camera's plane. Decided per chunk, so the CPU's culling and the GPU's pick alike.
-    pub fn mesh_for_chunk(&self, mesh: MeshHandle, center: Vec3, reach: f32, radius: f32) -> MeshHandle {
-        if self.lods.get(mesh).is_empty() {
+    /// The mesh to draw instances of `mesh` with that lie in `bounds` and have bounding radii
+    /// up to `radius` (a culling chunk's: its box and its largest member): the coarsest level
+    /// whose error, for that radius at the box's nearest view depth, stays within the allowed
+    /// pixels; `mesh` itself when the box reaches the camera's plane or is empty. Decided per
+    /// chunk, so the CPU's culling and the GPU's pick alike.
+    pub fn mesh_for_chunk(&self, mesh: MeshHandle, bounds: &Aabb, radius: f32) -> MeshHandle {
+        if self.lods.get(mesh).is_empty() || bounds.is_empty() {
             return mesh;
         }
-        self.mesh_at(mesh, radius, (center - self.eye).dot(self.forward) - reach)
+        let depth = (bounds.center() - self.eye).dot(self.forward) - bounds.half_extents().dot(self.forward.abs());
+        self.mesh_at(mesh, radius, depth)
     }
 
     /// The coarsest level of `mesh` for instances of bounding radius up to `radius` whose
@@ -98,35 +100,31 @@ mod tests {
         let fov = std::f32::consts::FRAC_PI_2;
         let view = ViewLod::new(&lods, CameraLod::default(), (Vec3::ZERO, Vec3::NEG_Z), fov, 1000)
             .expect("levels and an error budget");
-        let pick = |depth: f32, reach: f32| {
-            view.mesh_for_chunk(MeshHandle(0), Vec3::new(0.0, 0.0, -depth), reach, 1.0)
-                .0
+        // A box of half-size `reach` around the point at `depth` straight ahead.
+        let chunk = |depth: f32, reach: f32| {
+            Aabb::new(
+                Vec3::new(-reach, -reach, -depth - reach),
+                Vec3::new(reach, reach, reach - depth),
+            )
         };
+        let pick = |depth: f32, reach: f32| view.mesh_for_chunk(MeshHandle(0), &chunk(depth, reach), 1.0).0;
         // Depth 1: 0.0005 m allowed, below both levels' errors (0.01, 0.1 m).
         assert_eq!(pick(2.0, 1.0), 0);
         // Depth 19: 0.0095 m allowed: neither; depth 199: 0.0995 m: the first level.
         assert_eq!(pick(20.0, 1.0), 0);
         assert_eq!(pick(200.0, 1.0), 1);
-        // Depth 1999: the coarsest. A wider chunk reaches nearer, with a finer level; one
+        // Depth 1999: the coarsest. A deeper box reaches nearer, with a finer level; one
         // reaching behind the camera draws the mesh.
         assert_eq!(pick(2000.0, 1.0), 2);
         assert_eq!(pick(2000.0, 1801.0), 1);
         assert_eq!(pick(2000.0, 2001.0), 0);
-        // A larger radius needs a finer level; a chunk with a member that is not finite draws
-        // the mesh.
-        assert_eq!(
-            view.mesh_for_chunk(MeshHandle(0), Vec3::new(0.0, 0.0, -2000.0), 1.0, 20.0)
-                .0,
-            1
-        );
-        assert_eq!(
-            view.mesh_for_chunk(MeshHandle(0), Vec3::ZERO, f32::INFINITY, f32::INFINITY)
-                .0,
-            0
-        );
+        // A larger radius needs a finer level; an empty box (a chunk with a member that is not
+        // finite) draws the mesh.
+        assert_eq!(view.mesh_for_chunk(MeshHandle(0), &chunk(2000.0, 1.0), 20.0).0, 1);
+        assert_eq!(view.mesh_for_chunk(MeshHandle(0), &Aabb::EMPTY, 1.0).0, 0);
         // A mesh without levels draws itself.
         assert_eq!(
-            view.mesh_for_chunk(MeshHandle(5), Vec3::NEG_Z * 200.0, 1.0, 1.0),
+            view.mesh_for_chunk(MeshHandle(5), &chunk(200.0, 1.0), 1.0),
             MeshHandle(5)
         );
         // No error allowed, or no levels: no choice to make.
