@@ -3,6 +3,8 @@
 //! beyond a binding are refused (the frame is not drawn, the error says why), and a device
 //! error that slips through every check is reported, never a panic.
 
+mod common;
+
 use bevy_app::App;
 use penumbra::app::{RenderError, RenderRequest, headless_app, render_scene_with, spawn_scene};
 use penumbra::ecs::assets::{ImageData, Images, Materials};
@@ -84,13 +86,7 @@ fn instances_beyond_a_storage_binding_are_refused_and_the_frame_not_drawn() {
     // Moving every instance makes the instance buffer upload again (scene objects are
     // static until unmarked).
     let world = app.world_mut();
-    let statics: Vec<_> = world
-        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<penumbra::ecs::Static>>()
-        .iter(world)
-        .collect();
-    for e in statics {
-        world.entity_mut(e).remove::<penumbra::ecs::Static>();
-    }
+    common::unmark_static(world);
     let mut q = world.query::<&mut penumbra::ecs::Transform>();
     for mut t in q.iter_mut(world) {
         t.translation += glam::Vec3::X * 0.01;

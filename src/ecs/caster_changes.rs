@@ -4,9 +4,7 @@
 //! render origin or the whole list changed. A shadow view none of whose regions touch its
 //! cull volume holds the same shadow map as before and is not rendered again.
 
-use std::collections::HashMap;
-
-use bevy_ecs::entity::Entity;
+use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::resource::Resource;
 
 use crate::ecs::draw_groups::DrawKey;
@@ -43,13 +41,13 @@ impl CasterChanges {
         &mut self,
         generation: u64,
         everything: bool,
-        before: &mut HashMap<Entity, CasterState>,
+        before: &mut EntityHashMap<CasterState>,
         now: impl Iterator<Item = (Entity, CasterState)>,
     ) {
         self.generation = generation;
         self.everything = everything;
         self.regions.clear();
-        let mut next = HashMap::with_capacity(before.len());
+        let mut next = EntityHashMap::with_capacity(before.len());
         for (entity, state) in now {
             match before.remove(&entity) {
                 Some(old) if old == state => {}
@@ -75,7 +73,7 @@ impl CasterChanges {
     pub fn record_updates(
         &mut self,
         generation: u64,
-        before: &mut HashMap<Entity, CasterState>,
+        before: &mut EntityHashMap<CasterState>,
         updated: impl Iterator<Item = (Entity, CasterState)>,
     ) {
         self.generation = generation;
@@ -123,7 +121,7 @@ mod tests {
             Entity::from_raw_u32(2).unwrap(),
             Entity::from_raw_u32(3).unwrap(),
         );
-        let mut before = HashMap::new();
+        let mut before = EntityHashMap::default();
         let mut changes = CasterChanges::default();
         changes.record(1, true, &mut before, [(a, state(0.0)), (b, state(5.0))].into_iter());
         assert!(changes.everything && changes.regions.is_empty());

@@ -5,10 +5,8 @@
 //! patched instead of uploaded whole. The change scans skip [`Static`](crate::ecs::Static)
 //! entities by archetype ([`ChangedInstances`]).
 
-use std::collections::HashMap;
-
 use bevy_ecs::change_detection::DetectChanges;
-use bevy_ecs::entity::Entity;
+use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::system::{Local, Query, Res, ResMut};
 use glam::Vec3;
 
@@ -45,7 +43,7 @@ pub fn sync_instances(
     lods: Option<Res<ShadowLods>>,
     origin: Res<RenderOrigin>,
     mut changes: ResMut<CasterChanges>,
-    mut casters_before: Local<HashMap<Entity, CasterState>>,
+    mut casters_before: Local<EntityHashMap<CasterState>>,
     mut scratch: Local<SyncScratch>,
 ) {
     let scratch = &mut *scratch;

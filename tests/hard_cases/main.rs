@@ -250,23 +250,21 @@ fn invalid_transforms_never_poison_the_frame() {
     app.world_mut().insert_resource(ViewportSize { width: 64, height: 48 });
     spawn_scene(app.world_mut(), &desc).unwrap();
     let world = app.world_mut();
-    // Scene objects are static: a static entity's transform is not looked at again.
-    let statics: Vec<_> = world
-        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<penumbra::ecs::Static>>()
-        .iter(world)
-        .collect();
-    for e in statics {
-        world.entity_mut(e).remove::<penumbra::ecs::Static>();
-    }
-    let mut q = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Mesh3d>>();
+    let mut q = world.query_filtered::<(bevy_ecs::entity::Entity, &mut Transform), bevy_ecs::query::With<Mesh3d>>();
     let poisons: [fn(&mut Transform); 3] = [
         |t| t.translation.x = f32::NAN,
         |t| t.scale = Vec3::ZERO,
         |t| t.translation.y = f32::INFINITY,
     ];
     // The first mesh is the ground; poison three of the casters.
-    for (mut t, poison) in q.iter_mut(world).skip(1).zip(poisons) {
+    let mut poisoned = Vec::new();
+    for ((entity, mut t), poison) in q.iter_mut(world).skip(1).zip(poisons) {
         poison(&mut t);
+        poisoned.push(entity);
+    }
+    // Scene objects are static: marked again, each is placed and synced once more.
+    for entity in poisoned {
+        world.entity_mut(entity).insert(penumbra::ecs::Static);
     }
     app.update();
     let world = app.world();
