@@ -151,12 +151,17 @@ fn a_static_entity_moves_only_when_marked_again_or_unmarked() {
     app.update();
     assert_eq!(center(&app), start + Vec3::Y * 5.0);
     assert_eq!((sync(&app).updates, sync(&app).rebuilds), (1, 1));
-    // Unmarked: scanned like any moving entity from then on.
-    app.world_mut().entity_mut(entity).remove::<Static>();
-    app.update();
+    // Moved while static, then unmarked: placed where its transform says.
     app.world_mut().get_mut::<Transform>(entity).unwrap().translation.y += 1.0;
     app.update();
-    assert_eq!(center(&app), start + Vec3::Y * 6.0);
+    assert_eq!(center(&app), start + Vec3::Y * 5.0, "still static");
+    app.world_mut().entity_mut(entity).remove::<Static>();
+    app.update();
+    assert_eq!(center(&app), start + Vec3::Y * 6.0, "unmarked");
+    // Scanned like any moving entity from then on.
+    app.world_mut().get_mut::<Transform>(entity).unwrap().translation.y += 1.0;
+    app.update();
+    assert_eq!(center(&app), start + Vec3::Y * 7.0);
     assert_eq!(sync(&app).scanned, 3, "the one entity without the marker is scanned");
 }
 
@@ -170,4 +175,23 @@ fn spawning_or_despawning_rebuilds_and_renumbers() {
     assert!(i.layout > layout && i.updated.is_empty());
     assert_eq!((i.gpu.len(), i.slot(moving[0])), (102, None));
     assert_eq!(sync(&app).rebuilds, 2);
+}
+
+#[test]
+fn a_child_that_loses_its_parent_is_placed_by_its_own_transform() {
+    let (mut app, moving) = app(10, 1);
+    let world = app.world_mut();
+    let parent = world.spawn(Transform::from_xyz(0.0, 10.0, 0.0)).id();
+    world.entity_mut(moving[0]).insert(bevy_ecs::hierarchy::ChildOf(parent));
+    app.update();
+    let y = |app: &App| {
+        let i = app.world().resource::<RenderInstances>();
+        i.centers[i.slot(moving[0]).unwrap() as usize].y
+    };
+    assert_eq!(y(&app), 10.5, "placed under its parent");
+    app.world_mut()
+        .entity_mut(moving[0])
+        .remove::<bevy_ecs::hierarchy::ChildOf>();
+    app.update();
+    assert_eq!(y(&app), 0.5, "placed by its own transform");
 }

@@ -22,7 +22,7 @@ pub(crate) const RECEIVER_GRID: f32 = 256.0;
 
 /// Every drawable instance, sorted by [`DrawKey`] and, within a key, along a Morton curve
 /// through the scene (so consecutive instances are close in space and cull together), in
-/// structure-of-arrays form. Positions and transforms are relative to [`RenderOrigin`].
+/// structure-of-arrays form. Positions and transforms are relative to [`RenderOrigin`](crate::ecs::origin::RenderOrigin).
 #[derive(Resource, Debug, Default)]
 pub struct RenderInstances {
     /// GPU data, in draw order; index = instance index.
@@ -42,7 +42,7 @@ pub struct RenderInstances {
     /// World bounds of each caster (relative to the render origin), parallel to `casters`.
     pub caster_boxes: Vec<Aabb>,
     /// Per mesh handle: the largest bounding radius of its casters (0 for none), which
-    /// picks its shadow LOD ([`ShadowLods`]).
+    /// picks its shadow LOD ([`ShadowLods`](crate::ecs::shadow_lods::ShadowLods)).
     pub mesh_caster_radius: Vec<f32>,
     /// Number of leading casters with opaque materials; the rest are masked.
     pub opaque_casters: usize,

@@ -60,12 +60,12 @@ impl Plugin for ShadowPlugin {
     fn build(&self, app: &mut App) {
         if !app.is_plugin_added::<TransformPlugin>() {
             // NOTE: `TransformPlugin`'s flat-entity system scans every entity with a
-            // `Transform` each frame (100k casters: ~0.1 ms on one core), static or not, and its
-            // static-scene optimisation (`StaticTransformOptimizations`) adds a second scan for
-            // flat entities (a still frame of 100k casters took 413 µs with it, 273 µs without:
-            // `cargo bench --bench cascades -- still_frame_static`). The marker filters static
-            // archetypes out without looking at their entities. An app that adds
-            // `TransformPlugin` itself keeps Bevy's propagation.
+            // `Transform` each frame, static or not, and its static-scene optimisation
+            // (`StaticTransformOptimizations`) adds a second scan for flat entities: a still
+            // frame of 100k unmarked casters took 443 µs with it and 334 µs without, of 100k
+            // `Static` ones 10 µs under this propagation (`cargo bench --bench cascades --
+            // still_frame`). The marker filters static archetypes out without looking at
+            // their entities. An app that adds `TransformPlugin` itself keeps Bevy's.
             app.insert_resource(StaticTransformOptimizations::Disabled);
             let propagate = || {
                 (propagate_parent_transforms, sync_moving_transforms)
