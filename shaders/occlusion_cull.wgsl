@@ -17,6 +17,10 @@ struct Cull {
     view_from_world: mat4x4<f32>,
     // The frustum's planes (unit normal inwards, offset), relative to the render origin.
     planes: array<vec4<f32>, 6>,
+    // The camera's position, and (w) the error a level may have at unit view depth.
+    eye: vec4<f32>,
+    // The camera's unit forward direction.
+    forward: vec4<f32>,
     // The pyramid's level 0 (the depth buffer's size), pixels.
     size: vec2<f32>,
     levels: u32,
@@ -30,12 +34,32 @@ struct Cull {
 }
 
 // Instances `first..first + count` (or, when `listed` is 1, the instances at those entries of
-// the view's list), drawn by batch `batch`.
+// the view's list), drawn by batch `batch`, or by batch `batch + l` at coarser level `l` of
+// `levels` (of relative errors `errors[l - 1]`).
 struct Run {
     first: u32,
     count: u32,
     batch: u32,
     listed: u32,
+    levels: u32,
+    errors: array<f32, 3>,
+}
+
+// The batch for sphere `b` of `run`: its coarsest level whose error, relative to the sphere's
+// radius, stays within what its nearest view depth allows (the whole mesh for a sphere that
+// reaches the camera's plane). The CPU mirror is `math::occlusion::level_for`.
+fn level_batch(run: Run, b: vec4<f32>) -> u32 {
+    let depth = dot(b.xyz - cull.eye.xyz, cull.forward.xyz) - b.w;
+    var level = 0u;
+    if depth > 0.0 {
+        let budget = depth * cull.eye.w;
+        for (var l = 1u; l <= run.levels; l++) {
+            if run.errors[l - 1u] * b.w <= budget {
+                level = l;
+            }
+        }
+    }
+    return run.batch + level;
 }
 
 
@@ -144,11 +168,11 @@ fn main(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index
     let before = seen[instance] != 0u;
     seen[instance] = select(0u, 1u, now);
     if now && !before {
-        append(run.batch, instance);
+        append(level_batch(run, b), instance);
     }
 #else
     if in_frustum(b) && (cull.occluding == 0u || seen[instance] != 0u) {
-        append(run.batch, instance);
+        append(level_batch(run, b), instance);
     }
 #endif
 }

@@ -8,9 +8,9 @@ use bevy_app::App;
 use common::still_scene;
 use penumbra::ecs::shadow_lods::ShadowLods;
 use penumbra::ecs::{CameraLod, ViewDrawGroups};
-use penumbra::render::{RenderOptions, Renderer};
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::prepass::visible_triangles;
+use penumbra::render::{RenderOptions, Renderer};
 
 const SCENE: &str = "assets/scenes/field.ron";
 

@@ -13,20 +13,28 @@ use bevy_transform::components::Transform;
 use common::still_scene;
 use glam::{Quat, Vec3};
 use penumbra::ecs::view::ActiveView;
-use penumbra::ecs::{Camera3d, RenderInstances, ViewDrawGroups};
+use penumbra::ecs::{Camera3d, CameraLod, RenderInstances, ViewDrawGroups};
 use penumbra::math::frustum::Frustum;
-use penumbra::math::occlusion::{CullCamera, Pyramid, hidden, in_frustum};
+use penumbra::math::occlusion::{CullCamera, Pyramid, hidden, in_frustum, level_for};
 use penumbra::render::{DepthPrepass, RenderOptions, Renderer};
 use std::collections::BTreeMap;
 
 const SCENE: &str = "assets/scenes/field.ron";
 
 /// The field with the prepass on and culling on the GPU (by chunk on the CPU, then frustum and
-/// occlusion per instance) `on`, or on the CPU (every instance against the frustum).
+/// occlusion per instance) `on`, or on the CPU (every instance against the frustum); every mesh
+/// drawn whole (the GPU picks levels per instance, the CPU per chunk: culling alone is
+/// compared).
 fn app(on: bool) -> App {
+    app_with_lod(on, CameraLod { max_error_pixels: 0.0 })
+}
+
+/// [`app`] with the camera's `lod`.
+fn app_with_lod(on: bool, lod: CameraLod) -> App {
     let renderer = Renderer::headless(320, 180)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = still_scene(renderer, SCENE);
+    app.insert_resource(lod);
     app.insert_resource(RenderOptions {
         depth_prepass: DepthPrepass::On,
         occlusion_culling: on,
@@ -213,4 +221,49 @@ fn the_gpu_frustum_lists_hold_the_cpu_lists_and_what_the_mirror_keeps() {
             total - cpu_total
         );
     }
+}
+
+#[test]
+fn the_gpu_draws_each_instance_at_the_level_the_mirror_picks() {
+    let mut app = app_with_lod(true, CameraLod::default());
+    app.insert_resource(RenderOptions {
+        depth_prepass: DepthPrepass::On,
+        occlusion_culling: false,
+        ..RenderOptions::default()
+    });
+    app.update();
+    let lists = renderer(&app).read_gpu_culled().expect("the GPU culled");
+    let world = app.world();
+    let (instances, views) = (world.resource::<RenderInstances>(), world.resource::<ViewDrawGroups>());
+    let (camera, _) = world.resource::<ActiveView>().camera.expect("a camera");
+    let view = (camera.position(), camera.forward());
+    // The run of each instance listed.
+    let mut run_of = std::collections::HashMap::new();
+    for run in &views.runs {
+        for i in run.first..run.first + run.count {
+            run_of.insert(i, run);
+        }
+    }
+    let (mut coarse, mut wrong, mut drawn, mut triangles) = (0, 0, 0, 0);
+    let meshes = world.resource::<penumbra::ecs::Meshes>();
+    let batches: Vec<_> = views.group.opaque.iter().chain(&views.group.masked).collect();
+    for (b, list) in lists.iter().enumerate() {
+        let mesh_triangles = meshes.get(batches[b].mesh).map_or(0, |m| m.indices.len() / 3);
+        triangles += mesh_triangles * list.len();
+        for &i in list {
+            let run = run_of[&i];
+            let errors = &run.errors[..run.levels as usize];
+            let (c, r) = (instances.centers[i as usize], instances.radii[i as usize]);
+            let level = level_for(errors, view, views.lod_error_per_depth, c, r);
+            wrong += usize::from(b != (run.batch as usize + level));
+            coarse += usize::from(level > 0);
+            drawn += 1;
+        }
+    }
+    eprintln!(
+        "{coarse} of {drawn} instances at a coarser level ({triangles} triangles), {wrong} at another level than the mirror's"
+    );
+    // Measured: 28 757 of 80 723 (the field's 65 536 boxes have no levels).
+    assert!(coarse > 9_000, "only {coarse} of {drawn} instances at a coarser level");
+    assert_eq!(wrong, 0, "{wrong} instances at another level than the mirror's");
 }

@@ -13,7 +13,7 @@ use bevy_ecs::system::{Local, Res, ResMut};
 use glam::Mat4;
 
 use crate::ecs::assets::MeshHandle;
-use crate::ecs::camera_runs::{ChunkRun, cull_chunk_runs};
+use crate::ecs::camera_runs::cull_chunk_runs;
 use crate::ecs::components::ViewportSize;
 use crate::ecs::draw_groups::{DrawKey, ViewDrawGroups, push_run};
 use crate::ecs::instances::RenderInstances;
@@ -32,7 +32,6 @@ pub struct ViewScratch {
     visible: Vec<u32>,
     scratch: Vec<u32>,
     runs: Vec<Run>,
-    chunk_runs: Vec<ChunkRun>,
 }
 
 /// What the camera view's groups were made for: the camera matrix, the instance list's
@@ -74,21 +73,17 @@ pub fn cull_view(
     groups.group.clear();
     groups.indices.clear();
     groups.runs.clear();
+    groups.lod_error_per_depth = 0.0;
     groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        let ViewScratch {
-            visible,
-            scratch,
-            runs,
-            chunk_runs,
-        } = &mut *visible;
+        let ViewScratch { visible, scratch, runs } = &mut *visible;
         let eye = camera.position();
         let view_lod = lods
             .as_deref()
             .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
-        if gpu && cull_chunk_runs(&frustum, view_lod.as_ref(), &instances, groups, chunk_runs) {
-            stats.visible_instances = groups.entries() as u32;
+        if gpu && cull_chunk_runs(&frustum, view_lod.as_ref(), &instances, groups) {
+            stats.visible_instances = groups.candidate_count() as u32;
             stats.view_culling_cpu = start.elapsed();
             return;
         }

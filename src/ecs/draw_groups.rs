@@ -93,20 +93,29 @@ pub fn push_run(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, run
     indices.extend_from_slice(run);
 }
 
+/// Most coarser mesh levels the GPU chooses among per instance (a mesh's finest ones).
+pub const GPU_LOD_LEVELS: usize = 3;
+
 /// Instances `first..first + count` of the instance list, drawn by batch `batch` of a view
-/// (numbered opaque first, then masked) once the GPU has culled them one by one.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+/// (numbered opaque first, then masked) once the GPU has culled them one by one; with
+/// `levels` coarser mesh levels, batch `batch + l` draws level `l` (of relative error
+/// `errors[l - 1]`), and each instance goes to the coarsest level its size on screen allows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 #[repr(C)]
 pub struct InstanceRun {
     /// First instance.
     pub first: u32,
     /// Number of instances (at most one culling chunk's).
     pub count: u32,
-    /// The batch drawing them.
+    /// The batch drawing them whole (the coarser levels' batches follow it).
     pub batch: u32,
     /// 0: the run is of instances; 1: of entries of the view's index list (the renderer's
     /// runs over a list the CPU culled).
     pub listed: u32,
+    /// Coarser levels to choose among (at most [`GPU_LOD_LEVELS`]).
+    pub levels: u32,
+    /// Each coarser level's error, relative to an instance's bounding radius, finest first.
+    pub errors: [f32; GPU_LOD_LEVELS],
 }
 
 /// The instances the camera sees.
@@ -121,6 +130,10 @@ pub struct ViewDrawGroups {
     /// count`) is then room in the list the GPU writes, as long as its runs together. Empty
     /// when the CPU culled every instance (`indices`).
     pub runs: Vec<InstanceRun>,
+    /// The error allowed at unit view depth for the GPU's choice of levels (see
+    /// [`ViewLod::error_per_depth`](crate::ecs::view_lod::ViewLod::error_per_depth); 0: no
+    /// coarser level).
+    pub lod_error_per_depth: f32,
     /// Bumped whenever `group` and `indices` are rebuilt (the renderer uploads them then).
     pub generation: u64,
 }
@@ -133,12 +146,16 @@ impl ViewDrawGroups {
         self.indices.iter().copied().chain(runs)
     }
 
-    /// Entries of the view's list: instances listed, or room for the instances of the runs.
+    /// Entries of the view's list: the room of every batch (the instances listed, or room for
+    /// the runs' instances at each of their levels).
     pub fn entries(&self) -> usize {
-        match self.runs.is_empty() {
-            true => self.indices.len(),
-            false => self.runs.iter().map(|r| r.count as usize).sum(),
-        }
+        let group = &self.group;
+        group.opaque.iter().chain(&group.masked).map(|b| b.count as usize).sum()
+    }
+
+    /// Instances the GPU will cull: those listed, or those of every run.
+    pub fn candidate_count(&self) -> usize {
+        self.indices.len() + self.runs.iter().map(|r| r.count as usize).sum::<usize>()
     }
 }
 

@@ -8,7 +8,7 @@ use bevy_ecs::resource::Resource;
 use glam::Vec3;
 
 use crate::ecs::assets::MeshHandle;
-use crate::ecs::shadow_lods::{MAX_ERROR_TEXELS, ShadowLods};
+use crate::ecs::shadow_lods::{MAX_ERROR_TEXELS, ShadowLod, ShadowLods};
 use crate::math::aabb::Aabb;
 
 /// How coarse a mesh the camera view may draw.
@@ -57,11 +57,23 @@ impl<'a> ViewLod<'a> {
         })
     }
 
+    /// The coarser levels of `mesh`, finest first (none for a mesh without levels).
+    pub fn levels(&self, mesh: MeshHandle) -> &'a [ShadowLod] {
+        self.lods.get(mesh)
+    }
+
+    /// The error allowed at unit view depth, in world units: a level of relative error `e`
+    /// fits an instance of bounding radius `r` whose nearest view depth is `d` when
+    /// `e · r ≤ d · error_per_depth`.
+    pub fn error_per_depth(&self) -> f32 {
+        self.error_per_depth
+    }
+
     /// The mesh to draw instances of `mesh` with that lie in `bounds` and have bounding radii
     /// up to `radius` (a culling chunk's: its box and its largest member): the coarsest level
     /// whose error, for that radius at the box's nearest view depth, stays within the allowed
-    /// pixels; `mesh` itself when the box reaches the camera's plane or is empty. Decided per
-    /// chunk, so the CPU's culling and the GPU's pick alike.
+    /// pixels; `mesh` itself when the box reaches the camera's plane or is empty. (Where the
+    /// GPU culls the view it picks per instance instead: `math::occlusion::level_for`.)
     pub fn mesh_for_chunk(&self, mesh: MeshHandle, bounds: &Aabb, radius: f32) -> MeshHandle {
         if self.lods.get(mesh).is_empty() || bounds.is_empty() {
             return mesh;
@@ -86,7 +98,6 @@ impl<'a> ViewLod<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ecs::shadow_lods::ShadowLod;
 
     #[test]
     fn far_chunks_draw_coarser_levels_and_near_ones_the_mesh() {

@@ -94,6 +94,29 @@ pub fn in_frustum(frustum: &Frustum, centre: Vec3, radius: f32) -> bool {
     centre.is_finite() && radius.is_finite() && frustum.planes.iter().all(|p| p.normal.dot(centre) + p.d >= -pad)
 }
 
+/// The mesh level the GPU draws a sphere (`centre`, `radius`) with: the coarsest of the
+/// levels of relative `errors` (finest first; level `l` has error `errors[l - 1]`, level 0 is
+/// the whole mesh) whose error stays within `error_per_depth` times the sphere's nearest view
+/// depth from `eye` along `forward`; 0 for a sphere reaching the camera's plane (as the
+/// shader's `level_batch`).
+pub fn level_for(
+    errors: &[f32],
+    (eye, forward): (Vec3, Vec3),
+    error_per_depth: f32,
+    centre: Vec3,
+    radius: f32,
+) -> usize {
+    let depth = (centre - eye).dot(forward) - radius;
+    if depth.is_nan() || depth <= 0.0 {
+        return 0;
+    }
+    let budget = depth * error_per_depth;
+    (1..=errors.len())
+        .filter(|&l| errors[l - 1] * radius <= budget)
+        .max()
+        .unwrap_or(0)
+}
+
 /// True when the sphere (`centre`, `radius`, world space) lies behind the pyramid's depths
 /// everywhere under its screen rectangle.
 pub fn hidden(pyramid: &Pyramid, camera: &CullCamera, centre: Vec3, radius: f32) -> bool {

@@ -1,6 +1,6 @@
 use glam::{Mat4, Vec3};
 
-use super::{CullCamera, Pyramid, hidden, level_count, sphere_rect};
+use super::{CullCamera, Pyramid, hidden, level_count, level_for, sphere_rect};
 use crate::math::projection::perspective_reverse_z;
 
 /// A 60° camera at the origin looking down -z over a `w` × `h` screen.
@@ -121,4 +121,18 @@ fn a_hidden_sphere_is_behind_every_pixel_under_it() {
         }
     }
     assert!(judged > 500, "only {judged} hidden spheres judged");
+}
+
+#[test]
+fn the_level_is_the_coarsest_whose_error_fits_the_spheres_depth() {
+    let view = (Vec3::ZERO, Vec3::NEG_Z);
+    let errors = [0.01, 0.1];
+    // Budget 0.002 m per metre of depth, radius 1: depth 4 allows 0.008 (whole mesh), 9 allows
+    // 0.018 (level 1), 99 allows 0.198 (level 2).
+    let at = |depth: f32| level_for(&errors, view, 0.002, Vec3::new(0.0, 0.0, -depth - 1.0), 1.0);
+    assert_eq!([at(4.0), at(9.0), at(99.0)], [0, 1, 2]);
+    // Reaching the camera's plane, not finite, or without levels: the whole mesh.
+    assert_eq!(level_for(&errors, view, 0.002, Vec3::new(0.0, 0.0, -0.5), 1.0), 0);
+    assert_eq!(level_for(&errors, view, 0.002, Vec3::NAN, 1.0), 0);
+    assert_eq!(level_for(&[], view, 0.002, Vec3::new(0.0, 0.0, -1000.0), 1.0), 0);
 }

@@ -102,6 +102,8 @@ mod tests {
     use naga::proc::Layouter;
 
     use super::*;
+    use crate::ecs::draw_groups::InstanceRun;
+    use crate::render::occlusion::CullGpu;
     use crate::render::shadows::gpu::{CasterViewGpu, LightGpu, ShadowViewGpu};
     use crate::shader::{ForwardVariant, ShaderLibrary};
 
@@ -218,6 +220,42 @@ mod tests {
                         ("padding", offset_of!(InstanceGpu, _pad)),
                     ],
                     size_of::<InstanceGpu>(),
+                ),
+            ],
+        );
+        let cull = lib.occlusion_cull(true).unwrap();
+        check(
+            &cull,
+            &[
+                (
+                    "Cull",
+                    vec![
+                        ("clip_from_view", offset_of!(CullGpu, clip_from_view)),
+                        ("view_from_world", offset_of!(CullGpu, view_from_world)),
+                        ("planes", offset_of!(CullGpu, planes)),
+                        ("eye", offset_of!(CullGpu, eye)),
+                        ("forward", offset_of!(CullGpu, forward)),
+                        ("size", offset_of!(CullGpu, size)),
+                        ("levels", offset_of!(CullGpu, levels)),
+                        ("runs", offset_of!(CullGpu, runs)),
+                        ("near", offset_of!(CullGpu, near)),
+                        ("occluding", offset_of!(CullGpu, occluding)),
+                        ("row", offset_of!(CullGpu, row)),
+                        ("_pad", offset_of!(CullGpu, _pad)),
+                    ],
+                    size_of::<CullGpu>(),
+                ),
+                (
+                    "Run",
+                    vec![
+                        ("first", offset_of!(InstanceRun, first)),
+                        ("count", offset_of!(InstanceRun, count)),
+                        ("batch", offset_of!(InstanceRun, batch)),
+                        ("listed", offset_of!(InstanceRun, listed)),
+                        ("levels", offset_of!(InstanceRun, levels)),
+                        ("errors", offset_of!(InstanceRun, errors)),
+                    ],
+                    size_of::<InstanceRun>(),
                 ),
             ],
         );

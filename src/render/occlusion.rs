@@ -3,7 +3,8 @@
 //! occlusion culling in two phases. The view comes as runs of instances ([`InstanceRun`]):
 //! those the ECS listed by culling chunk ([`ViewDrawGroups::runs`]), or runs over the list the
 //! CPU culled. At the frame's start the early phase lists every run member in the frustum
-//! (with occlusion culling, only those seen last frame) and the prepass draws them; with
+//! (with occlusion culling, only those seen last frame), in the batch of the mesh level its
+//! size on screen allows, and the prepass draws them; with
 //! occlusion culling a depth pyramid is then built from that depth and the late phase tests
 //! every member's bounding sphere against the frustum and the pyramid, keeps the answer as the
 //! instance's "seen" flag for the next frame, and lists the instances seen now but not
@@ -39,18 +40,23 @@ use crate::shader::ShaderLibrary;
 /// The culling's uniforms, as `Cull` in the shader.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct CullGpu {
-    clip_from_view: Mat4,
-    view_from_world: Mat4,
-    planes: [Vec4; 6],
-    size: [f32; 2],
-    levels: u32,
-    runs: u32,
-    near: f32,
-    occluding: u32,
+pub(crate) struct CullGpu {
+    pub(crate) clip_from_view: Mat4,
+    pub(crate) view_from_world: Mat4,
+    pub(crate) planes: [Vec4; 6],
+    /// The camera's position (relative to the render origin) and the error its levels may
+    /// have at unit view depth (0: no coarser level).
+    pub(crate) eye: Vec4,
+    /// The camera's unit forward direction.
+    pub(crate) forward: Vec4,
+    pub(crate) size: [f32; 2],
+    pub(crate) levels: u32,
+    pub(crate) runs: u32,
+    pub(crate) near: f32,
+    pub(crate) occluding: u32,
     /// Workgroups per row of the dispatch (runs past it continue on the next row).
-    row: u32,
-    _pad: u32,
+    pub(crate) row: u32,
+    pub(crate) _pad: u32,
 }
 
 /// Timing names of the culling's passes.
@@ -75,7 +81,7 @@ pub fn occlusion_wanted(inputs: &FrameInputs<'_>) -> bool {
     options.occlusion_culling
         && options.multi_draw
         && options.msaa == Msaa::Off
-        && inputs.view_groups.entries() >= MIN_INSTANCES
+        && inputs.view_groups.candidate_count() >= MIN_INSTANCES
 }
 
 /// Invocations per culling workgroup (the shader's `workgroup_size`): one run each, a run
@@ -290,6 +296,8 @@ impl OcclusionGpu {
             clip_from_view: camera.clip_from_view(),
             view_from_world: camera.view_from_world(),
             planes: frustum.planes.map(|p| p.normal.extend(p.d)),
+            eye: camera.position().extend(views.lod_error_per_depth),
+            forward: camera.forward().extend(0.0),
             size: [size.0 as f32, size.1 as f32],
             levels,
             runs: self.runs.len() as u32,
@@ -461,6 +469,7 @@ fn list_runs(views: &ViewDrawGroups, out: &mut Vec<InstanceRun>) {
                     count: (end - first).min(CULL_WORKGROUP),
                     batch: b,
                     listed: 1,
+                    ..InstanceRun::default()
                 }),
         );
     }
