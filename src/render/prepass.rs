@@ -13,6 +13,7 @@
 
 use std::borrow::Cow;
 
+use crate::ecs::draw_groups::InstanceRun;
 use crate::render::draw::{
     bind_camera_view, camera_parts, draw_batches, draw_culled, mesh_primitive, mesh_vertex_state,
 };
@@ -160,18 +161,21 @@ pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bo
         || (mode != PrepassMode::Off && inputs.lights.any_contact_shadows())
 }
 
-/// Triangles the camera's view draws this frame (every instance of every batch).
+/// Triangles the camera's view draws this frame (every instance of every batch); for a view
+/// the GPU culls, at most: every instance of every run, with the whole mesh.
 pub fn visible_triangles(inputs: &FrameInputs<'_>) -> u64 {
-    let group = &inputs.view_groups.group;
-    group
-        .opaque
-        .iter()
-        .chain(&group.masked)
-        .map(|b| {
-            let indices = inputs.meshes.get(b.mesh).map_or(0, |m| m.indices.len() as u64);
-            indices / 3 * u64::from(b.count)
-        })
-        .sum()
+    let views = inputs.view_groups;
+    let group = &views.group;
+    let batches: Vec<_> = group.opaque.iter().chain(&group.masked).collect();
+    let triangles = |mesh| inputs.meshes.get(mesh).map_or(0, |m| m.indices.len() as u64 / 3);
+    if !views.runs.is_empty() {
+        let run_triangles = |r: &InstanceRun| {
+            let mesh = batches.get(r.batch as usize).map(|b| b.mesh);
+            mesh.map_or(0, |m| triangles(m) * u64::from(r.count))
+        };
+        return views.runs.iter().map(run_triangles).sum();
+    }
+    batches.iter().map(|b| triangles(b.mesh) * u64::from(b.count)).sum()
 }
 
 impl RenderNode for DepthPrepass {
