@@ -3,7 +3,8 @@
 //! whole ECS frame of `ShadowPlugin` — cascades, per-cascade culling into draw groups and
 //! camera culling — with the camera still and moving (`shadow_plugin_frame_*`, 1k to 1M casters
 //! marked `Static`), a still frame with and without the marker and under `bevy_transform`'s own
-//! propagation (`still_frame`), and spot-light views with a
+//! propagation (`still_frame`), a frame that spawns and despawns a caster
+//! (`spawn_and_despawn_frame`), and spot-light views with a
 //! brute-force cull of 10k casters per light (`spot_views_and_culling`) and as the engine's
 //! system does it (`spot_shadow_view_system`), and point lights' six faces each as the engine
 //! does them, still and moving (`point_shadow_view_system_*`).
@@ -274,6 +275,34 @@ fn static_transform_options(c: &mut Criterion) {
     group.finish();
 }
 
+/// A frame that despawns one caster and spawns another (of the same mesh and material) among
+/// 100k and 1M static ones: the removed instance is left as a tombstone, the new one appended.
+fn spawn_frame(c: &mut Criterion) {
+    let mut group = c.benchmark_group("spawn_and_despawn_frame");
+    group.sample_size(20);
+    for n in [100_000usize, 1_000_000] {
+        let mut app = plugin_app(n, true);
+        let world = app.world_mut();
+        let mut casters = world.query::<(&Mesh3d, &MeshMaterial3d)>();
+        let (mesh, material) = casters.iter(world).map(|(m, k)| (*m, *k)).next().expect("casters");
+        let mut last = None;
+        let mut k = 0u32;
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                let world = app.world_mut();
+                if let Some(e) = last.take() {
+                    world.despawn(e);
+                }
+                k = (k + 1) % 64;
+                let at = Transform::from_xyz(k as f32, 1.0, -120.0);
+                last = Some(world.spawn((at, mesh, material)).id());
+                app.update()
+            })
+        });
+    }
+    group.finish();
+}
+
 /// Spot lights: the shadow view of each light (`spot_view`) and a brute-force cull of 10k
 /// casters against its frustum, for 1, 16 and 64 lights of 30 m range scattered over the
 /// casters' square. Throughput is in lights, so the per-light time reads off directly.
@@ -450,6 +479,7 @@ criterion_group!(
     cascade_and_culling_systems,
     shadow_plugin_frame,
     static_transform_options,
+    spawn_frame,
     spot_views_and_culling
 );
 criterion_main!(benches);

@@ -166,14 +166,51 @@ fn a_static_entity_moves_only_when_marked_again_or_unmarked() {
 }
 
 #[test]
-fn spawning_or_despawning_rebuilds_and_renumbers() {
-    let (mut app, moving) = app(100, 2);
-    let layout = app.world().resource::<RenderInstances>().layout;
+fn spawning_appends_and_despawning_leaves_a_tombstone_without_renumbering() {
+    let (mut app, moving) = app(1_000, 2);
+    let (layout, len) = {
+        let i = app.world().resource::<RenderInstances>();
+        (i.layout, i.gpu.len())
+    };
+    let kept = app.world().resource::<RenderInstances>().slot(moving[1]);
+    let material = *app.world().get::<MeshMaterial3d>(moving[0]).unwrap();
+    let mesh = *app.world().get::<Mesh3d>(moving[0]).unwrap();
     app.world_mut().despawn(moving[0]);
+    let added = app
+        .world_mut()
+        .spawn((Transform::from_xyz(7.0, 0.5, 9.0), mesh, material))
+        .id();
     app.update();
     let i = app.world().resource::<RenderInstances>();
-    assert!(i.layout > layout && i.updated.is_empty());
-    assert_eq!((i.gpu.len(), i.slot(moving[0])), (102, None));
+    assert_eq!((i.layout, i.gpu.len(), i.tombstones), (layout, len + 1, 1), "in place");
+    assert_eq!((i.slot(moving[0]), i.slot(moving[1])), (None, kept), "none renumbered");
+    let slot = i.slot(added).expect("appended") as usize;
+    assert_eq!(slot, len);
+    assert_eq!(
+        i.updated.len(),
+        2,
+        "the tombstone and the new instance: {:?}",
+        i.updated
+    );
+    assert_eq!(sync(&app).updates, 1);
+    // The new instance as a fresh build writes it; the chunks and runs as a build makes them.
+    let (center, radius) = (i.centers[slot], i.radii[slot]);
+    assert!(center.abs_diff_eq(Vec3::new(7.0, 0.5, 9.0), 1e-6) && radius > 0.8);
+    assert_eq!(i.chunks, SphereChunks::build(&i.centers, &i.radii));
+    assert_eq!(i.caster_chunks, SphereChunks::build(&i.caster_centers, &i.caster_radii));
+    let runs: u32 = (0..i.chunks.len())
+        .map(|k| i.runs_of_chunk(k).map(|(a, b)| b - a).sum::<u32>())
+        .sum();
+    assert_eq!(runs as usize, i.gpu.len(), "every instance in one run");
+    // Many changes at once (more than an eighth of the list) rebuild and drop the tombstone.
+    let world = app.world_mut();
+    for k in 0..200 {
+        world.spawn((Transform::from_xyz(k as f32, 0.5, 20.0), mesh, material));
+    }
+    app.update();
+    let i = app.world().resource::<RenderInstances>();
+    assert!(i.layout > layout && i.tombstones == 0, "rebuilt");
+    assert_eq!(i.gpu.len(), len + 200, "{} instances", i.gpu.len());
     assert_eq!(sync(&app).rebuilds, 2);
 }
 

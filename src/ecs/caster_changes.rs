@@ -68,13 +68,14 @@ impl CasterChanges {
     }
 
     /// Records an in-place update to `generation`: `updated` holds the new states of the
-    /// casters rewritten (every other caster kept its state), `before` the states of the last
-    /// change (updated here).
+    /// casters rewritten or added, `removed` the entities no longer drawn (every other caster
+    /// kept its state), `before` the states of the last change (updated here).
     pub fn record_updates(
         &mut self,
         generation: u64,
         before: &mut EntityHashMap<CasterState>,
         updated: impl Iterator<Item = (Entity, CasterState)>,
+        removed: &[Entity],
     ) {
         self.generation = generation;
         self.everything = false;
@@ -89,6 +90,8 @@ impl CasterChanges {
                 None => self.regions.push(state.bounds),
             }
         }
+        self.regions
+            .extend(removed.iter().filter_map(|e| before.remove(e)).map(|s| s.bounds));
     }
 }
 
@@ -143,10 +146,15 @@ mod tests {
         changes.record(4, false, &mut before, [(a, state(0.0)), (c, state(20.0))].into_iter());
         assert!(changes.regions.is_empty() && !changes.everything);
         // An in-place update: c moves to 30, a is rewritten unchanged.
-        changes.record_updates(5, &mut before, [(c, state(30.0)), (a, state(0.0))].into_iter());
+        changes.record_updates(5, &mut before, [(c, state(30.0)), (a, state(0.0))].into_iter(), &[]);
         let xs: Vec<f32> = changes.regions.iter().map(|r| r.min.x).collect();
         assert_eq!((changes.generation, xs), (5, vec![20.0, 30.0]));
         assert_eq!(before[&c], state(30.0));
+        // Removed in place: its last bounds; an entity never drawn leaves none.
+        changes.record_updates(6, &mut before, std::iter::empty(), &[a, b]);
+        let xs: Vec<f32> = changes.regions.iter().map(|r| r.min.x).collect();
+        assert_eq!(xs, [0.0]);
+        before.insert(a, state(0.0));
         // A full record afterwards compares against the updated state.
         changes.record(6, false, &mut before, [(a, state(0.0)), (c, state(30.0))].into_iter());
         assert!(changes.regions.is_empty());

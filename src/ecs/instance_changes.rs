@@ -1,7 +1,7 @@
 //! Which mesh entities the instance sync must look at this frame: those whose transform, mesh,
 //! material, shadow flags or skinned pose changed, found by change-detection scans that skip
-//! [`Static`] entities by archetype, plus the entities [`Static`]'s hooks listed, and how many
-//! components were removed (which rebuilds the list).
+//! [`Static`] entities by archetype, plus the entities [`Static`]'s hooks listed and those
+//! whose mesh or shadow flag was removed.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::lifecycle::RemovedComponents;
@@ -22,7 +22,7 @@ pub struct InstanceSync {
     pub scanned: usize,
     /// Entities listed to look at in the latest sync (changed, or listed by [`Static`]'s hooks).
     pub dirty: usize,
-    /// Syncs that rewrote instances in place, since the app started.
+    /// Syncs that rewrote, appended or removed instances in place, since the app started.
     pub updates: u64,
     /// Syncs that rebuilt the whole list, since the app started.
     pub rebuilds: u64,
@@ -49,9 +49,9 @@ pub struct ChangedInstances<'w, 's> {
 }
 
 impl ChangedInstances<'_, '_> {
-    /// Fills `dirty` with every entity to look at (sorted, without repeats) and returns the
-    /// number of removed components seen.
-    pub fn collect(&mut self, dirty: &mut Vec<Entity>) -> usize {
+    /// Fills `dirty` with every entity to look at (sorted, without repeats), those whose mesh
+    /// or shadow flag was removed (or that were despawned) among them.
+    pub fn collect(&mut self, dirty: &mut Vec<Entity>) {
         // NOTE: an iterator's upper size bound is the length of the archetypes it matches,
         // read without visiting an entity.
         let matched = |hint: (usize, Option<usize>)| hint.1.unwrap_or(hint.0);
@@ -70,12 +70,12 @@ impl ChangedInstances<'_, '_> {
             dirty.append(&mut statics.marked);
             dirty.append(&mut statics.released);
         }
+        dirty.extend(self.removed_meshes.read());
+        dirty.extend(self.removed_non_casters.read());
+        dirty.extend(self.removed_receivers.read());
         dirty.sort_unstable();
         dirty.dedup();
         self.stats.scanned = scanned;
         self.stats.dirty = dirty.len();
-        self.removed_meshes.read().count()
-            + self.removed_non_casters.read().count()
-            + self.removed_receivers.read().count()
     }
 }

@@ -8,13 +8,13 @@
 use bevy_ecs::change_detection::DetectChanges;
 use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::system::{Local, Query, Res, ResMut};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
 use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::{CasterChanges, CasterState};
 use crate::ecs::instance_changes::ChangedInstances;
 use crate::ecs::instance_rows::{InstanceQueryData, NOT_A_CASTER, Row};
-use crate::ecs::instances::{RECEIVER_GRID, RenderInstances, rebuild};
+use crate::ecs::instances::{RECEIVER_GRID, RenderInstances, index_runs, push_row, rebuild};
 use crate::ecs::origin::RenderOrigin;
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::math::aabb::Aabb;
@@ -25,14 +25,27 @@ use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 #[derive(Default)]
 pub struct SyncScratch {
     dirty: Vec<Entity>,
-    rows: Vec<(u32, Row)>,
+    plan: Plan,
     casters: Vec<(Entity, CasterState)>,
+    removed: Vec<Entity>,
 }
 
-/// Mirrors mesh entities into [`RenderInstances`]: rebuilds it when an instance appeared, went
-/// or changed its draw key or shadow flags (or any mesh or material asset, the shadow LODs or
-/// the render origin changed), and rewrites in place the instances that only moved or were
-/// posed.
+/// What a sync does without a rebuild: instances rewritten in place, removed (left as
+/// tombstones) and appended.
+#[derive(Default)]
+struct Plan {
+    rows: Vec<(u32, Row)>,
+    removes: Vec<u32>,
+    adds: Vec<Row>,
+    /// Entities both removed and appended (new draw key or shadow flags), sorted.
+    rekeyed: Vec<Entity>,
+}
+
+/// Mirrors mesh entities into [`RenderInstances`]: rewrites in place the instances that moved
+/// or were posed, appends new ones and leaves removed ones as tombstones (drawn as nothing);
+/// rebuilds it when any mesh or material asset, the shadow LODs or the render origin changed,
+/// when an entity cannot be drawn (its warning is counted then), or when the changes are
+/// many (more than an eighth of the list) or the tombstones a quarter of it.
 #[allow(clippy::too_many_arguments)]
 pub fn sync_instances(
     mut instances: ResMut<RenderInstances>,
@@ -47,31 +60,43 @@ pub fn sync_instances(
     mut scratch: Local<SyncScratch>,
 ) {
     let scratch = &mut *scratch;
-    let removed = changed.collect(&mut scratch.dirty);
+    changed.collect(&mut scratch.dirty);
     let everything = instances.generation == 0
         || meshes.is_changed()
         || materials.is_changed()
         || lods.is_some_and(|l| l.is_changed())
         || instances.origin != origin.0;
-    if !everything && removed == 0 {
+    if !everything {
         if scratch.dirty.is_empty() {
             return;
         }
-        if in_place_rows(
+        let planned = plan(
             &instances,
             &all,
             &scratch.dirty,
-            &meshes,
-            &materials,
+            (&meshes, &materials),
             origin.0,
-            &mut scratch.rows,
-        ) {
-            if scratch.rows.is_empty() {
+            &mut scratch.plan,
+        );
+        let n = instances.gpu.len();
+        let plan = &scratch.plan;
+        let small = (plan.adds.len() + plan.removes.len()) * 8 <= n.max(64)
+            && (instances.tombstones + plan.removes.len()) * 4 <= n;
+        if planned && small {
+            if plan.rows.is_empty() && plan.adds.is_empty() && plan.removes.is_empty() {
                 return;
             }
-            update_in_place(&mut instances, &scratch.rows, &materials, &mut scratch.casters);
+            scratch.removed.clear();
+            apply(
+                &mut instances,
+                plan,
+                &materials,
+                &mut scratch.casters,
+                &mut scratch.removed,
+            );
             changed.stats.updates += 1;
-            changes.record_updates(instances.generation, &mut casters_before, scratch.casters.drain(..));
+            let (states, removed) = (scratch.casters.drain(..), &scratch.removed);
+            changes.record_updates(instances.generation, &mut casters_before, states, removed);
             return;
         }
     }
@@ -85,37 +110,95 @@ pub fn sync_instances(
     );
 }
 
-/// The rows of the `dirty` entities, sorted by slot, when every one can be rewritten in place
-/// (it is drawn, still drawable, and kept its draw key and shadow flags); false when the list
-/// must be rebuilt. Entities that are not mesh entities and were not drawn are ignored.
-fn in_place_rows(
+/// Plans the changes of the `dirty` entities: rewritten in place (sorted by slot), removed,
+/// appended (a drawn entity whose draw key or shadow flags changed is removed and appended);
+/// false when the list must be rebuilt (an entity cannot be drawn). Entities that are not mesh
+/// entities and were not drawn are ignored.
+fn plan(
     instances: &RenderInstances,
     all: &Query<InstanceQueryData>,
     dirty: &[Entity],
-    meshes: &Meshes,
-    materials: &Materials,
+    (meshes, materials): (&Meshes, &Materials),
     origin: Vec3,
-    rows: &mut Vec<(u32, Row)>,
+    plan: &mut Plan,
 ) -> bool {
-    rows.clear();
+    plan.rows.clear();
+    plan.removes.clear();
+    plan.adds.clear();
+    plan.rekeyed.clear();
     for &entity in dirty {
-        let item = all.get(entity).ok();
-        let Some(slot) = instances.slot(entity) else {
-            if item.is_some() {
-                return false;
+        let row = match all.get(entity) {
+            Ok(item) => match Row::of(item, meshes, materials, origin) {
+                Ok(row) => Some(row),
+                Err(_) => return false,
+            },
+            Err(_) => None,
+        };
+        match (instances.slot(entity), row) {
+            (None, None) => {}
+            (None, Some(row)) => plan.adds.push(row),
+            (Some(slot), None) => plan.removes.push(slot),
+            (Some(slot), Some(row)) if fits_in_place(instances, slot, &row) => plan.rows.push((slot, row)),
+            (Some(slot), Some(row)) => {
+                plan.removes.push(slot);
+                plan.adds.push(row);
+                plan.rekeyed.push(entity);
             }
-            continue;
-        };
-        let Some(Ok(row)) = item.map(|item| Row::of(item, meshes, materials, origin)) else {
-            return false;
-        };
-        if !fits_in_place(instances, slot, &row) {
-            return false;
         }
-        rows.push((slot, row));
     }
-    rows.sort_unstable_by_key(|r| r.0);
+    plan.rows.sort_unstable_by_key(|r| r.0);
+    plan.rekeyed.sort_unstable();
     true
+}
+
+/// Applies `plan`: rewrites its rows in place, turns its removed instances into tombstones
+/// (their entities in `removed`) and appends its new ones; refits or extends the chunks and
+/// the run index. Bumps the generation, keeps the layout, lists every instance written in
+/// `updated` and returns the casters' new states in `casters`.
+fn apply(
+    out: &mut RenderInstances,
+    plan: &Plan,
+    materials: &Materials,
+    casters: &mut Vec<(Entity, CasterState)>,
+    removed: &mut Vec<Entity>,
+) {
+    update_in_place(out, &plan.rows, materials, casters);
+    for &slot in &plan.removes {
+        let i = slot as usize;
+        let entity = std::mem::replace(&mut out.entities[i], Entity::PLACEHOLDER);
+        out.slots.remove(&entity);
+        // NOTE: an entity appended again keeps its caster state, compared with the new one.
+        if plan.rekeyed.binary_search(&entity).is_err() {
+            removed.push(entity);
+        }
+        // NOTE: a zero transform draws nothing; the bounds stay until the next rebuild.
+        out.gpu[i].world_from_local = Mat4::ZERO;
+        out.gpu[i].normal_from_local = Mat4::ZERO;
+        out.tombstones += 1;
+        out.updated.push(slot);
+    }
+    if !plan.adds.is_empty() {
+        let (instances, casters_before) = (out.gpu.len(), out.casters.len());
+        let receivers = out.receiver_bounds;
+        for row in &plan.adds {
+            out.updated.push(out.gpu.len() as u32);
+            push_row(out, row, materials);
+            if row.cast {
+                casters.push((row.entity, row.caster_state()));
+            }
+        }
+        if out.receiver_bounds != receivers {
+            out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
+        }
+        let (first, first_caster) = (instances / CHUNK, casters_before / CHUNK);
+        out.chunks.rebuild_from(first, &out.centers, &out.radii);
+        out.caster_chunks
+            .rebuild_from(first_caster, &out.caster_centers, &out.caster_radii);
+        index_runs(out, first);
+    }
+    out.updated.sort_unstable();
+    out.updated.dedup();
+    out.generation += 1;
 }
 
 /// True when `row` can replace instance `slot` in place: same draw key and shadow flags.
@@ -127,8 +210,8 @@ pub(crate) fn fits_in_place(out: &RenderInstances, slot: u32, row: &Row) -> bool
 
 /// Rewrites the instances of `rows` (`(slot, row)` pairs sorted by slot, each accepted by
 /// [`fits_in_place`]) and refits their chunks; the bounds of all casters and receivers only
-/// grow. Bumps the generation, keeps the layout, lists the slots in `updated` and returns the
-/// casters' new states in `casters`.
+/// grow. Lists the slots in `updated` (emptied first) and the casters' new states in `casters`
+/// (emptied first).
 pub(crate) fn update_in_place(
     out: &mut RenderInstances,
     rows: &[(u32, Row)],
@@ -181,5 +264,4 @@ pub(crate) fn update_in_place(
     if !receivers.is_empty() && out.receiver_bounds.union(receivers) != out.receiver_bounds {
         out.receiver_bounds = out.receiver_bounds.union(receivers).snapped_out(RECEIVER_GRID);
     }
-    out.generation += 1;
 }

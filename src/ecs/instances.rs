@@ -44,7 +44,8 @@ pub struct RenderInstances {
     /// Per mesh handle: the largest bounding radius of its casters (0 for none), which
     /// picks its shadow LOD ([`ShadowLods`](crate::ecs::shadow_lods::ShadowLods)).
     pub mesh_caster_radius: Vec<f32>,
-    /// Number of leading casters with opaque materials; the rest are masked.
+    /// Number of leading casters with opaque materials; the rest are masked or were appended
+    /// since the last rebuild (of any material).
     pub opaque_casters: usize,
     /// Chunk spheres of the casters (for chunked cascade culling).
     pub caster_chunks: SphereChunks,
@@ -71,7 +72,10 @@ pub struct RenderInstances {
     /// shadow.
     pub caster_index: Vec<u32>,
     /// The instance of each entity drawn.
-    slots: EntityHashMap<u32>,
+    pub(crate) slots: EntityHashMap<u32>,
+    /// Instances of entities removed since the last rebuild: drawn with a zero transform (so
+    /// nothing) where they were, until the next rebuild drops them.
+    pub tombstones: usize,
     /// Where each run of instances of one draw key within one culling chunk starts
     /// (ascending; a run ends where the next one starts, the last at the list's end).
     pub run_starts: Vec<u32>,
@@ -156,49 +160,16 @@ pub(crate) fn rebuild<'a>(
     out.caster_bounds = Aabb::EMPTY;
     out.receiver_bounds = Aabb::EMPTY;
     out.opaque_casters = 0;
-    for (i, row) in rows.iter().enumerate() {
-        out.gpu.push(row.gpu(materials));
-        if row.receive {
-            out.receiver_bounds = out.receiver_bounds.union(row.bounds);
-        }
-        let (center, radius) = row.bounds.bounding_sphere();
-        out.keys.push(row.key);
-        out.centers.push(center);
-        out.radii.push(radius);
-        out.entities.push(row.entity);
-        out.slots.insert(row.entity, i as u32);
-        out.caster_index.push(if row.cast {
-            out.casters.len() as u32
-        } else {
-            NOT_A_CASTER
-        });
-        if row.cast {
-            out.casters.push(i as u32);
-            out.caster_centers.push(center);
-            out.caster_radii.push(radius);
-            out.caster_boxes.push(row.bounds);
-            let m = row.key.mesh.0 as usize;
-            if out.mesh_caster_radius.len() <= m {
-                out.mesh_caster_radius.resize(m + 1, 0.0);
-            }
-            out.mesh_caster_radius[m] = out.mesh_caster_radius[m].max(radius);
-            out.caster_bounds = out.caster_bounds.union(row.bounds);
-            if !row.key.masked {
-                out.opaque_casters += 1;
-            }
+    for row in &rows {
+        push_row(out, row, materials);
+        if row.cast && !row.key.masked {
+            out.opaque_casters += 1;
         }
     }
     out.run_starts.clear();
     out.chunk_runs.clear();
-    for (i, key) in out.keys.iter().enumerate() {
-        if i % CHUNK == 0 {
-            out.chunk_runs.push(out.run_starts.len() as u32);
-        }
-        if i % CHUNK == 0 || out.keys[i - 1] != *key {
-            out.run_starts.push(i as u32);
-        }
-    }
-    out.chunk_runs.push(out.run_starts.len() as u32);
+    index_runs(out, 0);
+    out.tombstones = 0;
     out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);
@@ -210,6 +181,57 @@ pub(crate) fn rebuild<'a>(
         .filter(|r| r.cast)
         .map(|r| (r.entity, r.caster_state()))
         .collect()
+}
+
+/// Appends `row` as the next instance (and caster): its data, bounds and slot; the chunks
+/// and the run index are the caller's to update.
+pub(crate) fn push_row(out: &mut RenderInstances, row: &Row, materials: &Materials) {
+    let i = out.gpu.len();
+    out.gpu.push(row.gpu(materials));
+    if row.receive {
+        out.receiver_bounds = out.receiver_bounds.union(row.bounds);
+    }
+    let (center, radius) = row.bounds.bounding_sphere();
+    out.keys.push(row.key);
+    out.centers.push(center);
+    out.radii.push(radius);
+    out.entities.push(row.entity);
+    out.slots.insert(row.entity, i as u32);
+    out.caster_index.push(if row.cast {
+        out.casters.len() as u32
+    } else {
+        NOT_A_CASTER
+    });
+    if row.cast {
+        out.casters.push(i as u32);
+        out.caster_centers.push(center);
+        out.caster_radii.push(radius);
+        out.caster_boxes.push(row.bounds);
+        let m = row.key.mesh.0 as usize;
+        if out.mesh_caster_radius.len() <= m {
+            out.mesh_caster_radius.resize(m + 1, 0.0);
+        }
+        out.mesh_caster_radius[m] = out.mesh_caster_radius[m].max(radius);
+        out.caster_bounds = out.caster_bounds.union(row.bounds);
+    }
+}
+
+/// Indexes the runs (instances of one draw key within one culling chunk) from culling chunk
+/// `first` on, keeping those before it.
+pub(crate) fn index_runs(out: &mut RenderInstances, first: usize) {
+    let first = first.min(out.chunk_runs.len());
+    let kept = out.chunk_runs.get(first).map_or(out.run_starts.len(), |&r| r as usize);
+    out.chunk_runs.truncate(first);
+    out.run_starts.truncate(kept);
+    for i in first * CHUNK..out.keys.len() {
+        if i % CHUNK == 0 {
+            out.chunk_runs.push(out.run_starts.len() as u32);
+        }
+        if i % CHUNK == 0 || out.keys[i - 1] != out.keys[i] {
+            out.run_starts.push(i as u32);
+        }
+    }
+    out.chunk_runs.push(out.run_starts.len() as u32);
 }
 
 /// Position of `p` along a 3D Morton (Z-order) curve over the cube around `bounds` (its

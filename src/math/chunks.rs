@@ -46,6 +46,24 @@ impl SphereChunks {
         chunks
     }
 
+    /// Makes the chunks from chunk `first` on again from `centers`/`radii` (members appended
+    /// to the arrays this was built from): as [`build`](Self::build) would, for those chunks.
+    pub fn rebuild_from(&mut self, first: usize, centers: &[Vec3], radii: &[f32]) {
+        let first = first.min(self.len());
+        self.centers.truncate(first);
+        self.radii.truncate(first);
+        self.boxes.truncate(first);
+        self.max_radii.truncate(first);
+        let start = (first * CHUNK).min(centers.len().min(radii.len()));
+        for (c, r) in centers[start..].chunks(CHUNK).zip(radii[start..].chunks(CHUNK)) {
+            let (center, radius, bounds) = chunk_sphere(c, r);
+            self.centers.push(center);
+            self.radii.push(radius);
+            self.boxes.push(bounds);
+            self.max_radii.push(largest(r, radius));
+        }
+    }
+
     /// Refits the chunk holding member `index` to its members now in `centers`/`radii` (the
     /// arrays this was built from, with some members moved): as [`build`](Self::build) would,
     /// for that chunk only. An index past the chunks does nothing.
@@ -306,6 +324,13 @@ mod tests {
             chunks.refit(i, &centers, &radii);
         }
         assert_eq!(chunks, SphereChunks::build(&centers, &radii));
+        // Members appended: the chunks from the last partial one on are made again.
+        let (mut more, mut more_radii) = (centers.clone(), radii.clone());
+        more.extend([Vec3::ONE; 100]);
+        more_radii.extend([0.5; 100]);
+        let mut grown = chunks.clone();
+        grown.rebuild_from(centers.len() / CHUNK, &more, &more_radii);
+        assert_eq!(grown, SphereChunks::build(&more, &more_radii));
         radii[3] = f32::NAN;
         chunks.refit(3, &centers, &radii);
         assert!(chunks.radii[0].is_infinite() && chunks.boxes[0].is_empty());
