@@ -182,7 +182,11 @@ fn spawning_appends_and_despawning_leaves_a_tombstone_without_renumbering() {
         .id();
     app.update();
     let i = app.world().resource::<RenderInstances>();
-    assert_eq!((i.layout, i.gpu.len(), i.tombstones), (layout, len + 1, 1), "in place");
+    assert_eq!(
+        (i.layout, i.gpu.len(), i.tombstones, i.appended),
+        (layout, len + 1, 1, 1),
+        "in place"
+    );
     assert_eq!((i.slot(moving[0]), i.slot(moving[1])), (None, kept), "none renumbered");
     let slot = i.slot(added).expect("appended") as usize;
     assert_eq!(slot, len);
@@ -209,7 +213,7 @@ fn spawning_appends_and_despawning_leaves_a_tombstone_without_renumbering() {
     }
     app.update();
     let i = app.world().resource::<RenderInstances>();
-    assert!(i.layout > layout && i.tombstones == 0, "rebuilt");
+    assert!(i.layout > layout && i.tombstones == 0 && i.appended == 0, "rebuilt");
     assert_eq!(i.gpu.len(), len + 200, "{} instances", i.gpu.len());
     assert_eq!(sync(&app).rebuilds, 2);
 }

@@ -45,7 +45,8 @@ struct Plan {
 /// or were posed, appends new ones and leaves removed ones as tombstones (drawn as nothing);
 /// rebuilds it when any mesh or material asset, the shadow LODs or the render origin changed,
 /// when an entity cannot be drawn (its warning is counted then), or when the changes are
-/// many (more than an eighth of the list) or the tombstones a quarter of it.
+/// many (more than an eighth of the list) or the tombstones or the appended instances since the
+/// last rebuild a quarter of it.
 #[allow(clippy::too_many_arguments)]
 pub fn sync_instances(
     mut instances: ResMut<RenderInstances>,
@@ -80,8 +81,11 @@ pub fn sync_instances(
         );
         let n = instances.gpu.len();
         let plan = &scratch.plan;
+        // NOTE: appended instances are out of order and tombstones are dead weight: past a
+        // quarter of the list either way, a rebuild sorts and compacts it again.
         let small = (plan.adds.len() + plan.removes.len()) * 8 <= n.max(64)
-            && (instances.tombstones + plan.removes.len()) * 4 <= n;
+            && (instances.tombstones + plan.removes.len()) * 4 <= n
+            && (instances.appended + plan.adds.len()) * 4 <= n;
         if planned && small {
             if plan.rows.is_empty() && plan.adds.is_empty() && plan.removes.is_empty() {
                 return;
@@ -180,6 +184,7 @@ fn apply(
     if !plan.adds.is_empty() {
         let (instances, casters_before) = (out.gpu.len(), out.casters.len());
         let receivers = out.receiver_bounds;
+        out.appended += plan.adds.len();
         for row in &plan.adds {
             out.updated.push(out.gpu.len() as u32);
             push_row(out, row, materials);

@@ -76,6 +76,9 @@ pub struct RenderInstances {
     /// Instances of entities removed since the last rebuild: drawn with a zero transform (so
     /// nothing) where they were, until the next rebuild drops them.
     pub tombstones: usize,
+    /// Instances appended since the last rebuild (out of the draw-key and Morton order, until
+    /// the next rebuild sorts them in).
+    pub appended: usize,
     /// Where each run of instances of one draw key within one culling chunk starts
     /// (ascending; a run ends where the next one starts, the last at the list's end).
     pub run_starts: Vec<u32>,
@@ -170,6 +173,7 @@ pub(crate) fn rebuild<'a>(
     out.chunk_runs.clear();
     index_runs(out, 0);
     out.tombstones = 0;
+    out.appended = 0;
     out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);
