@@ -49,14 +49,7 @@ impl CasterChanges {
         self.regions.clear();
         let mut next = EntityHashMap::with_capacity(before.len());
         for (entity, state) in now {
-            match before.remove(&entity) {
-                Some(old) if old == state => {}
-                Some(old) => {
-                    self.regions.push(old.bounds);
-                    self.regions.push(state.bounds);
-                }
-                None => self.regions.push(state.bounds),
-            }
+            self.note(before.remove(&entity), &state);
             next.insert(entity, state);
         }
         // What is left was a caster and is not any more.
@@ -81,17 +74,20 @@ impl CasterChanges {
         self.everything = false;
         self.regions.clear();
         for (entity, state) in updated {
-            match before.insert(entity, state) {
-                Some(old) if old == state => {}
-                Some(old) => {
-                    self.regions.push(old.bounds);
-                    self.regions.push(state.bounds);
-                }
-                None => self.regions.push(state.bounds),
-            }
+            self.note(before.insert(entity, state), &state);
         }
         self.regions
             .extend(removed.iter().filter_map(|e| before.remove(e)).map(|s| s.bounds));
+    }
+
+    /// Lists the regions of a caster whose state went from `old` (None: it was not drawn) to
+    /// `now`: none when it is the same, else where it was and where it is.
+    fn note(&mut self, old: Option<CasterState>, now: &CasterState) {
+        match old {
+            Some(old) if old == *now => {}
+            Some(old) => self.regions.extend([old.bounds, now.bounds]),
+            None => self.regions.push(now.bounds),
+        }
     }
 }
 

@@ -35,7 +35,8 @@ pub struct SyncScratch {
 #[derive(Default)]
 struct Plan {
     rows: Vec<(u32, Row)>,
-    removes: Vec<u32>,
+    /// Instances to remove, and their entities.
+    removes: Vec<(u32, Entity)>,
     adds: Vec<Row>,
     /// Entities both removed and appended (new draw key or shadow flags), sorted.
     rekeyed: Vec<Entity>,
@@ -141,10 +142,10 @@ fn plan(
         match (instances.slot(entity), row) {
             (None, None) => {}
             (None, Some(row)) => plan.adds.push(row),
-            (Some(slot), None) => plan.removes.push(slot),
+            (Some(slot), None) => plan.removes.push((slot, entity)),
             (Some(slot), Some(row)) if fits_in_place(instances, slot, &row) => plan.rows.push((slot, row)),
             (Some(slot), Some(row)) => {
-                plan.removes.push(slot);
+                plan.removes.push((slot, entity));
                 plan.adds.push(row);
                 plan.rekeyed.push(entity);
             }
@@ -167,9 +168,8 @@ fn apply(
     removed: &mut Vec<Entity>,
 ) {
     update_in_place(out, &plan.rows, materials, casters);
-    for &slot in &plan.removes {
+    for &(slot, entity) in &plan.removes {
         let i = slot as usize;
-        let entity = std::mem::replace(&mut out.entities[i], Entity::PLACEHOLDER);
         out.slots.remove(&entity);
         // NOTE: an entity appended again keeps its caster state, compared with the new one.
         if plan.rekeyed.binary_search(&entity).is_err() {

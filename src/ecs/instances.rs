@@ -66,8 +66,6 @@ pub struct RenderInstances {
     /// The instances rewritten by the latest change when it was an in-place update (from
     /// `generation - 1`); empty after a rebuild. See [`RenderInstances::patch_from`].
     pub updated: Vec<u32>,
-    /// The entity of each instance.
-    pub entities: Vec<Entity>,
     /// Per instance: its index in `casters`, or `u32::MAX` for an instance that casts no
     /// shadow.
     pub caster_index: Vec<u32>,
@@ -156,7 +154,6 @@ pub(crate) fn rebuild<'a>(
     out.caster_radii.clear();
     out.caster_boxes.clear();
     out.mesh_caster_radius.clear();
-    out.entities.clear();
     out.caster_index.clear();
     out.slots.clear();
     out.updated.clear();
@@ -169,8 +166,6 @@ pub(crate) fn rebuild<'a>(
             out.opaque_casters += 1;
         }
     }
-    out.run_starts.clear();
-    out.chunk_runs.clear();
     index_runs(out, 0);
     out.tombstones = 0;
     out.appended = 0;
@@ -199,7 +194,6 @@ pub(crate) fn push_row(out: &mut RenderInstances, row: &Row, materials: &Materia
     out.keys.push(row.key);
     out.centers.push(center);
     out.radii.push(radius);
-    out.entities.push(row.entity);
     out.slots.insert(row.entity, i as u32);
     out.caster_index.push(if row.cast {
         out.casters.len() as u32

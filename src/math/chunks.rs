@@ -36,13 +36,7 @@ impl SphereChunks {
     /// Builds the chunk spheres of `centers`/`radii` (equal lengths).
     pub fn build(centers: &[Vec3], radii: &[f32]) -> Self {
         let mut chunks = SphereChunks::default();
-        for (c, r) in centers.chunks(CHUNK).zip(radii.chunks(CHUNK)) {
-            let (center, radius, bounds) = chunk_sphere(c, r);
-            chunks.centers.push(center);
-            chunks.radii.push(radius);
-            chunks.boxes.push(bounds);
-            chunks.max_radii.push(largest(r, radius));
-        }
+        chunks.rebuild_from(0, centers, radii);
         chunks
     }
 

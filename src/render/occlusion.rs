@@ -110,7 +110,10 @@ pub struct OcclusionGpu {
     /// The buffers `groups` were made over (instances, view list), to notice replacements.
     bound: Option<(wgpu::Buffer, wgpu::Buffer)>,
     template: Vec<IndexedArgs>,
-    runs: Vec<InstanceRun>,
+    /// Runs over a list the CPU culled (kept for their allocation).
+    listed_runs: Vec<InstanceRun>,
+    /// Runs uploaded for the view's list.
+    run_count: u32,
     /// Bounds and seen flags as uploaded (kept to reuse their allocations).
     bounds: Vec<Vec4>,
     ones: Vec<u32>,
@@ -278,8 +281,16 @@ impl OcclusionGpu {
             self.instance_generation = Some(instances.generation);
         }
         if self.view_generation != Some(views.generation) {
-            list_runs(views, &mut self.runs);
-            replaced |= buffers.runs.write(gpu, bytemuck::cast_slice(&self.runs))?;
+            // NOTE: the ECS's own runs go up as they are; a list the CPU culled gets runs here.
+            let runs = match views.runs.is_empty() {
+                true => {
+                    list_runs(views, &mut self.listed_runs);
+                    &self.listed_runs
+                }
+                false => &views.runs,
+            };
+            replaced |= buffers.runs.write(gpu, bytemuck::cast_slice(runs))?;
+            self.run_count = runs.len() as u32;
             // NOTE: the lists need room, not contents: the culling writes what the draws read.
             let bytes = views.entries() as u64 * 4;
             replaced |= buffers.early_list.reserve(gpu, bytes)?;
@@ -300,7 +311,7 @@ impl OcclusionGpu {
             forward: camera.forward().extend(0.0),
             size: [size.0 as f32, size.1 as f32],
             levels,
-            runs: self.runs.len() as u32,
+            runs: self.run_count,
             near: camera.near,
             occluding: u32::from(wanted),
             row: DISPATCH_ROW,
@@ -445,19 +456,15 @@ impl OcclusionGpu {
         });
         pass.set_pipeline(if late { &kernels.late } else { &kernels.early });
         pass.set_bind_group(0, if late { &groups.late_cull } else { &groups.early_cull }, &[]);
-        let runs = self.runs.len() as u32;
+        let runs = self.run_count;
         pass.dispatch_workgroups(runs.min(DISPATCH_ROW), runs.div_ceil(DISPATCH_ROW), 1);
     }
 }
 
-/// The runs the culling goes through: the view's own (listed by culling chunk), or runs of at
-/// most [`CULL_WORKGROUP`] entries over the list the CPU culled, batch by batch.
+/// Runs of at most [`CULL_WORKGROUP`] entries over the list the CPU culled, batch by batch (a
+/// view the ECS listed as runs has its own).
 fn list_runs(views: &ViewDrawGroups, out: &mut Vec<InstanceRun>) {
     out.clear();
-    if !views.runs.is_empty() {
-        out.extend_from_slice(&views.runs);
-        return;
-    }
     let group = &views.group;
     for (b, batch) in (0u32..).zip(group.opaque.iter().chain(&group.masked)) {
         let end = batch.first + batch.count;

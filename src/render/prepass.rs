@@ -166,16 +166,19 @@ pub fn prepass_runs(inputs: &FrameInputs<'_>, (width, height): (u32, u32)) -> bo
 pub fn visible_triangles(inputs: &FrameInputs<'_>) -> u64 {
     let views = inputs.view_groups;
     let group = &views.group;
-    let batches: Vec<_> = group.opaque.iter().chain(&group.masked).collect();
     let triangles = |mesh| inputs.meshes.get(mesh).map_or(0, |m| m.indices.len() as u64 / 3);
     if !views.runs.is_empty() {
+        // NOTE: batches are numbered opaque first, then masked.
         let run_triangles = |r: &InstanceRun| {
-            let mesh = batches.get(r.batch as usize).map(|b| b.mesh);
-            mesh.map_or(0, |m| triangles(m) * u64::from(r.count))
+            let b = r.batch as usize;
+            let masked = || b.checked_sub(group.opaque.len()).and_then(|m| group.masked.get(m));
+            let batch = group.opaque.get(b).or_else(masked);
+            batch.map_or(0, |batch| triangles(batch.mesh) * u64::from(r.count))
         };
         return views.runs.iter().map(run_triangles).sum();
     }
-    batches.iter().map(|b| triangles(b.mesh) * u64::from(b.count)).sum()
+    let batches = group.opaque.iter().chain(&group.masked);
+    batches.map(|b| triangles(b.mesh) * u64::from(b.count)).sum()
 }
 
 impl RenderNode for DepthPrepass {
