@@ -214,9 +214,9 @@ fn the_gpu_frustum_lists_hold_the_cpu_lists_and_what_the_mirror_keeps() {
         assert!(cpu_total > 20_000, "only {cpu_total} instances judged");
         assert!(gpu == mirror, "step {step}: the GPU's lists differ from the mirror's");
         assert_eq!(missing, 0, "step {step}: instances the CPU drew and the GPU did not");
-        // What only the GPU keeps touches a plane within its padding.
+        // What only the GPU keeps touches a plane within its padding (measured 0–2 a step).
         assert!(
-            total - cpu_total <= cpu_total / 1000,
+            total - cpu_total <= 6,
             "step {step}: {} more on the GPU",
             total - cpu_total
         );
