@@ -228,18 +228,20 @@ fn cascade_and_culling_systems(c: &mut Criterion) {
 /// One whole frame of `ShadowPlugin` (sync, cascades, camera culling, caster culling): with
 /// the camera still (everything reused) and moving every frame, with the camera view culled
 /// per instance on the CPU or (`_gpu_camera`, as for a renderer that culls on the GPU) per
-/// chunk.
+/// chunk, and (`_gpu_culling`) the cascades per chunk too.
 fn shadow_plugin_frame(c: &mut Criterion) {
-    for (name, step, gpu_camera) in [
-        ("shadow_plugin_frame_still", 0.0, false),
-        ("shadow_plugin_frame_moving", 0.37, false),
-        ("shadow_plugin_frame_moving_gpu_camera", 0.37, true),
+    for (name, step, gpu_camera, gpu_shadows) in [
+        ("shadow_plugin_frame_still", 0.0, false, false),
+        ("shadow_plugin_frame_moving", 0.37, false, false),
+        ("shadow_plugin_frame_moving_gpu_camera", 0.37, true, false),
+        ("shadow_plugin_frame_moving_gpu_culling", 0.37, true, true),
     ] {
         let mut group = c.benchmark_group(name);
         group.sample_size(30);
         for n in [1_000usize, 10_000, 100_000, 1_000_000] {
             let mut app = plugin_app(n, true);
-            app.world_mut().resource_mut::<ShadowCulling>().gpu_camera = gpu_camera;
+            let mut culling = app.world_mut().resource_mut::<ShadowCulling>();
+            (culling.gpu_camera, culling.gpu_shadows) = (gpu_camera, gpu_shadows);
             let mut frame = 0;
             group.throughput(Throughput::Elements(n as u64));
             group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {

@@ -128,8 +128,9 @@ pub struct RenderArgs {
     /// hidden behind others are culled on the GPU, around the depth prepass).
     #[arg(long)]
     no_occlusion_culling: bool,
-    /// Cull the camera view's instances on the CPU, one by one (by default the CPU only tests
-    /// culling chunks and the GPU tests their instances, in views of 16 384 or more).
+    /// Cull the camera view's instances and the cascades' casters on the CPU, one by one (by
+    /// default the CPU only tests culling chunks and the GPU tests their members, in views of
+    /// 16 384 instances or more and scenes of 16 384 casters or more).
     #[arg(long)]
     no_gpu_culling: bool,
     /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),

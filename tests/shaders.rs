@@ -319,6 +319,8 @@ fn the_occlusion_culling_shaders_validate() {
             .unwrap_or_else(|e| panic!("late {late}: {e}"));
         assert_eq!(module.entry_points[0].name, "main");
     }
+    let module = library.shadow_cull().unwrap_or_else(|e| panic!("shadow culling: {e}"));
+    assert_eq!(module.entry_points[0].name, "main");
     for first in [false, true] {
         let module = library
             .occlusion_pyramid(first)

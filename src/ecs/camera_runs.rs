@@ -10,6 +10,7 @@
 use crate::ecs::draw_groups::{DrawBatch, DrawGroup, DrawKey, GPU_LOD_LEVELS, InstanceRun, ViewDrawGroups};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::view_lod::ViewLod;
+use crate::math::chunk_groups::{frustum_test, visit_groups};
 use crate::math::frustum::Frustum;
 
 /// The fewest instances in the chunks that meet the frustum for which the view is culled by
@@ -32,19 +33,23 @@ pub fn cull_chunk_runs(
     groups.runs.clear();
     let chunks = &instances.chunks;
     let mut candidates = 0;
-    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
-        if radius.is_finite() && !frustum.intersects_sphere(center, radius) {
-            continue;
+    let test = |center, radius| frustum_test(frustum, None, center, radius);
+    visit_groups(&chunks.groups, chunks.len(), test, |first, end, whole| {
+        for k in first..end {
+            let (center, radius) = (chunks.centers[k], chunks.radii[k]);
+            if whole.is_none() && radius.is_finite() && !frustum.intersects_sphere(center, radius) {
+                continue;
+            }
+            for (first, end) in instances.runs_of_chunk(k) {
+                groups.runs.push(InstanceRun {
+                    first,
+                    count: end - first,
+                    ..InstanceRun::default()
+                });
+                candidates += (end - first) as usize;
+            }
         }
-        for (first, end) in instances.runs_of_chunk(k) {
-            groups.runs.push(InstanceRun {
-                first,
-                count: end - first,
-                ..InstanceRun::default()
-            });
-            candidates += (end - first) as usize;
-        }
-    }
+    });
     if candidates < GPU_CAMERA_MIN_INSTANCES {
         groups.runs.clear();
         return false;

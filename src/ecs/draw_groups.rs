@@ -118,6 +118,23 @@ pub struct InstanceRun {
     pub errors: [f32; GPU_LOD_LEVELS],
 }
 
+/// Casters `first..first + count` (caster indices, at most one culling chunk's, of one draw
+/// key) of shadow view `view`, drawn by the view's batch `batch` (numbered opaque first, then
+/// masked) once the GPU has tested each against the view's volume.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+#[repr(C)]
+pub struct ShadowRun {
+    /// First caster.
+    pub first: u32,
+    /// Number of casters.
+    pub count: u32,
+    /// The batch drawing them.
+    pub batch: u32,
+    /// The view (its index in [`ShadowViews::views`](crate::ecs::view_list::ShadowViews::views);
+    /// 0 while the view's entry holds it).
+    pub view: u32,
+}
+
 /// The instances the camera sees.
 #[derive(Resource, Debug, Default)]
 pub struct ViewDrawGroups {

@@ -12,14 +12,15 @@ use crate::math::footprint::{ClipProjector, TILES, TileMask};
 const REFINE_AREA: f32 = 0.25;
 
 /// Adds to `tiles` those the casters `members` (indices into the caster arrays, all in
-/// culling chunk `chunk`) can write under `projector`. Every tile for a chunk whose bounds are
-/// unknown (one with a member that is not finite).
+/// culling chunk `chunk`) can write under `projector`; a chunk taken member by member is
+/// taken `step` consecutive members at a time (the union of their bounds). Every tile for a
+/// chunk whose bounds are unknown (one with a member that is not finite).
 pub fn add_chunk_footprint(
     tiles: &mut TileMask,
     projector: &ClipProjector,
     instances: &RenderInstances,
     chunk: usize,
-    members: impl Iterator<Item = usize>,
+    (members, step): (impl Iterator<Item = usize>, usize),
 ) {
     // NOTE: a layer written over half its tiles is cleared whole anyway, so past that point
     // the footprint is the whole map and the remaining chunks cost nothing.
@@ -33,10 +34,16 @@ pub fn add_chunk_footprint(
     }
     let rect = projector.rect(&bounds);
     if rect.area() > REFINE_AREA {
+        let (mut part, mut taken) = (Aabb::EMPTY, 0);
         for k in members {
-            let member = instances.caster_boxes.get(k).copied().unwrap_or(bounds);
-            tiles.add_rect(&projector.rect(&member));
+            part = part.union(instances.caster_boxes.get(k).copied().unwrap_or(bounds));
+            taken += 1;
+            if taken == step.max(1) {
+                tiles.add_rect(&projector.rect(&part));
+                (part, taken) = (Aabb::EMPTY, 0);
+            }
         }
+        tiles.add_rect(&projector.rect(&part));
     } else {
         tiles.add_rect(&rect);
     }

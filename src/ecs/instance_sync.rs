@@ -199,7 +199,7 @@ fn apply(
         out.chunks.rebuild_from(first, &out.centers, &out.radii);
         out.caster_chunks
             .rebuild_from(first_caster, &out.caster_centers, &out.caster_radii);
-        index_runs(out, first);
+        index_runs(out, first, first_caster);
     }
     out.updated.sort_unstable();
     out.updated.dedup();

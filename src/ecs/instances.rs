@@ -83,6 +83,11 @@ pub struct RenderInstances {
     /// Per culling chunk, the index in `run_starts` of its first run, and one more entry: the
     /// number of runs.
     pub chunk_runs: Vec<u32>,
+    /// [`run_starts`](Self::run_starts) of the casters: where each run of casters of one
+    /// draw key within one caster culling chunk starts (caster indices).
+    pub caster_run_starts: Vec<u32>,
+    /// [`chunk_runs`](Self::chunk_runs) of the caster chunks (indexing `caster_run_starts`).
+    pub caster_chunk_runs: Vec<u32>,
     /// Entities skipped because of an invalid transform, mesh or material.
     pub skipped: usize,
 }
@@ -98,15 +103,18 @@ impl RenderInstances {
     /// The runs of culling chunk `chunk` (instances of one draw key each), as `first..end`
     /// instance ranges.
     pub fn runs_of_chunk(&self, chunk: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
-        let runs = match (self.chunk_runs.get(chunk), self.chunk_runs.get(chunk + 1)) {
-            (Some(&a), Some(&b)) => a as usize..b as usize,
-            _ => 0..0,
-        };
-        let total = self.gpu.len() as u32;
-        runs.map(move |r| {
-            let end = self.run_starts.get(r + 1).copied().unwrap_or(total);
-            (self.run_starts[r], end)
-        })
+        chunk_run_ranges(&self.run_starts, &self.chunk_runs, chunk, self.gpu.len())
+    }
+
+    /// The runs of caster culling chunk `chunk` (casters of one draw key each), as
+    /// `first..end` caster ranges.
+    pub fn caster_runs_of_chunk(&self, chunk: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+        chunk_run_ranges(
+            &self.caster_run_starts,
+            &self.caster_chunk_runs,
+            chunk,
+            self.casters.len(),
+        )
     }
 
     /// The instance index of `entity`, if it is drawn.
@@ -166,7 +174,7 @@ pub(crate) fn rebuild<'a>(
             out.opaque_casters += 1;
         }
     }
-    index_runs(out, 0);
+    index_runs(out, 0, 0);
     out.tombstones = 0;
     out.appended = 0;
     out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
@@ -214,22 +222,54 @@ pub(crate) fn push_row(out: &mut RenderInstances, row: &Row, materials: &Materia
     }
 }
 
+/// The `(first, end)` ranges of the runs of chunk `chunk` in a run index (`starts`,
+/// `chunk_runs`) over `total` elements.
+fn chunk_run_ranges<'a>(
+    starts: &'a [u32],
+    chunk_runs: &[u32],
+    chunk: usize,
+    total: usize,
+) -> impl Iterator<Item = (u32, u32)> + 'a {
+    let runs = match (chunk_runs.get(chunk), chunk_runs.get(chunk + 1)) {
+        (Some(&a), Some(&b)) => a as usize..b as usize,
+        _ => 0..0,
+    };
+    runs.map(move |r| (starts[r], starts.get(r + 1).copied().unwrap_or(total as u32)))
+}
+
 /// Indexes the runs (instances of one draw key within one culling chunk) from culling chunk
-/// `first` on, keeping those before it.
-pub(crate) fn index_runs(out: &mut RenderInstances, first: usize) {
-    let first = first.min(out.chunk_runs.len());
-    let kept = out.chunk_runs.get(first).map_or(out.run_starts.len(), |&r| r as usize);
-    out.chunk_runs.truncate(first);
-    out.run_starts.truncate(kept);
-    for i in first * CHUNK..out.keys.len() {
+/// `first` on, and the caster runs from caster chunk `first_caster` on, keeping those before.
+pub(crate) fn index_runs(out: &mut RenderInstances, first: usize, first_caster: usize) {
+    let keys = &out.keys;
+    index_key_runs(keys.len(), |i| keys[i], first, &mut out.run_starts, &mut out.chunk_runs);
+    let casters = &out.casters;
+    let caster_key = |i: usize| keys[casters[i] as usize];
+    let (starts, chunk_runs) = (&mut out.caster_run_starts, &mut out.caster_chunk_runs);
+    index_key_runs(casters.len(), caster_key, first_caster, starts, chunk_runs);
+}
+
+/// Indexes the runs of equal keys (`key(i)` for `i < len`) within each chunk from chunk
+/// `first` on into `starts` and `chunk_runs`, keeping those before.
+fn index_key_runs(
+    len: usize,
+    key: impl Fn(usize) -> DrawKey,
+    first: usize,
+    starts: &mut Vec<u32>,
+    chunk_runs: &mut Vec<u32>,
+) {
+    let first = first.min(chunk_runs.len());
+    let kept = chunk_runs.get(first).map_or(starts.len(), |&r| r as usize);
+    chunk_runs.truncate(first);
+    starts.truncate(kept);
+    for i in first * CHUNK..len {
         if i % CHUNK == 0 {
-            out.chunk_runs.push(out.run_starts.len() as u32);
+            chunk_runs.push(starts.len() as u32);
         }
-        if i % CHUNK == 0 || out.keys[i - 1] != out.keys[i] {
-            out.run_starts.push(i as u32);
+        if i % CHUNK == 0 || key(i - 1) != key(i) {
+            starts.push(i as u32);
         }
     }
-    out.chunk_runs.push(out.run_starts.len() as u32);
+    chunk_runs.push(starts.len() as u32);
 }
 
 /// Position of `p` along a 3D Morton (Z-order) curve over the cube around `bounds` (its

@@ -26,6 +26,7 @@ pub mod plugin;
 pub mod receiver_culling;
 pub mod shadow_lods;
 pub mod shadow_memory;
+pub mod shadow_runs;
 pub mod shadow_views;
 pub mod single_pass;
 pub mod skinning;
@@ -42,7 +43,7 @@ pub use bevy_transform::components::{GlobalTransform, Transform};
 pub use components::{
     AmbientLight, Camera3d, DirectionalLight, Mesh3d, MeshMaterial3d, NotShadowCaster, NotShadowReceiver, ViewportSize,
 };
-pub use draw_groups::{DrawBatch, DrawGroup, InstanceRun, ViewDrawGroups};
+pub use draw_groups::{DrawBatch, DrawGroup, InstanceRun, ShadowRun, ViewDrawGroups};
 pub use instance_changes::InstanceSync;
 pub use instances::RenderInstances;
 pub use light_views::{FrameLights, PointLightView, SpotLightView, SunView};

@@ -14,6 +14,7 @@ use crate::ecs::view::ActiveView;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
+use crate::math::chunk_groups::{frustum_test, visit_groups};
 use crate::math::chunks::CHUNK;
 use crate::math::frustum::{Frustum, slice_corners};
 use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers};
@@ -56,6 +57,12 @@ pub struct ShadowCulling {
     /// then culled by chunk only and listed as runs
     /// ([`ViewDrawGroups::runs`](crate::ecs::ViewDrawGroups::runs)).
     pub gpu_camera: bool,
+    /// The renderer culls shadow casters one by one on the GPU (set with `gpu_camera`): the
+    /// cascades of a sun in a scene of at least
+    /// [`GPU_SHADOW_MIN_CASTERS`](crate::ecs::shadow_runs::GPU_SHADOW_MIN_CASTERS) casters are
+    /// then culled by chunk only and listed as runs
+    /// ([`ShadowViews::runs`](crate::ecs::view_list::ShadowViews::runs)).
+    pub gpu_shadows: bool,
 }
 
 impl Default for ShadowCulling {
@@ -66,6 +73,7 @@ impl Default for ShadowCulling {
             multiview_views: crate::settings::MAX_CASCADES as u32,
             cached: false,
             gpu_camera: false,
+            gpu_shadows: false,
         }
     }
 }
@@ -143,28 +151,7 @@ impl ReceiverCache {
                     .fold(0.0, f32::max);
                 let expand = CHUNK_EXPAND_FRACTION * largest;
                 self.members.clear();
-                for (k, (&center, &radius)) in instances.chunks.centers.iter().zip(&instances.chunks.radii).enumerate()
-                {
-                    if !frustum.intersects_sphere(center, radius) {
-                        continue;
-                    }
-                    let members = k * CHUNK..((k + 1) * CHUNK).min(instances.centers.len());
-                    // NOTE: a large chunk is split only when one member dominates it (a ground
-                    // plane among small casters); a chunk of small casters spread wide is
-                    // taken whole.
-                    let dominated = || instances.radii[members.clone()].iter().any(|&r| r > 0.5 * radius);
-                    if radius.is_finite() && (radius <= expand || !dominated()) {
-                        self.members.push((center, radius, CHUNK_BIT | k));
-                        continue;
-                    }
-                    for i in members {
-                        let receives = instances.gpu[i].flags & INSTANCE_FLAG_RECEIVE_SHADOWS != 0;
-                        let (c, r) = (instances.centers[i], instances.radii[i]);
-                        if receives && frustum.intersects_sphere(c, r) {
-                            self.members.push((c, r, i));
-                        }
-                    }
-                }
+                collect_receivers(&frustum, instances, expand, &mut self.members);
                 let world_box = |id: usize| {
                     if id & CHUNK_BIT != 0 {
                         return instances.chunks.boxes[id & !CHUNK_BIT];
@@ -203,4 +190,41 @@ impl ReceiverCache {
     pub fn set(&self, i: usize) -> &CascadeSet {
         &self.sets[i]
     }
+}
+
+/// Lists in `members` (emptied by the caller) the receivers `frustum` sees, chunk by chunk
+/// (groups of chunks wholly inside taken without a test per chunk): a chunk's sphere, or for
+/// a chunk wider than `expand` that one member dominates (a ground plane among small
+/// casters), its receiving members in view.
+fn collect_receivers(
+    frustum: &Frustum,
+    instances: &RenderInstances,
+    expand: f32,
+    members: &mut Vec<(Vec3, f32, usize)>,
+) {
+    let chunks = &instances.chunks;
+    let test = |center, radius| frustum_test(frustum, None, center, radius);
+    visit_groups(&chunks.groups, chunks.len(), test, |first, end, whole| {
+        for k in first..end {
+            let (center, radius) = (chunks.centers[k], chunks.radii[k]);
+            if whole.is_none() && !frustum.intersects_sphere(center, radius) {
+                continue;
+            }
+            let range = k * CHUNK..((k + 1) * CHUNK).min(instances.centers.len());
+            // NOTE: a large chunk is split only when one member dominates it (a ground plane
+            // among small casters); a chunk of small casters spread wide is taken whole.
+            let dominated = || instances.radii[range.clone()].iter().any(|&r| r > 0.5 * radius);
+            if radius.is_finite() && (radius <= expand || !dominated()) {
+                members.push((center, radius, CHUNK_BIT | k));
+                continue;
+            }
+            for i in range {
+                let receives = instances.gpu[i].flags & INSTANCE_FLAG_RECEIVE_SHADOWS != 0;
+                let (c, r) = (instances.centers[i], instances.radii[i]);
+                if receives && frustum.intersects_sphere(c, r) {
+                    members.push((c, r, i));
+                }
+            }
+        }
+    });
 }

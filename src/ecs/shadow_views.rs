@@ -18,7 +18,7 @@ use glam::Mat4;
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
 use crate::ecs::clipmap_scroll::{ScrollResync, plan_scrolls};
-use crate::ecs::draw_groups::DrawGroup;
+use crate::ecs::draw_groups::{DrawGroup, ShadowRun};
 use crate::ecs::instances::RenderInstances;
 use crate::ecs::layout_views::{ViewSink, push_views};
 use crate::ecs::light_views::FrameLights;
@@ -47,7 +47,10 @@ fn grid_matrix(clip_from_world: Mat4) -> Mat4 {
 /// for views that moved or whose instance list was rebuilt; the others keep last frame's
 /// group. A sun's cascades are culled in one pass over the casters (sorted by draw key, so
 /// each list comes out in draw order), a spot light or a point light's face against its
-/// frustum.
+/// frustum; where the renderer culls casters on the GPU
+/// ([`ShadowCulling::gpu_shadows`](crate::ecs::receiver_culling::ShadowCulling::gpu_shadows)),
+/// a large scene's views are culled by chunk only and listed as runs
+/// ([`crate::ecs::shadow_runs`]).
 #[allow(clippy::too_many_arguments)]
 pub fn update_shadow_views(
     lights: Res<FrameLights>,
@@ -105,7 +108,7 @@ pub fn update_shadow_views(
     scratch.single_pass = single_pass;
     let no_lods = ShadowLods::default();
     let lods = lods.as_deref().unwrap_or(&no_lods);
-    let culled = cull_views(&lights, &instances, lods, &out.views, scratch);
+    let culled = cull_views(&lights, &instances, lods, &out.views, scratch, culling.gpu_shadows);
     let entries = &scratch.cache.entries;
     for (view, entry) in out.views.iter_mut().zip(entries) {
         view.footprint = entry.footprint;
@@ -125,8 +128,19 @@ pub fn update_shadow_views(
     if culled || toggled || scratch.cache.reordered || out.groups.len() != entries.len() {
         out.groups.resize_with(entries.len(), DrawGroup::default);
         out.indices.clear();
-        for (entry, group) in entries.iter().zip(out.groups.iter_mut()) {
-            group.append_copy(&entry.group, &entry.list, &mut out.indices);
+        out.runs.clear();
+        out.run_ranges.clear();
+        for (v, (entry, group)) in entries.iter().zip(out.groups.iter_mut()).enumerate() {
+            let first = out.runs.len() as u32;
+            out.runs
+                .extend(entry.runs.iter().map(|r| ShadowRun { view: v as u32, ..*r }));
+            out.run_ranges.push((first, entry.runs.len() as u32));
+            if entry.runs.is_empty() {
+                group.append_copy(&entry.group, &entry.list, &mut out.indices);
+            } else {
+                // NOTE: a GPU-culled view's batches are room in its own list, not entries here.
+                group.clone_from(&entry.group);
+            }
         }
         collect_single_pass(&lights, scratch, out);
         scratch.region_base = out.indices.len();
@@ -154,7 +168,8 @@ pub fn update_shadow_views(
     stats.casters_per_view.clear();
     stats.draws_per_view.clear();
     for entry in entries {
-        stats.casters_per_view.push(entry.list.len() as u32);
+        let candidates: u32 = entry.runs.iter().map(|r| r.count).sum();
+        stats.casters_per_view.push(entry.list.len() as u32 + candidates);
         stats.draws_per_view.push(entry.group.draw_count() as u32);
     }
     stats.culling_cpu = start.elapsed();

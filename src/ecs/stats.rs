@@ -22,7 +22,8 @@ pub struct ShadowStats {
     /// end of culling ([`ShadowSystems`](crate::ecs::plugin::ShadowSystems)).
     pub frame_cpu: Duration,
     /// Casters drawn into each shadow view, in the order of
-    /// [`ShadowViews`](crate::ecs::view_list::ShadowViews).
+    /// [`ShadowViews`](crate::ecs::view_list::ShadowViews) (for a view the GPU culls, the
+    /// casters of its runs, which it tests).
     pub casters_per_view: Vec<u32>,
     /// Draw calls issued for each shadow view.
     pub draws_per_view: Vec<u32>,

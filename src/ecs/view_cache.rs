@@ -9,7 +9,7 @@ use bevy_ecs::entity::Entity;
 use glam::Mat4;
 
 use crate::ecs::caster_changes::CasterChanges;
-use crate::ecs::draw_groups::DrawGroup;
+use crate::ecs::draw_groups::{DrawGroup, ShadowRun};
 use crate::ecs::view_list::{CullVolume, ShadowViewKind};
 use crate::math::aabb::Aabb;
 use crate::math::footprint::TileMask;
@@ -39,6 +39,14 @@ pub struct CachedView {
     /// set when only the cull volume changed (a cascade's box following the receivers as
     /// the camera moves) and no caster in it changed, so the same list draws the same map.
     pub keep: Option<u64>,
+    /// The view culled by chunk for the GPU ([`crate::ecs::shadow_runs`]): its runs of
+    /// casters, `list` then empty and `group`'s batches room in the list the GPU writes.
+    pub runs: Vec<ShadowRun>,
+    /// The runs of the last culling, while new ones are made (see `keep`).
+    pub previous_runs: Vec<ShadowRun>,
+    /// A run of this culling (`.0`) or of the last one (`.1`) came from a chunk that only
+    /// straddles the view's volume: the GPU's lists may differ although the runs are equal.
+    pub partial: (bool, bool),
     /// Batches over `list` (starting at 0).
     pub group: DrawGroup,
     /// The tiles of its map its casters can write.
@@ -160,6 +168,9 @@ impl ViewCache {
                     list: Vec::new(),
                     previous: Vec::new(),
                     keep: None,
+                    runs: Vec::new(),
+                    previous_runs: Vec::new(),
+                    partial: (false, false),
                     group: DrawGroup::default(),
                     footprint: TileMask::EMPTY,
                     cull: true,

@@ -2,7 +2,8 @@
 //! ([`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views)): a sun's cascades
 //! in one pass over the casters (with each cascade's footprint and shadow LODs), a spot light
 //! against its frustum, a point light's faces against theirs from the casters within its
-//! reach; and each sun's single-pass list.
+//! reach; and each sun's single-pass list. For a renderer that culls casters on the GPU, a
+//! large scene's views are culled by chunk only ([`crate::ecs::shadow_runs`]).
 
 use bevy_ecs::entity::Entity;
 
@@ -15,6 +16,7 @@ use crate::ecs::light_views::FrameLights;
 use crate::ecs::lod_table::{lod_key, lod_table};
 use crate::ecs::receiver_culling::ReceiverCache;
 use crate::ecs::shadow_lods::ShadowLods;
+use crate::ecs::shadow_runs::{GPU_SHADOW_MIN_CASTERS, cull_frustum_runs, cull_sun_runs};
 use crate::ecs::single_pass::{SinglePassGroup, SunList};
 use crate::ecs::view_cache::{CachedView, ViewCache};
 use crate::ecs::view_list::{CullVolume, Region, ShadowView, ShadowViews};
@@ -73,16 +75,21 @@ pub(crate) fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, o
 
 /// Culls the casters of the views whose cache entry asks for it into the entry's list and
 /// group (all cascades of a sun together when any of them needs it); returns whether any
-/// view was culled.
+/// view was culled. With `gpu_shadows` (the renderer culls casters on the GPU), in a scene of
+/// at least [`GPU_SHADOW_MIN_CASTERS`] casters, the cascades of a sun without a single-pass
+/// list or a clipmap ([`cull_sun_runs`]), spot lights and cube faces ([`cull_frustum_runs`])
+/// are culled by chunk into runs.
 pub(crate) fn cull_views(
     lights: &FrameLights,
     instances: &RenderInstances,
     lods: &ShadowLods,
     views: &[ShadowView],
     scratch: &mut ViewScratch,
+    gpu_shadows: bool,
 ) -> bool {
     let entries = &mut scratch.cache.entries;
     let mut culled = false;
+    let gpu_shadows = gpu_shadows && instances.casters.len() >= GPU_SHADOW_MIN_CASTERS;
     let mut first = 0;
     scratch.suns.resize_with(lights.suns.len(), Default::default);
     for (i, sun) in lights.suns.iter().enumerate() {
@@ -104,6 +111,20 @@ pub(crate) fn cull_views(
         }
         lod_table(lods, instances, sun.cascades.active(), &mut scratch.lods);
         let table = &scratch.lods;
+        if gpu_shadows && !single_pass && !set.clipmap {
+            cull_sun_runs(
+                set,
+                instances,
+                table,
+                &views[range.clone()],
+                &mut entries[range.clone()],
+            );
+            for entry in &mut entries[range.clone()] {
+                end_cull(entry);
+            }
+            *owner = None;
+            continue;
+        }
         scratch.masks.clear();
         scratch.masks.resize(instances.casters.len(), 0);
         cull_casters_chunked(
@@ -137,7 +158,7 @@ pub(crate) fn cull_views(
                     &projectors[c as usize],
                     instances,
                     k,
-                    members,
+                    (members, 1),
                 );
                 bits &= bits - 1;
             }
@@ -178,6 +199,11 @@ pub(crate) fn cull_views(
         }
         culled = true;
         start_cull(entry);
+        if gpu_shadows {
+            cull_frustum_runs(&frustum, reach, &view.clip_from_world, instances, entry);
+            end_cull(entry);
+            continue;
+        }
         let (centers, radii) = (&instances.caster_centers, &instances.caster_radii);
         match reach {
             // NOTE: a cube face is culled from the casters within its light's reach, found
@@ -209,7 +235,7 @@ pub(crate) fn cull_views(
         {
             let chunk = run[0] as usize / CHUNK;
             let members = run.iter().map(|&k| k as usize);
-            add_chunk_footprint(&mut entry.footprint, &projector, instances, chunk, members);
+            add_chunk_footprint(&mut entry.footprint, &projector, instances, chunk, (members, 1));
         }
         for &k in &scratch.visible {
             let instance = instances.casters[k as usize];
@@ -225,19 +251,26 @@ pub(crate) fn cull_views(
     culled
 }
 
-/// Empties a view's list and group for culling, keeping the last list to compare.
+/// Empties a view's list, runs and group for culling, keeping the last list and runs to
+/// compare.
 fn start_cull(entry: &mut CachedView) {
     std::mem::swap(&mut entry.list, &mut entry.previous);
+    std::mem::swap(&mut entry.runs, &mut entry.previous_runs);
     entry.list.clear();
+    entry.runs.clear();
+    entry.partial = (false, entry.partial.0);
     entry.group.clear();
     entry.footprint = TileMask::EMPTY;
 }
 
 /// After culling: a view that may keep its version ([`CachedView::keep`]) keeps it when it
-/// found exactly the casters of its last culling (its map would be drawn the same).
+/// found exactly the casters of its last culling (its map would be drawn the same): the same
+/// list, or for the GPU the same runs from chunks wholly inside the volume both times.
 fn end_cull(entry: &mut CachedView) {
+    let same_runs = entry.runs == entry.previous_runs && entry.partial == (false, false);
     if let Some(version) = entry.keep
         && entry.list == entry.previous
+        && same_runs
     {
         entry.version = version;
     }

@@ -8,7 +8,7 @@ use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
 use glam::{I64Vec2, Mat3, Mat4, Vec3, Vec4};
 
-use crate::ecs::draw_groups::DrawGroup;
+use crate::ecs::draw_groups::{DrawGroup, ShadowRun};
 use crate::ecs::single_pass::SinglePassGroup;
 pub use crate::layout::ShadowStorage;
 use crate::math::footprint::{TexelRect, TileMask};
@@ -226,6 +226,14 @@ pub struct ShadowViews {
     pub single_pass: Vec<SinglePassGroup>,
     /// Instance indices of every group, concatenated.
     pub indices: Vec<u32>,
+    /// The runs of casters of the views culled by chunk for the GPU
+    /// ([`crate::ecs::shadow_runs`]), view after view, each naming its view.
+    pub runs: Vec<ShadowRun>,
+    /// Per view (parallel to `groups`): its runs, `runs[first..first + count]` as `(first,
+    /// count)`. A view with runs lists nothing in `indices`: its group's batches are room in
+    /// a list only the GPU writes (starting at 0 for each view); one without was culled by the
+    /// CPU.
+    pub run_ranges: Vec<(u32, u32)>,
     /// Bumped whenever `groups` and `indices` are rebuilt (the renderer uploads them then).
     pub generation: u64,
     /// The regions scrolling views draw this frame ([`Scroll`]); their entries follow the

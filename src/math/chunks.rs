@@ -10,6 +10,7 @@ use glam::Vec3;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
+use crate::math::chunk_groups::{ChunkGroups, GroupTest, visit_groups};
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
 
@@ -30,6 +31,8 @@ pub struct SphereChunks {
     /// The largest member radius of each chunk (infinite for a chunk with a member that is
     /// not finite).
     pub max_radii: Vec<f32>,
+    /// The chunks' groups, tested before their chunks.
+    pub groups: ChunkGroups,
 }
 
 impl SphereChunks {
@@ -56,6 +59,9 @@ impl SphereChunks {
             self.boxes.push(bounds);
             self.max_radii.push(largest(r, radius));
         }
+        let first_group = first / crate::math::chunk_groups::GROUP;
+        self.groups
+            .rebuild_from(first_group, &self.centers, &self.radii, &self.boxes);
     }
 
     /// Refits the chunk holding member `index` to its members now in `centers`/`radii` (the
@@ -72,6 +78,7 @@ impl SphereChunks {
         self.radii[k] = radius;
         self.boxes[k] = bounds;
         self.max_radii[k] = largest(&radii[k * CHUNK..end], radius);
+        self.groups.refit(k, &self.centers, &self.radii, &self.boxes);
     }
 
     /// Number of chunks.
@@ -126,7 +133,7 @@ fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], center: Vec3, r
     // Generous padding: chunk decisions must never be stricter than the member test.
     let r = radius + 4.0 * CULL_PADDING * (p[0].abs() + p[1].abs() + p[2].abs() + radius);
     let (mut overlap, mut inside) = (0u8, 0u8);
-    for k in 0..MAX_SUN_VIEWS {
+    for k in 0..boxes.count.min(MAX_SUN_VIEWS) {
         let [min_x, min_y, min_z] = boxes.min[k];
         let [max_x, max_y] = boxes.max[k];
         let dx = (min_x - p[0]).max(p[0] - max_x).max(0.0);
@@ -170,23 +177,10 @@ pub fn visit_casters_chunked(
     mut visit: impl FnMut(usize, &[u8]),
 ) {
     let n = centers.len().min(radii.len());
-    let boxes = CascadeBoxes::new(set);
-    let rows = set.light_rotation.transpose().to_cols_array_2d();
     let mut masks = [0u8; CHUNK];
-    for (k, (&center, &radius)) in chunks.centers.iter().zip(&chunks.radii).enumerate() {
+    visit_cascade_chunks(set, chunks, n, |k, overlap, inside| {
         let start = k * CHUNK;
-        if start >= n {
-            break;
-        }
         let end = (start + CHUNK).min(n);
-        let (overlap, inside) = if radius.is_finite() {
-            classify_cascades(&boxes, &rows, center, radius)
-        } else {
-            (boxes.active, 0)
-        };
-        if overlap == 0 {
-            continue;
-        }
         let masks = &mut masks[..end - start];
         if overlap == inside {
             masks.fill(overlap);
@@ -194,7 +188,37 @@ pub fn visit_casters_chunked(
             cull_casters(set, &centers[start..end], &radii[start..end], masks);
         }
         visit(start, masks);
-    }
+    });
+}
+
+/// Calls `visit(k, overlap, inside)` for each chunk `k` of `chunks` (of `n` spheres) that
+/// overlaps a cascade box of `set`: the bits of the boxes its sphere overlaps, and of those
+/// that hold it whole (a chunk whose sphere is not finite overlaps every box and is inside
+/// none). The decisions are padded, never stricter than [`cull_casters`]' member test.
+pub fn visit_cascade_chunks(set: &CascadeSet, chunks: &SphereChunks, n: usize, mut visit: impl FnMut(usize, u8, u8)) {
+    let boxes = CascadeBoxes::new(set);
+    let rows = set.light_rotation.transpose().to_cols_array_2d();
+    let count = n.div_ceil(CHUNK).min(chunks.len());
+    // NOTE: a group inside every box it overlaps gives its chunks its answer; a group that
+    // overlaps none is skipped.
+    let test = |center, radius| match classify_cascades(&boxes, &rows, center, radius) {
+        (0, _) => GroupTest::Outside,
+        (overlap, inside) if overlap == inside => GroupTest::Whole(overlap),
+        _ => GroupTest::Split,
+    };
+    visit_groups(&chunks.groups, count, test, |first, end, whole| {
+        for k in first..end {
+            let (center, radius) = (chunks.centers[k], chunks.radii[k]);
+            let (overlap, inside) = match whole {
+                Some(&bits) => (bits, bits),
+                None if radius.is_finite() => classify_cascades(&boxes, &rows, center, radius),
+                None => (boxes.active, 0),
+            };
+            if overlap != 0 {
+                visit(k, overlap, inside);
+            }
+        }
+    });
 }
 
 /// [`cull_spheres_frustum`] with chunk-level early decisions; `chunks` must be built from the

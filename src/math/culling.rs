@@ -1,7 +1,7 @@
 //! Bounding-sphere culling of shadow casters: against all cascade boxes at once (in the
 //! shared light frame), and against the camera frustum.
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
 use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
@@ -28,6 +28,8 @@ pub(crate) struct CascadeBoxes {
     pub(crate) max: [[f32; 2]; MAX_SUN_VIEWS],
     /// Bits of the active cascades.
     pub(crate) active: u8,
+    /// Number of active cascades (the first ones).
+    pub(crate) count: usize,
 }
 
 impl CascadeBoxes {
@@ -44,6 +46,7 @@ impl CascadeBoxes {
             min,
             max,
             active: ((1u32 << count) - 1) as u8,
+            count,
         }
     }
 }
@@ -130,6 +133,19 @@ pub fn cull_casters(set: &CascadeSet, centers: &[Vec3], radii: &[f32], masks: &m
     r[..radius_tail.len()].copy_from_slice(radius_tail);
     let m = cull_batch(&boxes, &rows, &c, &r);
     mask_tail.copy_from_slice(&m[..mask_tail.len()]);
+}
+
+/// Whether one caster's sphere (`center`, `radius`) reaches the light-space box `min..max`
+/// (the box's near side, towards the light, open) in the frame `light_rotation` (light space
+/// from world): [`cull_casters`]' test for one sphere and one box, the CPU mirror of
+/// `shaders/shadow_cull.wgsl`. A sphere that is not finite reaches nothing.
+pub fn sphere_reaches_light_box(light_rotation: &Mat3, min: Vec3, max: Vec3, center: Vec3, radius: f32) -> bool {
+    let p = *light_rotation * center;
+    let r = radius.max(0.0) + CULL_PADDING * (p.x.abs() + p.y.abs() + p.z.abs());
+    let dx = (min.x - p.x).max(p.x - max.x).max(0.0);
+    let dy = (min.y - p.y).max(p.y - max.y).max(0.0);
+    let dz = (min.z - p.z).max(0.0);
+    p.is_finite() && radius.is_finite() && dx * dx + dy * dy + dz * dz <= r * r
 }
 
 /// Visibility bits of one batch of `LANES` spheres against the six frustum planes.
@@ -241,6 +257,38 @@ mod tests {
         assert_eq!(masks[2], 0);
         assert_eq!(masks[3], 0);
         assert_eq!(masks[4], 0);
+    }
+
+    #[test]
+    fn one_sphere_against_one_box_agrees_with_the_batched_test() {
+        let (set, cam) = set(4);
+        // A grid of spheres around the camera and up the light, with radii from 0 to 20 m
+        // (and a NaN and an infinite one).
+        let mut centers = Vec::new();
+        let mut radii = Vec::new();
+        for i in 0..4000 {
+            let t = i as f32;
+            let offset = Vec3::new(
+                (t * 7.3) % 240.0 - 120.0,
+                (t * 3.1) % 160.0 - 40.0,
+                (t * 5.9) % 240.0 - 120.0,
+            );
+            centers.push(cam.position() + offset);
+            radii.push((t * 0.37) % 20.0);
+        }
+        radii[17] = f32::NAN;
+        radii[18] = f32::INFINITY;
+        let mut masks = vec![0u8; centers.len()];
+        cull_casters(&set, &centers, &radii, &mut masks);
+        let mut hits = 0;
+        for (k, cascade) in set.cascades.iter().enumerate().take(set.count) {
+            for (i, (&c, &r)) in centers.iter().zip(&radii).enumerate() {
+                let one = sphere_reaches_light_box(&set.light_rotation, cascade.light_min, cascade.light_max, c, r);
+                assert_eq!(one, masks[i] & (1 << k) != 0, "sphere {i}, cascade {k}");
+                hits += usize::from(one);
+            }
+        }
+        assert!(hits > 400 && hits < 4 * 4000 - 400, "{hits} hits judge both ways");
     }
 
     #[test]

@@ -12,6 +12,7 @@
 pub mod aabb;
 pub mod animation;
 pub mod cascades;
+pub mod chunk_groups;
 pub mod chunks;
 pub mod clip;
 pub mod clipmap;

@@ -15,6 +15,7 @@ use crate::render::layouts::Layouts;
 use crate::render::occlusion::OcclusionGpu;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::seen_readback::SeenReadback;
+use crate::render::shadow_cull::ShadowCullGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -46,6 +47,8 @@ pub struct FrameContext<'a> {
     pub draw_args: &'a mut DrawArgs,
     /// The camera view's occlusion culling (prepared for this frame).
     pub occlusion: &'a mut OcclusionGpu,
+    /// The GPU culling of shadow casters (prepared for this frame).
+    pub shadow_cull: &'a mut ShadowCullGpu,
     /// Draw commands recorded so far this frame (a multi-draw counts once).
     pub draw_calls: u32,
     /// Shadow views drawn so far this frame (views whose layer already held them are not).

@@ -93,7 +93,8 @@ impl<'a> FrameInputs<'a> {
             0
         };
         // NOTE: the skinning, the prepass (twice), the occlusion culling's three passes, the
-        // resolve, the forward pass and the depth-bounds reduction.
-        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 9
+        // shadow casters' culling, the resolve, the forward pass and the depth-bounds
+        // reduction.
+        views.len() + scrolling + lights.spots.len() + lights.points.len() + cascades + pages + 10
     }
 }

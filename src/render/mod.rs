@@ -28,6 +28,7 @@ pub mod report;
 pub mod resolve;
 pub mod scene_gpu;
 pub mod seen_readback;
+pub mod shadow_cull;
 pub mod shadows;
 pub mod skinning;
 pub mod target;

@@ -128,7 +128,10 @@ pub struct RenderOptions {
     /// ([`crate::ecs::camera_runs`]), for views whose chunks hold at least
     /// [`GPU_CAMERA_MIN_INSTANCES`](crate::ecs::camera_runs::GPU_CAMERA_MIN_INSTANCES); needs
     /// [`multi_draw`](Self::multi_draw) and a device that draws indirect with a first
-    /// instance. Off, the CPU culls every instance.
+    /// instance. The cascades' casters likewise in scenes of at least
+    /// [`GPU_SHADOW_MIN_CASTERS`](crate::ecs::shadow_runs::GPU_SHADOW_MIN_CASTERS) casters
+    /// ([`crate::ecs::shadow_runs`], [`crate::render::shadow_cull`]; not single-pass or
+    /// clipmap cascades). Off, the CPU culls every instance and caster.
     pub gpu_culling: bool,
 }
 

@@ -53,11 +53,13 @@ pub fn sync_culling(
         culling.cached,
         culling.gpu_camera,
     ) != now
+        || culling.gpu_shadows != gpu_camera
     {
         culling.single_pass = asked;
         culling.multiview_views = views;
         culling.cached = cached;
         culling.gpu_camera = gpu_camera;
+        culling.gpu_shadows = gpu_camera;
     }
 }
 

@@ -25,6 +25,7 @@ use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
 use crate::render::scene_gpu::SceneGpu;
 use crate::render::seen_readback::SeenReadback;
+use crate::render::shadow_cull::ShadowCullGpu;
 use crate::render::shadows::ShadowResources;
 use crate::render::shadows::cascade_moments_pass::CascadeMomentsPass;
 use crate::render::shadows::depth_pass::DepthPass;
@@ -63,6 +64,8 @@ pub struct Renderer {
     draw_args: DrawArgs,
     /// The camera view's occlusion culling.
     occlusion: OcclusionGpu,
+    /// The GPU culling of shadow casters.
+    shadow_cull: ShadowCullGpu,
     /// The scrolling views the last frame drew whole from an earlier window's casters.
     scroll_resync: Vec<(bevy_ecs::entity::Entity, u32)>,
     /// The last frame's GPU report.
@@ -146,6 +149,7 @@ impl Renderer {
             seen: SeenReadback::default(),
             draw_args: DrawArgs::default(),
             occlusion: OcclusionGpu::default(),
+            shadow_cull: ShadowCullGpu::default(),
             scroll_resync: Vec::new(),
             last_report: FrameReport::default(),
         }
@@ -348,6 +352,14 @@ impl Renderer {
                     size,
                     wanted,
                 )
+            })
+            .and_then(|()| {
+                self.shadow_cull.prepare(
+                    (&self.gpu, &self.layouts, &mut self.library),
+                    &self.scene,
+                    input.instances,
+                    input.shadow_views,
+                )
             });
         let mut drawable = prepared.is_ok();
         if let Err(e) = prepared {
@@ -404,6 +416,7 @@ impl Renderer {
             seen: &mut self.seen,
             draw_args: &mut self.draw_args,
             occlusion: &mut self.occlusion,
+            shadow_cull: &mut self.shadow_cull,
             scroll_resync: &mut self.scroll_resync,
         };
         if input.view.camera.is_some() && drawable {

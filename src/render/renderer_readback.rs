@@ -28,6 +28,14 @@ impl Renderer {
         self.occlusion.read_early_lists(&self.gpu)
     }
 
+    /// The casters the last frame's GPU culling listed for shadow view `v` (an index in
+    /// [`ShadowViews::views`](crate::ecs::ShadowViews::views)) in each of its first `batches`
+    /// batches (opaque, then masked), in list order (None for a view the CPU listed; waits
+    /// for the GPU).
+    pub fn read_shadow_culled(&self, v: usize, batches: usize) -> Option<Vec<Vec<u32>>> {
+        self.shadow_cull.read_lists(&self.gpu, v, batches)
+    }
+
     /// The occlusion culling's seen flag of each of the first `n` instances after the last
     /// frame (1: seen; empty before it ran; waits for the GPU).
     pub fn read_occlusion_seen(&self, n: usize) -> Vec<u32> {

@@ -147,6 +147,10 @@ const OCCLUSION_CULL: ModuleSource = ModuleSource {
     file: "occlusion_cull.wgsl",
     source: include_str!("../../shaders/occlusion_cull.wgsl"),
 };
+const SHADOW_CULL: ModuleSource = ModuleSource {
+    file: "shadow_cull.wgsl",
+    source: include_str!("../../shaders/shadow_cull.wgsl"),
+};
 const OCCLUSION_PYRAMID: ModuleSource = ModuleSource {
     file: "occlusion_pyramid.wgsl",
     source: include_str!("../../shaders/occlusion_pyramid.wgsl"),
@@ -369,6 +373,11 @@ impl ShaderLibrary {
     /// late phase's pyramid test (`late`).
     pub fn occlusion_cull(&mut self, late: bool) -> Result<naga::Module, ShaderError> {
         self.compose(OCCLUSION_CULL.file, OCCLUSION_CULL.source, defs_of([("LATE", late)]))
+    }
+
+    /// The GPU culling of shadow casters against their views' boxes (`main`).
+    pub fn shadow_cull(&mut self) -> Result<naga::Module, ShaderError> {
+        self.compose(SHADOW_CULL.file, SHADOW_CULL.source, defs_of([]))
     }
 
     /// One level of the occlusion culling's depth pyramid (`main`): level 0 from the camera

@@ -29,7 +29,7 @@ use crate::layout::ShadowStorage;
 use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::footprint::{TILES, TexelRect, TileMask};
 use crate::math::light_budget::LightKind;
-use crate::render::draw::draw_batches;
+use crate::render::draw::{draw_batches, draw_culled};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
@@ -64,6 +64,8 @@ pub struct DepthPass {
     maps: Vec<TextureId>,
     /// This frame's storages, from the graph's resources.
     storages: Vec<Arc<DepthArray>>,
+    /// Per view: it is culled on the GPU and drawn this frame (claimed before the culling).
+    gpu_drawn: Vec<bool>,
 }
 
 /// What a layer of a storage holds.
@@ -140,6 +142,14 @@ impl RenderNode for DepthPass {
         if self.names.len() < views.views.len() {
             self.names.resize_with(views.views.len(), String::new);
         }
+        // NOTE: the views the GPU culls are claimed first, so one dispatch culls those drawn.
+        self.gpu_drawn.clear();
+        for v in 0..views.views.len() {
+            let drawn = ctx.shadow_cull.culls(v) && self.claim(ctx, v);
+            self.gpu_drawn.push(drawn);
+        }
+        ctx.shadow_cull
+            .record(&ctx.gpu.queue, encoder, ctx.timer, &self.gpu_drawn);
         // NOTE: culling listed a sun's casters once exactly where its cascades are drawn in
         // one pass (ecs::single_pass::single_pass_cascades); a run holds as many as the
         // device draws at once.
@@ -155,7 +165,11 @@ impl RenderNode for DepthPass {
                 .iter()
                 .find(|g| g.first_view as usize == v && g.views >= 2);
             let Some(run_group) = run_group else {
-                if views.views[v].scroll.is_some() {
+                if ctx.shadow_cull.culls(v) {
+                    if self.gpu_drawn[v] {
+                        self.draw(ctx, encoder, v, 1, &views.groups[v]);
+                    }
+                } else if views.views[v].scroll.is_some() {
                     self.scroll_or_draw(ctx, encoder, v);
                 } else if self.claim(ctx, v) {
                     self.draw(ctx, encoder, v, 1, &views.groups[v]);
@@ -353,12 +367,26 @@ impl DepthPass {
             &ctx.shadows.caster_group
         };
         pass.set_bind_group(0, views_group, &[offset]);
-        pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
+        // NOTE: a view the GPU culled draws its batches from the culling's arguments.
+        let culled = ctx.shadow_cull.draws(first).filter(|_| count == 1);
+        let instances = culled.map_or(&ctx.scene.shadow_instances_group, |(group, ..)| group);
+        pass.set_bind_group(1, instances, &[]);
         pass.set_pipeline(&opaque);
-        let mut calls = draw_batches(&mut pass, ctx.scene, &group.opaque, false, ctx.draw_args);
+        let mut draw = |pass: &mut wgpu::RenderPass<'_>, batches, masked, first_arg| match culled {
+            Some((_, args, base)) => draw_culled(
+                pass,
+                ctx.scene,
+                batches,
+                masked,
+                (args, base + first_arg),
+                ctx.draw_args,
+            ),
+            None => draw_batches(pass, ctx.scene, batches, masked, ctx.draw_args),
+        };
+        let mut calls = draw(&mut pass, &group.opaque, false, 0);
         if let Some(masked) = &masked {
             pass.set_pipeline(masked);
-            calls += draw_batches(&mut pass, ctx.scene, &group.masked, true, ctx.draw_args);
+            calls += draw(&mut pass, &group.masked, true, group.opaque.len() as u32);
         }
         ctx.draw_calls += calls;
         ctx.shadow_draw_calls += calls;

@@ -33,7 +33,7 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
         "draw the batches a pass binds nothing between (meshes of any size) with one indirect multi-draw",
     );
     ui.checkbox(&mut edited.gpu_culling, "GPU culling").on_hover_text(
-        "cull the camera view's instances on the GPU (the CPU tests culling chunks only); off: on the CPU",
+        "cull the camera view's instances and the cascades' casters on the GPU (the CPU tests culling chunks only); off: on the CPU",
     );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
