@@ -8,7 +8,7 @@
 // of cascades it touches (`penumbra::ecs::single_pass`), and an instance outside the view
 // being rasterised is moved off screen, so each cascade still draws only its own casters.
 #import penumbra::contract::CASCADE_MASK_SHIFT
-#import penumbra::mesh::{instances, draw_indices}
+#import penumbra::mesh::{instances, draw_indices, instance_position}
 
 struct CasterView {
     clip_from_world: mat4x4<f32>,
@@ -63,7 +63,7 @@ fn vs_main(
     let view = caster_view;
     let instance = instances[entry];
 #endif
-    let world = instance.world_from_local * vec4<f32>(position, 1.0);
+    let world = vec4<f32>(instance_position(instance, position), 1.0);
     out.clip_position = view.clip_from_world * world;
     out.uv = uv;
     out.alpha = instance.base_color.a;

@@ -4,7 +4,7 @@
 #define_import_path penumbra::forward_io
 
 #import penumbra::frame::frame
-#import penumbra::mesh::fetch_instance
+#import penumbra::mesh::{fetch_instance, instance_normal, instance_position}
 
 struct ForwardVertexOutput {
     // @invariant: the depth prepass computes it with the same function, and the lighting
@@ -30,11 +30,11 @@ fn transmission(in: ForwardVertexOutput) -> f32 {
 // The vertex stage for vertex `position`/`normal`/`uv` of draw instance `instance_index`.
 fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>) -> ForwardVertexOutput {
     let instance = fetch_instance(instance_index);
-    let world = instance.world_from_local * vec4<f32>(position, 1.0);
+    let world = vec4<f32>(instance_position(instance, position), 1.0);
     var out: ForwardVertexOutput;
     out.clip_position = frame.clip_from_world * world;
     out.world_position = world.xyz;
-    out.world_normal = (instance.normal_from_local * vec4<f32>(normal, 0.0)).xyz;
+    out.world_normal = instance_normal(instance, normal);
     out.uv = uv;
     out.base_color = instance.base_color;
     out.cutoff = instance.alpha_cutoff;

@@ -235,7 +235,7 @@ impl SceneSession {
             let key = instances.keys[i as usize];
             Some(Caster {
                 mesh: meshes.get(key.mesh)?,
-                world_from_local: instances.gpu[i as usize].world_from_local,
+                world_from_local: instances.gpu[i as usize].world_from_local(),
                 mask: masks.get(key.material.0 as usize).cloned().flatten(),
             })
         });

@@ -4,7 +4,7 @@
 
 use bevy_ecs::entity::Entity;
 use bevy_transform::components::GlobalTransform;
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
 use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::CasterState;
@@ -107,8 +107,7 @@ impl Row {
     pub fn gpu(&self, materials: &Materials) -> InstanceGpu {
         let mat = &materials.as_slice()[self.key.material.0 as usize];
         InstanceGpu {
-            world_from_local: self.world_from_local,
-            normal_from_local: normal_from_local(&self.world_from_local),
+            world_rows: InstanceGpu::world_rows(&self.world_from_local),
             base_color: mat.base_color,
             alpha_cutoff: mat.alpha_cutoff(),
             flags: if self.receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 },
@@ -125,9 +124,4 @@ impl Row {
             pose: self.pose,
         }
     }
-}
-
-/// The normal matrix of a placement: the inverse transpose of its linear part.
-fn normal_from_local(world_from_local: &Mat4) -> Mat4 {
-    Mat4::from_mat3(Mat3::from_mat4(*world_from_local).inverse().transpose())
 }

@@ -8,7 +8,7 @@
 use bevy_ecs::change_detection::DetectChanges;
 use bevy_ecs::entity::{Entity, EntityHashMap};
 use bevy_ecs::system::{Local, Query, Res, ResMut};
-use glam::{Mat4, Vec3};
+use glam::{Vec3, Vec4};
 
 use crate::ecs::assets::{Materials, Meshes};
 use crate::ecs::caster_changes::{CasterChanges, CasterState};
@@ -176,8 +176,7 @@ fn apply(
             removed.push(entity);
         }
         // NOTE: a zero transform draws nothing; the bounds stay until the next rebuild.
-        out.gpu[i].world_from_local = Mat4::ZERO;
-        out.gpu[i].normal_from_local = Mat4::ZERO;
+        out.gpu[i].world_rows = [Vec4::ZERO; 3];
         out.tombstones += 1;
         out.updated.push(slot);
     }

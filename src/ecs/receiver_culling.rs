@@ -158,7 +158,7 @@ impl ReceiverCache {
                     }
                     let mesh = meshes.get(instances.keys[id].mesh);
                     mesh.map_or(Aabb::EMPTY, |m| {
-                        m.bounds().transformed(&instances.gpu[id].world_from_local)
+                        m.bounds().transformed(&instances.gpu[id].world_from_local())
                     })
                 };
                 let receivers = self.members.iter().copied();

@@ -211,8 +211,7 @@ mod tests {
                 (
                     "Instance",
                     vec![
-                        ("world_from_local", offset_of!(InstanceGpu, world_from_local)),
-                        ("normal_from_local", offset_of!(InstanceGpu, normal_from_local)),
+                        ("world_rows", offset_of!(InstanceGpu, world_rows)),
                         ("base_color", offset_of!(InstanceGpu, base_color)),
                         ("alpha_cutoff", offset_of!(InstanceGpu, alpha_cutoff)),
                         ("flags", offset_of!(InstanceGpu, flags)),

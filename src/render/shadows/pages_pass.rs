@@ -154,7 +154,7 @@ impl RenderNode for PagesPass {
             let material = Vec2::new(gpu.base_color.w, gpu.alpha_cutoff);
             meshes.push((key.mesh, masked.then_some((key.material, material))));
             now.casters.push(TrackedCaster {
-                world_from_local: gpu.world_from_local,
+                world_from_local: gpu.world_from_local(),
                 sphere: instances.caster_centers[k].extend(instances.caster_radii[k]),
             });
         }

@@ -280,8 +280,7 @@ impl Geometry {
         let instances: Vec<InstanceGpu> = casters
             .iter()
             .map(|c| InstanceGpu {
-                world_from_local: c.world_from_local,
-                normal_from_local: Mat4::IDENTITY,
+                world_rows: InstanceGpu::world_rows(&c.world_from_local),
                 base_color: Vec4::ONE,
                 alpha_cutoff: 0.0,
                 flags: 0,
