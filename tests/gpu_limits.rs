@@ -10,6 +10,7 @@ use penumbra::app::{RenderError, RenderRequest, headless_app, render_scene_with,
 use penumbra::ecs::assets::{ImageData, Images, Materials};
 use penumbra::render::{GpuContext, GpuError, Renderer};
 use penumbra::scene::{GridDesc, SceneDesc};
+use penumbra::shader::instance::InstanceGpu;
 
 const NO_GPU: &str = "no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)";
 
@@ -111,7 +112,7 @@ fn instances_beyond_a_storage_binding_are_refused_and_the_frame_not_drawn() {
 fn a_scene_with_more_instances_than_a_binding_holds_is_refused_before_spawning() {
     let mut desc = scene();
     let limits = GpuContext::headless().expect(NO_GPU).limits;
-    let most = limits.storage_elements(160);
+    let most = limits.storage_elements(size_of::<InstanceGpu>() as u64);
     // Written here, not in a file: a scene file would stop at the scene's own instance cap.
     desc.objects[1].grid = Some(GridDesc {
         count: glam::UVec3::new(most as u32 + 1, 1, 1),

@@ -76,7 +76,7 @@ fn cascade_count_recreates_nothing_and_resolution_only_the_shadow_map() {
 /// A forward shader that replaces the lighting with a flat colour, keeping the interface.
 const FLAT: &str = r#"
 #import penumbra::frame::frame
-#import penumbra::mesh::fetch_instance
+#import penumbra::mesh::{fetch_instance, instance_position}
 
 struct VertexOutput {
     @builtin(position) clip_position: vec4<f32>,
@@ -86,7 +86,7 @@ struct VertexOutput {
 fn vs_main(@builtin(instance_index) instance_index: u32, @location(0) position: vec3<f32>) -> VertexOutput {
     let instance = fetch_instance(instance_index);
     var out: VertexOutput;
-    out.clip_position = frame.clip_from_world * instance.world_from_local * vec4<f32>(position, 1.0);
+    out.clip_position = frame.clip_from_world * vec4<f32>(instance_position(instance, position), 1.0);
     return out;
 }
 

@@ -3,8 +3,9 @@
 //! faces) lists on the GPU exactly the casters of its runs the CPU mirror keeps
 //! (`math::culling::sphere_reaches_light_box` for a cascade, `Frustum::intersects_sphere` and
 //! the light's reach for the others), batch by batch, and those are exactly the casters the
-//! CPU's own culling lists; and while casters near the camera move, the image with shadows
-//! culled on the GPU equals the image culled on the CPU, pixel for pixel.
+//! CPU's own culling lists (and with GPU culling turned off, the next frame lists those on
+//! the CPU); and while casters near the camera move, the image with shadows culled on the GPU
+//! equals the image culled on the CPU, pixel for pixel.
 
 mod common;
 
@@ -77,7 +78,7 @@ fn each_cascade_lists_on_the_gpu_the_casters_the_mirror_and_the_cpu_keep() {
     let (views, instances) = (world.resource::<ShadowViews>(), world.resource::<RenderInstances>());
     let cpu_views = cpu.world().resource::<ShadowViews>();
     assert!(cpu_views.runs.is_empty(), "the CPU-culled app lists no runs");
-    let cpu_lists = cpu_lists(cpu_views);
+    let cpu_listed = cpu_lists(cpu_views);
     let (mut judged, mut kept, mut gpu_views, mut cpu_extra) = (0, 0, 0, 0);
     for (v, view) in views.views.iter().enumerate() {
         let (first, count) = views.run_ranges[v];
@@ -111,7 +112,7 @@ fn each_cascade_lists_on_the_gpu_the_casters_the_mirror_and_the_cpu_keep() {
             kept += gpu_list.len();
             all.extend(gpu_list);
         }
-        let cpu_list = cpu_lists[v].as_ref().expect("the CPU app listed the view");
+        let cpu_list = cpu_listed[v].as_ref().expect("the CPU app listed the view");
         let missing = all.difference(cpu_list).count();
         assert_eq!(
             missing, 0,
@@ -132,6 +133,16 @@ fn each_cascade_lists_on_the_gpu_the_casters_the_mirror_and_the_cpu_keep() {
         "{kept} of {judged} kept: judged both ways"
     );
     assert_eq!(cpu_extra, 0, "the CPU lists {cpu_extra} casters the GPU does not");
+    // Turned off, the views are listed by the CPU from the next frame on, as in the other app.
+    gpu.world_mut().resource_mut::<RenderOptions>().gpu_culling = false;
+    gpu.update();
+    let views = gpu.world().resource::<ShadowViews>();
+    assert!(
+        views.runs.is_empty(),
+        "{} runs left after GPU culling was turned off",
+        views.runs.len()
+    );
+    assert_eq!(cpu_lists(views), cpu_listed, "the lists of the CPU-culled app");
 }
 
 /// Whether the CPU keeps the sphere (`center`, `radius`) in a view of `volume`.

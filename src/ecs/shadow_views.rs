@@ -103,6 +103,11 @@ pub fn update_shadow_views(
     for (view, &version) in out.views.iter_mut().zip(&scratch.versions) {
         view.version = version;
     }
+    // NOTE: views listed for the other culling (GPU or CPU) are culled again.
+    if culling.gpu_shadows != scratch.gpu_shadows {
+        scratch.gpu_shadows = culling.gpu_shadows;
+        scratch.cache.entries.iter_mut().for_each(|e| e.cull = true);
+    }
     let single_pass = single_pass_cascades(culling.single_pass, culling.multiview_views, instances.keys.len());
     let toggled = single_pass != scratch.single_pass;
     scratch.single_pass = single_pass;

@@ -54,6 +54,8 @@ pub struct ViewScratch {
     /// and the single-pass lists').
     pub(crate) region_base: usize,
     pub(crate) candidates_of: Option<u32>,
+    /// The views were culled for a renderer that culls casters on the GPU.
+    pub(crate) gpu_shadows: bool,
 }
 
 /// Appends each sun's single-pass list after the view groups (none while they are off).
