@@ -5,30 +5,19 @@
 
 mod common;
 
-use penumbra::app::{HeadlessFrame, RenderRequest, render_scene_with};
+use common::still_frame;
+use penumbra::app::HeadlessFrame;
 use penumbra::render::RenderOptions;
 use penumbra::scene::SceneDesc;
 
+/// One 64×36 frame of the million, culled on the GPU (`gpu_culling`) or on the CPU.
 fn render(gpu_culling: bool) -> HeadlessFrame {
     let desc = SceneDesc::load("assets/bench/million.ron").expect("the million scene");
-    render_scene_with(
-        &desc,
-        &RenderRequest {
-            width: 64,
-            height: 36,
-            frames: 1,
-            tweak: None,
-            analysis: false,
-            options: RenderOptions {
-                gpu_culling,
-                ..RenderOptions::default()
-            },
-            shadow_budget: None,
-            count_fragments: false,
-            camera_motion: Default::default(),
-        },
-    )
-    .expect(common::INSTALL)
+    let options = RenderOptions {
+        gpu_culling,
+        ..RenderOptions::default()
+    };
+    still_frame(&desc, (64, 36), options, false)
 }
 
 #[test]

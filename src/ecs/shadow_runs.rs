@@ -59,23 +59,7 @@ pub(crate) fn cull_sun_runs(
             if c >= cascades {
                 continue;
             }
-            let entry = &mut entries[c];
-            entry.partial.0 |= inside & (1 << c) == 0;
-            let members = k * CHUNK..((k + 1) * CHUNK).min(n);
-            add_chunk_footprint(
-                &mut entry.footprint,
-                &projectors[c],
-                instances,
-                k,
-                (members, FOOTPRINT_STEP),
-            );
-            entry
-                .runs
-                .extend(instances.caster_runs_of_chunk(k).map(|(first, end)| ShadowRun {
-                    first,
-                    count: end - first,
-                    ..ShadowRun::default()
-                }));
+            list_chunk(&mut entries[c], &projectors[c], instances, k, inside & (1 << c) != 0);
         }
     });
     for (c, entry) in entries.iter_mut().enumerate().take(cascades) {
@@ -113,25 +97,25 @@ pub(crate) fn cull_frustum_runs(
                 },
                 None => false,
             };
-            entry.partial.0 |= !inside;
-            let members = k * CHUNK..((k + 1) * CHUNK).min(n);
-            add_chunk_footprint(
-                &mut entry.footprint,
-                &projector,
-                instances,
-                k,
-                (members, FOOTPRINT_STEP),
-            );
-            entry
-                .runs
-                .extend(instances.caster_runs_of_chunk(k).map(|(first, end)| ShadowRun {
-                    first,
-                    count: end - first,
-                    ..ShadowRun::default()
-                }));
+            list_chunk(entry, &projector, instances, k, inside);
         }
     });
     number_batches(entry, instances, |key| key);
+}
+
+/// Adds caster chunk `k` to `entry`: its runs, its footprint under `projector`, and whether it
+/// lies wholly `inside` the view's volume.
+fn list_chunk(entry: &mut CachedView, projector: &ClipProjector, instances: &RenderInstances, k: usize, inside: bool) {
+    entry.partial.0 |= !inside;
+    let members = k * CHUNK..((k + 1) * CHUNK).min(instances.casters.len());
+    add_chunk_footprint(&mut entry.footprint, projector, instances, k, (members, FOOTPRINT_STEP));
+    entry
+        .runs
+        .extend(instances.caster_runs_of_chunk(k).map(|(first, end)| ShadowRun {
+            first,
+            count: end - first,
+            ..ShadowRun::default()
+        }));
 }
 
 /// Gives each run of `entry` its batch in the entry's group (the mesh `draw` gives its key,
