@@ -22,6 +22,23 @@ impl GrowBuffer {
         Self::with_usage(device, label, size, wgpu::BufferUsages::STORAGE)
     }
 
+    /// An empty storage buffer that can be copied from (read back).
+    pub fn readable(device: &wgpu::Device, label: &'static str) -> Self {
+        Self::with_usage(
+            device,
+            label,
+            256,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        )
+    }
+
+    /// An empty storage buffer of indirect draw arguments (a culling pass writes them), that
+    /// can be read back.
+    pub fn indirect(device: &wgpu::Device, label: &'static str) -> Self {
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC;
+        Self::with_usage(device, label, 256, usage)
+    }
+
     /// An empty buffer of at least `size` bytes for `usage` (`STORAGE`, or `UNIFORM` for a
     /// buffer bound in fixed-size slices at dynamic offsets).
     pub fn with_usage(device: &wgpu::Device, label: &'static str, size: u64, usage: wgpu::BufferUsages) -> Self {

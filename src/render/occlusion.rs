@@ -32,8 +32,8 @@ use crate::render::layouts::Layouts;
 use crate::render::limits::LimitError;
 use crate::render::occlusion_kernels::{Kernels, Pyramid};
 use crate::render::options::Msaa;
-use crate::render::readback::copy_and_read;
-use crate::render::scene_gpu::{SceneGpu, instances_group};
+use crate::render::readback::{copy_and_read, read_indirect_lists};
+use crate::render::scene_gpu::{SceneGpu, instances_group, uniform_buffer};
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
 
@@ -138,41 +138,16 @@ struct Buffers {
 impl Buffers {
     fn new(device: &wgpu::Device) -> Buffers {
         let storage = |label| GrowBuffer::new(device, label, 256);
-        let listed = |label| {
-            GrowBuffer::with_usage(
-                device,
-                label,
-                256,
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            )
-        };
-        let args = |label| {
-            GrowBuffer::with_usage(
-                device,
-                label,
-                256,
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
-            )
-        };
+        let (listed, args) = (GrowBuffer::readable, GrowBuffer::indirect);
         Buffers {
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("occlusion uniforms"),
-                size: size_of::<CullGpu>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: uniform_buffer(device, "occlusion uniforms", size_of::<CullGpu>()),
             bounds: storage("occlusion bounds"),
-            seen: GrowBuffer::with_usage(
-                device,
-                "occlusion seen",
-                256,
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            ),
+            seen: listed(device, "occlusion seen"),
             runs: storage("culling runs"),
-            early_list: listed("occlusion early list"),
-            late_list: listed("occlusion late list"),
-            early_args: args("occlusion early arguments"),
-            late_args: args("occlusion late arguments"),
+            early_list: listed(device, "occlusion early list"),
+            late_list: listed(device, "occlusion late list"),
+            early_args: args(device, "occlusion early arguments"),
+            late_args: args(device, "occlusion late arguments"),
         }
     }
 }
@@ -396,21 +371,8 @@ impl OcclusionGpu {
     /// inactive.
     pub fn read_early_lists(&self, gpu: &GpuContext) -> Option<Vec<Vec<u32>>> {
         let buffers = self.buffers.as_ref().filter(|_| self.active)?;
-        let bytes = (self.template.len() * size_of::<IndexedArgs>()) as u64;
-        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.early_args.buffer, bytes)?;
-        let args: Vec<IndexedArgs> = bytemuck::cast_slice(&data).to_vec();
-        let end = args
-            .iter()
-            .map(|a| a.first_instance + a.instance_count)
-            .max()
-            .unwrap_or(0);
-        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.early_list.buffer, u64::from(end) * 4)?;
-        let list: &[u32] = bytemuck::cast_slice(&data);
-        let lists = args.iter().map(|a| {
-            let range = a.first_instance as usize..(a.first_instance + a.instance_count) as usize;
-            list.get(range).map_or_else(Vec::new, <[u32]>::to_vec)
-        });
-        Some(lists.collect())
+        let buffers = (&buffers.early_args.buffer, &buffers.early_list.buffer);
+        read_indirect_lists(&gpu.device, &gpu.queue, buffers, 0, self.template.len())
     }
 
     /// The instances' seen flags after the last frame (1: seen), the first `n` (waits for

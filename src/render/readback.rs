@@ -1,5 +1,8 @@
 //! Reading GPU buffers back to the CPU: map a buffer range, wait for the GPU, copy it out;
-//! and the pair of buffers a query set's results travel through ([`QueryReadback`]).
+//! the pair of buffers a query set's results travel through ([`QueryReadback`]); and the
+//! lists a culling pass wrote ([`read_indirect_lists`]).
+
+use crate::render::draw_args::IndexedArgs;
 
 /// A query set's results on their way to the CPU: resolved into one buffer, copied into a
 /// mappable one.
@@ -84,4 +87,32 @@ pub fn poll_device(device: &wgpu::Device, wait: bool) {
         wgpu::PollType::Poll
     };
     let _ = device.poll(poll);
+}
+
+/// The lists a culling pass wrote, read back (waits for the GPU): for each of the `count`
+/// indexed indirect arguments from argument `first` of `args`, the `instance_count` entries of
+/// `list` from its `first_instance`.
+pub fn read_indirect_lists(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    (args, list): (&wgpu::Buffer, &wgpu::Buffer),
+    first: usize,
+    count: usize,
+) -> Option<Vec<Vec<u32>>> {
+    let stride = size_of::<IndexedArgs>();
+    let data = copy_and_read(device, queue, args, ((first + count) * stride) as u64)?;
+    let args: &[IndexedArgs] = bytemuck::cast_slice(&data);
+    let args = args.get(first..)?;
+    let end = args
+        .iter()
+        .map(|a| a.first_instance + a.instance_count)
+        .max()
+        .unwrap_or(0);
+    let data = copy_and_read(device, queue, list, u64::from(end.max(1)) * 4)?;
+    let entries: &[u32] = bytemuck::cast_slice(&data);
+    let lists = args.iter().map(|a| {
+        let range = a.first_instance as usize..(a.first_instance + a.instance_count) as usize;
+        entries.get(range).map_or_else(Vec::new, <[u32]>::to_vec)
+    });
+    Some(lists.collect())
 }

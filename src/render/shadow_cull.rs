@@ -21,8 +21,8 @@ use crate::render::draw_args::IndexedArgs;
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::{Layouts, main_compute_pipeline};
 use crate::render::limits::LimitError;
-use crate::render::readback::copy_and_read;
-use crate::render::scene_gpu::{SceneGpu, instances_group};
+use crate::render::readback::read_indirect_lists;
+use crate::render::scene_gpu::{SceneGpu, instances_group, uniform_buffer};
 use crate::render::shadows::jobs::{buffer_group, storage_entry, uniform_entry};
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -72,25 +72,14 @@ struct Buffers {
 impl Buffers {
     fn new(device: &wgpu::Device) -> Buffers {
         let storage = |label| GrowBuffer::new(device, label, 256);
-        let read = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
         Buffers {
-            dispatch: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shadow culling dispatch"),
-                size: size_of::<DispatchGpu>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            dispatch: uniform_buffer(device, "shadow culling dispatch", size_of::<DispatchGpu>()),
             views: storage("shadow culling views"),
             bounds: storage("shadow culling bounds"),
             casters: storage("shadow culling casters"),
             runs: storage("shadow culling runs"),
-            args: GrowBuffer::with_usage(
-                device,
-                "shadow culling arguments",
-                256,
-                read | wgpu::BufferUsages::INDIRECT,
-            ),
-            list: GrowBuffer::with_usage(device, "shadow culling list", 256, read),
+            args: GrowBuffer::indirect(device, "shadow culling arguments"),
+            list: GrowBuffer::readable(device, "shadow culling list"),
         }
     }
 }
@@ -345,22 +334,8 @@ impl ShadowCullGpu {
     pub fn read_lists(&self, gpu: &GpuContext, v: usize, batches: usize) -> Option<Vec<Vec<u32>>> {
         let base = (*self.bases.get(v)?)? as usize;
         let buffers = self.buffers.as_ref()?;
-        let stride = size_of::<IndexedArgs>();
-        let bytes = ((base + batches) * stride) as u64;
-        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.args.buffer, bytes)?;
-        let args: Vec<IndexedArgs> = bytemuck::cast_slice(&data)[base..].to_vec();
-        let end = args
-            .iter()
-            .map(|a| a.first_instance + a.instance_count)
-            .max()
-            .unwrap_or(0);
-        let data = copy_and_read(&gpu.device, &gpu.queue, &buffers.list.buffer, u64::from(end.max(1)) * 4)?;
-        let list: &[u32] = bytemuck::cast_slice(&data);
-        let lists = args.iter().map(|a| {
-            let range = a.first_instance as usize..(a.first_instance + a.instance_count) as usize;
-            list.get(range).map_or_else(Vec::new, <[u32]>::to_vec)
-        });
-        Some(lists.collect())
+        let buffers = (&buffers.args.buffer, &buffers.list.buffer);
+        read_indirect_lists(&gpu.device, &gpu.queue, buffers, base, batches)
     }
 }
 
