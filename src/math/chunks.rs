@@ -10,7 +10,7 @@ use glam::Vec3;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
-use crate::math::chunk_groups::{ChunkGroups, GroupTest, visit_groups};
+use crate::math::chunk_groups::{ChunkGroups, GROUP, GroupTest, visit_groups};
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
 
@@ -59,7 +59,7 @@ impl SphereChunks {
             self.boxes.push(bounds);
             self.max_radii.push(largest(r, radius));
         }
-        let first_group = first / crate::math::chunk_groups::GROUP;
+        let first_group = first / GROUP;
         self.groups
             .rebuild_from(first_group, &self.centers, &self.radii, &self.boxes);
     }
@@ -127,13 +127,17 @@ fn chunk_sphere(c: &[Vec3], r: &[f32]) -> (Vec3, f32, Aabb) {
     (center, reach * (1.0 + 1e-5) + 1e-6, bounds)
 }
 
-/// Cascade bits a chunk sphere overlaps, and those whose box contains it entirely.
-fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], center: Vec3, radius: f32) -> (u8, u8) {
+/// Cascade bits a chunk sphere overlaps, and those whose box contains it entirely, among the
+/// cascades of `mask`.
+fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], (center, radius): (Vec3, f32), mask: u8) -> (u8, u8) {
     let p = [0, 1, 2].map(|i| rows[i][0] * center.x + rows[i][1] * center.y + rows[i][2] * center.z);
     // Generous padding: chunk decisions must never be stricter than the member test.
     let r = radius + 4.0 * CULL_PADDING * (p[0].abs() + p[1].abs() + p[2].abs() + radius);
     let (mut overlap, mut inside) = (0u8, 0u8);
     for k in 0..boxes.count.min(MAX_SUN_VIEWS) {
+        if mask & (1 << k) == 0 {
+            continue;
+        }
         let [min_x, min_y, min_z] = boxes.min[k];
         let [max_x, max_y] = boxes.max[k];
         let dx = (min_x - p[0]).max(p[0] - max_x).max(0.0);
@@ -146,7 +150,7 @@ fn classify_cascades(boxes: &CascadeBoxes, rows: &[[f32; 3]; 3], center: Vec3, r
             inside |= 1 << k;
         }
     }
-    (overlap & boxes.active, inside & boxes.active)
+    (overlap & boxes.active & mask, inside & boxes.active & mask)
 }
 
 /// [`cull_casters`] with chunk-level early decisions; `chunks` must be built from the same
@@ -201,18 +205,34 @@ pub fn visit_cascade_chunks(set: &CascadeSet, chunks: &SphereChunks, n: usize, m
     let count = n.div_ceil(CHUNK).min(chunks.len());
     // NOTE: a group inside every box it overlaps gives its chunks its answer; a group that
     // overlaps none is skipped.
-    let test = |center, radius| match classify_cascades(&boxes, &rows, center, radius) {
+    let all = boxes.active;
+    let test = |center, radius| match classify_cascades(&boxes, &rows, (center, radius), all) {
         (0, _) => GroupTest::Outside,
         (overlap, inside) if overlap == inside => GroupTest::Whole(overlap),
         _ => GroupTest::Split,
     };
     visit_groups(&chunks.groups, count, test, |first, end, whole| {
+        // NOTE: a split group's chunks are tested only against the boxes it straddles: they
+        // are inside the boxes it is inside and outside those it does not reach.
+        let group = (
+            chunks.groups.centers.get(first / GROUP),
+            chunks.groups.radii.get(first / GROUP),
+        );
+        let (reach, held) = match group {
+            (Some(&center), Some(&radius)) if whole.is_none() && radius.is_finite() => {
+                classify_cascades(&boxes, &rows, (center, radius), all)
+            }
+            _ => (all, 0),
+        };
         for k in first..end {
             let (center, radius) = (chunks.centers[k], chunks.radii[k]);
             let (overlap, inside) = match whole {
                 Some(&bits) => (bits, bits),
-                None if radius.is_finite() => classify_cascades(&boxes, &rows, center, radius),
-                None => (boxes.active, 0),
+                None if radius.is_finite() => {
+                    let (overlap, inside) = classify_cascades(&boxes, &rows, (center, radius), reach & !held);
+                    (overlap | held, inside | held)
+                }
+                None => (all, 0),
             };
             if overlap != 0 {
                 visit(k, overlap, inside);
