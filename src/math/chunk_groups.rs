@@ -72,13 +72,23 @@ fn group_sphere(c: &[Vec3], r: &[f32], b: &[Aabb]) -> (Vec3, f32, Aabb) {
     if r.iter().any(|r| !r.is_finite()) {
         return (Vec3::ZERO, f32::INFINITY, Aabb::EMPTY);
     }
+    let (center, radius) = enclosing_sphere(c, r);
+    (center, radius, b.iter().fold(Aabb::EMPTY, |a, b| a.union(*b)))
+}
+
+/// A sphere around the spheres `c`/`r` (finite, non-empty, equal lengths; a negative radius
+/// counts as 0): centred on the box of the centres, reaching the farthest sphere, padded by a
+/// relative 1e-5 so f32 rounding of the distances never leaves one poking out. The chunks'
+/// spheres and the groups' are made alike.
+pub(crate) fn enclosing_sphere(c: &[Vec3], r: &[f32]) -> (Vec3, f32) {
     let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     let center = (lo + hi) * 0.5;
-    let reach = c.iter().zip(r).map(|(p, r)| p.distance(center) + r).fold(0.0, f32::max);
-    let bounds = b.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
-    // NOTE: padded by a relative 1e-5, as chunk spheres are, so rounding never leaves a chunk
-    // poking out.
-    (center, reach * (1.0 + 1e-5) + 1e-6, bounds)
+    let reach = c
+        .iter()
+        .zip(r)
+        .map(|(p, r)| p.distance(center) + r.max(0.0))
+        .fold(0.0, f32::max);
+    (center, reach * (1.0 + 1e-5) + 1e-6)
 }
 
 /// Calls `visit(first, end, whole)` for each group of `groups` that `test` (given a group's

@@ -10,7 +10,7 @@ use glam::Vec3;
 use crate::math::aabb::Aabb;
 use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
-use crate::math::chunk_groups::{ChunkGroups, GROUP, GroupTest, visit_groups};
+use crate::math::chunk_groups::{ChunkGroups, GROUP, GroupTest, enclosing_sphere, visit_groups};
 use crate::math::culling::{CULL_PADDING, CascadeBoxes, cull_casters, cull_spheres_frustum};
 use crate::math::frustum::Frustum;
 
@@ -115,16 +115,8 @@ fn chunk_sphere(c: &[Vec3], r: &[f32]) -> (Vec3, f32, Aabb) {
             max: *p + r,
         })
     });
-    let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-    let center = (lo + hi) * 0.5;
-    let reach = c
-        .iter()
-        .zip(r)
-        .map(|(p, r)| p.distance(center) + r.max(0.0))
-        .fold(0.0, f32::max);
-    // NOTE: pad by a relative 1e-5 so f32 rounding of the distances can never leave a
-    // member poking out of its chunk.
-    (center, reach * (1.0 + 1e-5) + 1e-6, bounds)
+    let (center, radius) = enclosing_sphere(c, r);
+    (center, radius, bounds)
 }
 
 /// Cascade bits a chunk sphere overlaps, and those whose box contains it entirely, among the
