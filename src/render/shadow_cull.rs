@@ -181,8 +181,8 @@ impl ShadowCullGpu {
 
     /// Prepares the frame's culling: uploads the casters' bounds and instances when the
     /// instance list changed (patched when instances only moved), the runs and the list's
-    /// room when the views' lists did, and resets every view's arguments. Nothing while no
-    /// view is culled on the GPU.
+    /// room when the views' lists did, and makes every view's arguments (uploaded by
+    /// [`record`](Self::record)). Nothing while no view is culled on the GPU.
     pub fn prepare(
         &mut self,
         (gpu, layouts, library): (&GpuContext, &Layouts, &mut ShaderLibrary),
@@ -263,7 +263,10 @@ impl ShadowCullGpu {
             replaced |= buffers.list.reserve(gpu, u64::from(room.max(1)) * 4)?;
             self.view_generation = Some(views.generation);
         }
-        replaced |= buffers.args.write(gpu, bytemuck::cast_slice(&self.template))?;
+        // NOTE: the arguments are written when a view is culled (`record`): a still frame
+        // uploads nothing.
+        let bytes = (self.template.len() * size_of::<IndexedArgs>()) as u64;
+        replaced |= buffers.args.reserve(gpu, bytes)?;
         self.views.clear();
         self.views.extend(views.views.iter().map(|v| cull_view(&v.cull)));
         replaced |= buffers
@@ -297,7 +300,8 @@ impl ShadowCullGpu {
     }
 
     /// Records the culling of the runs of the views `drawn` says are drawn this frame (by
-    /// view index); nothing when none of them is culled on the GPU.
+    /// view index), after resetting every view's arguments; nothing (no upload either) when
+    /// none of them is culled on the GPU.
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
@@ -318,6 +322,7 @@ impl ShadowCullGpu {
             return;
         }
         queue.write_buffer(&buffers.views.buffer, 0, bytemuck::cast_slice(&self.views));
+        queue.write_buffer(&buffers.args.buffer, 0, bytemuck::cast_slice(&self.template));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(SHADOW_CULL_NAME),
             timestamp_writes: timer.compute_pass(SHADOW_CULL_NAME),
