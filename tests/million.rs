@@ -40,7 +40,8 @@ fn the_million_renders_alike_culled_on_the_gpu_and_on_the_cpu() {
         _ => (d, b),
     });
     eprintln!("{dark} dark and {bright} bright pixels of 2 304");
-    assert!(dark > 100 && bright > 100, "{dark} dark, {bright} bright pixels");
+    // Measured: 232 dark and 2 036 bright.
+    assert!(dark > 77 && bright > 678, "{dark} dark, {bright} bright pixels");
     let differing = gpu
         .image
         .pixels()

@@ -129,7 +129,8 @@ fn each_cascade_lists_on_the_gpu_the_casters_the_mirror_and_the_cpu_keep() {
     eprintln!("{gpu_views} views, {judged} casters judged, {kept} kept, the CPU lists {cpu_extra} more");
     assert!(gpu_views >= 11, "only {gpu_views} views culled on the GPU");
     assert!(
-        kept > 1000 && kept < judged,
+        // Measured: 53 117 of 87 096 kept.
+        kept > 17_000 && kept < judged,
         "{kept} of {judged} kept: judged both ways"
     );
     assert_eq!(cpu_extra, 0, "the CPU lists {cpu_extra} casters the GPU does not");
@@ -204,7 +205,8 @@ fn shadows_culled_on_the_gpu_draw_the_cpu_image_while_casters_move() {
         let culled = views.run_ranges.iter().filter(|r| r.1 > 0).count();
         assert!(culled >= 11, "step {step}: only {culled} views culled on the GPU");
         let drawn = renderer(&gpu).last_report.shadow_views_drawn;
-        assert!(drawn >= 2, "step {step}: {drawn} shadow views drawn");
+        // Measured: 11 at the first step, 8 after (the moves leave the far faces alone).
+        assert!(drawn >= 8, "step {step}: {drawn} shadow views drawn");
         if step > 0 {
             let instances = gpu.world().resource::<RenderInstances>();
             assert_ne!(
@@ -224,5 +226,6 @@ fn shadows_culled_on_the_gpu_draw_the_cpu_image_while_casters_move() {
         assert_eq!(differing, 0, "step {step}: {differing} pixels differ");
         first.get_or_insert(a);
     }
-    assert!(changed > 100, "the movers changed only {changed} pixels");
+    // Measured: 22 005 pixels changed by the last step.
+    assert!(changed > 7_000, "the movers changed only {changed} pixels");
 }
