@@ -1,5 +1,6 @@
-// Forward shading of receivers: Lambert diffuse from every light of the frame times its
-// shadow, plus a flat ambient term. Back faces (drawn for double-sided materials) are lit
+// Forward shading of receivers: the shipped material's lighting (penumbra::shading: Lambert
+// diffuse from every light of the frame times its shadow, plus a flat ambient term) of its
+// base colour times its texture. Back faces (drawn for double-sided materials) are lit
 // with the flipped normal, which also offsets their shadow lookups. Shader defs: ALPHA_MASK
 // (discard below the cutoff; with ALPHA_TO_COVERAGE, under MSAA, no discard: the alpha,
 // sharpened around the cutoff, sets the pixel's sample coverage),
@@ -8,24 +9,18 @@
 // ANALYSIS_OUTPUTS (also write the focus light's shadow factor, world position and normal of
 // every pixel, for scoring against a reference), SHADOW_SPOT and SHADOW_POINT (spot- and
 // point-light shadows) and the filter defs of penumbra::shadows.
-#import penumbra::contract::{
-    INSTANCE_FLAG_RECEIVE_SHADOWS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MAX_LIGHTS, RESOLVE_NONE,
-}
+#import penumbra::contract::{INSTANCE_FLAG_RECEIVE_SHADOWS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT}
 #import penumbra::frame::frame
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
-#import penumbra::lights::{get_light, light_count, light_incidence, make_surface, shadow_visibility}
-#import penumbra::shadows::bindings::{lights, resolved_visibility}
-#ifdef MANY_LIGHTS
-#import penumbra::shadows::bindings::more_lights
-#endif
-#import penumbra::shadows::cascades::{cascade_debug_color, cascade_index}
+#import penumbra::lights::{get_light, light_count, make_surface}
+#import penumbra::shading::{display_color, shade}
+#import penumbra::shadows::cascades::cascade_index
 #ifdef SHADOW_POINT
-#import penumbra::shadows::point::{point_debug_color, point_face}
+#import penumbra::shadows::point::point_face
 #endif
 #ifdef SHADOW_SPOT
 #import penumbra::shadows::spot::spot_covers
 #endif
-#import penumbra::shadows::types::{Light, Surface}
 
 @group(2) @binding(0) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(1) var base_color_sampler: sampler;
@@ -40,12 +35,6 @@ fn vs_main(
     return forward_vertex(instance_index, position, normal, uv);
 }
 
-// ACES filmic curve (Narkowicz 2015 fit): rolls highlights off instead of clipping them.
-fn tonemap(color: vec3<f32>) -> vec3<f32> {
-    let x = color * 0.6;
-    return saturate((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14));
-}
-
 struct FragmentOutput {
     @location(0) color: vec4<f32>,
 #ifdef ANALYSIS_OUTPUTS
@@ -58,41 +47,6 @@ struct FragmentOutput {
     // xyz: unit normal facing the camera, w: view depth.
     @location(3) normal: vec4<f32>,
 #endif
-}
-
-// What the lights give a fragment: the direct light, and the focus light's visibility,
-// shadow flag and n·l (analysis outputs).
-struct Shading {
-    direct: vec3<f32>,
-    focus: vec4<f32>,
-}
-
-// Adds light `i` to `shading` at `surface` (`through_share`: the share of light the surface
-// transmits from its other side).
-fn shade_light(light: Light, i: u32, surface: Surface, receives: bool, through_share: f32, shading: ptr<function, Shading>) {
-    let incidence = light_incidence(light, surface.position);
-    let cosine = dot(surface.normal, incidence.to_light);
-    let n_dot_l = max(cosine, 0.0);
-    var visibility = 1.0;
-    if receives && n_dot_l > 0.0 {
-        visibility = shadow_visibility(light, surface);
-    }
-    (*shading).direct += incidence.radiance * n_dot_l * visibility;
-#ifdef TRANSMISSION
-    if through_share > 0.0 && cosine < 0.0 {
-        // Diffuse transmission: the light on the other side, shadowed as that side is (what
-        // the resolve wrote for this pixel, or the filters with the normal turned towards the
-        // light).
-        var through = 1.0;
-        if receives {
-            through = shadow_visibility(light, make_surface(surface.position, -surface.normal, surface.view_depth, surface.frag_coord));
-        }
-        (*shading).direct += incidence.radiance * (-cosine) * through_share * through;
-    }
-#endif
-    if i == frame.focus_light {
-        (*shading).focus = vec4<f32>(visibility, -1.0, select(0.0, 1.0, receives && n_dot_l > 0.0), n_dot_l);
-    }
 }
 
 @fragment
@@ -123,48 +77,13 @@ fn fs_main(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -
     let through_share = 0.0;
 #endif
 
-    // The uniform list's lights, then (in the MANY_LIGHTS variants) the storage list's.
-    var shading = Shading(vec3<f32>(0.0), vec4<f32>(1.0, -1.0, 0.0, 0.0));
-    let count = light_count();
-    for (var i = 0u; i < min(count, MAX_LIGHTS); i++) {
-        shade_light(lights.items[i], i, surface, receives, through_share, &shading);
-    }
-#ifdef MANY_LIGHTS
-    for (var i = MAX_LIGHTS; i < count; i++) {
-        shade_light(more_lights[i - MAX_LIGHTS], i, surface, receives, through_share, &shading);
-    }
-#endif
-    let direct = shading.direct;
+    let shading = shade(surface, receives, through_share);
 #ifdef ANALYSIS_OUTPUTS
     let focus = shading.focus;
 #endif
-    var color = base.rgb * (frame.ambient + direct) * frame.exposure;
-#ifdef SHADOW_DEBUG_CASCADES
-    if frame.focus_light < light_count() {
-        let light = get_light(frame.focus_light);
-        var tint = vec3<f32>(1.0);
-        if light.kind == LIGHT_DIRECTIONAL {
-            tint = cascade_debug_color(light, surface);
-        }
-#ifdef SHADOW_POINT
-        if light.kind == LIGHT_POINT {
-            tint = point_debug_color(light, surface);
-        }
-#endif
-        color = mix(color, color * tint * 1.6, 0.6);
-    }
-#endif
-    if frame.debug_contact != 0u {
-        // The focus light's layer holds its contact shadows alone (1 where none ran).
-        let light = get_light(frame.focus_light);
-        var contact = 1.0;
-        if light.resolve_layer != RESOLVE_NONE {
-            contact = textureLoad(resolved_visibility, vec2<i32>(surface.frag_coord), i32(light.resolve_layer), 0).r;
-        }
-        color = vec3<f32>(contact * 0.8);
-    }
+    let color = display_color(base.rgb, shading.direct, surface);
     var out: FragmentOutput;
-    out.color = vec4<f32>(tonemap(color), 1.0);
+    out.color = vec4<f32>(color, 1.0);
 #ifdef ALPHA_TO_COVERAGE
     // NOTE: the pipeline writes only the colour channels; the alpha drives the coverage.
     out.color.a = coverage;

@@ -4,7 +4,7 @@
 #define_import_path penumbra::forward_io
 
 #import penumbra::frame::frame
-#import penumbra::mesh::{fetch_instance, instance_normal, instance_position}
+#import penumbra::mesh::{draw_indices, instance_normal, instance_position, instances}
 
 struct ForwardVertexOutput {
     // @invariant: the depth prepass computes it with the same function, and the lighting
@@ -19,6 +19,9 @@ struct ForwardVertexOutput {
     // The instance flags (INSTANCE_FLAG_RECEIVE_SHADOWS) in bits 0–7 and the diffuse
     // transmission in bits 8–15 (255 = 1; read it with `transmission`).
     @location(5) @interpolate(flat) flags: u32,
+    // The instance's index in the instance array (the prepass writes it as the pixel's
+    // shading id).
+    @location(6) @interpolate(flat) instance: u32,
 }
 
 // The share of the light on the surface's other side that this side shows (diffuse
@@ -27,9 +30,15 @@ fn transmission(in: ForwardVertexOutput) -> f32 {
     return f32((in.flags >> 8u) & 0xffu) / 255.0;
 }
 
+// Diffuse transmission `t` quantised to a byte (255 = 1), as the vertex stage passes it on.
+fn transmission_byte(t: f32) -> u32 {
+    return u32(round(saturate(t) * 255.0));
+}
+
 // The vertex stage for vertex `position`/`normal`/`uv` of draw instance `instance_index`.
 fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>) -> ForwardVertexOutput {
-    let instance = fetch_instance(instance_index);
+    let slot = draw_indices[instance_index];
+    let instance = instances[slot];
     let world = vec4<f32>(instance_position(instance, position), 1.0);
     var out: ForwardVertexOutput;
     out.clip_position = frame.clip_from_world * world;
@@ -39,7 +48,8 @@ fn forward_vertex(instance_index: u32, position: vec3<f32>, normal: vec3<f32>, u
     out.base_color = instance.base_color;
     out.cutoff = instance.alpha_cutoff;
     // NOTE: in the flags, so that it costs no interpolant of its own.
-    let share = u32(round(saturate(instance.transmission) * 255.0));
+    let share = transmission_byte(instance.transmission);
     out.flags = (instance.flags & 0xffu) | (share << 8u);
+    out.instance = slot;
     return out;
 }

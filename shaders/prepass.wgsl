@@ -4,8 +4,11 @@
 // so the lighting pass finds exactly the depth written here. The opaque pipeline has no
 // fragment stage; the masked one discards texels below the material's alpha cutoff. When the
 // frame resolves shadows in a compute pass, the `*_normal` stages also write each pixel's
-// normal (facing the camera) and whether it receives shadows, for the resolve.
-#import penumbra::contract::INSTANCE_FLAG_RECEIVE_SHADOWS
+// normal (facing the camera) and whether it receives shadows, for the resolve; when the frame
+// lights the prepass's pixels of untextured materials (penumbra's deferred lighting), the
+// `*_id` stages also write each pixel's shading id: its instance, or SHADING_ID_NONE where the
+// lighting pass draws the surface again.
+#import penumbra::contract::{INSTANCE_FLAG_RECEIVE_SHADOWS, INSTANCE_FLAG_UNTEXTURED, SHADING_ID_NONE}
 #import penumbra::forward_io::{ForwardVertexOutput, forward_vertex, transmission}
 #import penumbra::normal_packing::pack_normal
 
@@ -58,4 +61,30 @@ fn fs_masked_normal(in: ForwardVertexOutput, @builtin(front_facing) front_facing
         discard;
     }
     return surface_normal(in, front_facing);
+}
+
+// The normal and the shading id of a pixel.
+struct NormalAndId {
+    @location(0) normal: u32,
+    @location(1) id: u32,
+}
+
+// The pixel's normal, and its instance where its material is opaque and untextured (lit from
+// the prepass), SHADING_ID_NONE elsewhere.
+fn normal_and_id(in: ForwardVertexOutput, front_facing: bool) -> NormalAndId {
+    let untextured = (in.flags & INSTANCE_FLAG_UNTEXTURED) != 0u;
+    return NormalAndId(surface_normal(in, front_facing), select(SHADING_ID_NONE, in.instance, untextured));
+}
+
+@fragment
+fn fs_normal_id(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> NormalAndId {
+    return normal_and_id(in, front_facing);
+}
+
+@fragment
+fn fs_masked_normal_id(in: ForwardVertexOutput, @builtin(front_facing) front_facing: bool) -> NormalAndId {
+    if alpha_discarded(in) {
+        discard;
+    }
+    return normal_and_id(in, front_facing);
 }

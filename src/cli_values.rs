@@ -57,6 +57,14 @@ pub enum Quality {
     High,
 }
 
+/// Deferred lighting of the prepass's pixels (`DeferredLighting`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Deferred {
+    Auto,
+    On,
+    Off,
+}
+
 /// The depth prepass (`DepthPrepass`).
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Prepass {

@@ -7,13 +7,14 @@ use std::path::PathBuf;
 use clap::Args;
 use clap::builder::TypedValueParser;
 
-use crate::cli_values::{Fit, Layout, Mode, Precision, Prepass, Quality};
+use crate::cli_values::{Deferred, Fit, Layout, Mode, Precision, Prepass, Quality};
 use crate::{render_json, render_text};
 use penumbra::app::{CameraMotion, RenderError, RenderRequest, render_scene_with};
 use penumbra::ecs::shadow_memory::MIB;
+use penumbra::ecs::view_lod::CameraLod;
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::render::{DepthPrepass, Msaa, RenderOptions};
+use penumbra::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{
     ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality,
@@ -133,6 +134,15 @@ pub struct RenderArgs {
     /// 16 384 instances or more and scenes of 16 384 casters or more).
     #[arg(long)]
     no_gpu_culling: bool,
+    /// Light the prepass's pixels of opaque, untextured materials in one full-screen pass
+    /// instead of drawing them again: auto (while the view has at least as many triangles as
+    /// pixels), on or off.
+    #[arg(long, value_enum, default_value_t = Deferred::Auto)]
+    deferred_lighting: Deferred,
+    /// The camera view's largest geometric error of a coarser mesh level, in pixels (default
+    /// 0.25; 0 draws every mesh whole; at most 16).
+    #[arg(long, value_parser = lod_pixels)]
+    camera_lod: Option<f32>,
     /// Render each sun's cascades in one multiview pass where the GPU supports it (`true`),
     /// or one pass per cascade (`false`).
     #[arg(long, action = clap::ArgAction::Set, default_value_t = RenderOptions::default().single_pass_cascades)]
@@ -242,6 +252,14 @@ pub fn contact_values(text: &str) -> Result<ContactShadows, String> {
 }
 
 /// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
+/// A camera LOD error on the command line: pixels from 0 to 16.
+fn lod_pixels(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(p) if (0.0..=16.0).contains(&p) => Ok(p),
+        _ => Err(format!("expected pixels from 0 to 16, found `{text}`")),
+    }
+}
+
 fn clipmap_extent(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
         Ok(m) if (0.5..=1.0e5).contains(&m) => Ok(m),
@@ -283,6 +301,8 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_multi_draw,
         no_occlusion_culling,
         no_gpu_culling,
+        deferred_lighting,
+        camera_lod,
         count_fragments,
         camera_step,
         camera_turn,
@@ -388,9 +408,15 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             multi_draw: !no_multi_draw,
             occlusion_culling: !no_occlusion_culling,
             gpu_culling: !no_gpu_culling,
+            deferred_lighting: match deferred_lighting {
+                Deferred::Auto => DeferredLighting::Auto,
+                Deferred::On => DeferredLighting::On,
+                Deferred::Off => DeferredLighting::Off,
+            },
         },
         shadow_budget,
         count_fragments,
+        camera_lod: camera_lod.map(|max_error_pixels| CameraLod { max_error_pixels }),
         camera_motion: CameraMotion {
             step: camera_step.unwrap_or(glam::Vec3::ZERO),
             turn_degrees: camera_turn.unwrap_or(0.0),

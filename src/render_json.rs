@@ -49,6 +49,7 @@ pub fn summary_json(
         "draws_per_view": stats.draws_per_view,
         "draw_calls": report.draw_calls,
         "draws": report.draws,
+        "deferred_lighting": report.deferred_lighting,
         "shadow_draw_calls": report.shadow_draw_calls,
         "shadow_texels_cleared": report.shadow_cleared_texels,
         "shadow_texels_drawn": report.shadow_drawn_texels,

@@ -76,6 +76,30 @@ fn image_sizes_are_checked_when_the_command_line_is_parsed() {
 }
 
 #[test]
+fn camera_lod_and_deferred_lighting_say_what_they_expect() {
+    for value in ["-1", "17", "nan"] {
+        let arg = format!("--camera-lod={value}");
+        let out = penumbra(&["render", "assets/scenes/default.ron", &arg]);
+        assert_eq!(out.status.code(), Some(2), "{value}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!(
+                "invalid value '{value}' for '--camera-lod <CAMERA_LOD>': expected pixels from 0 to 16, found `{value}`"
+            )),
+            "{value}: {err}"
+        );
+    }
+    let out = penumbra(&["render", "assets/scenes/default.ron", "--deferred-lighting", "maybe"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("invalid value 'maybe' for '--deferred-lighting <DEFERRED_LIGHTING>'")
+            && err.contains("[possible values: auto, on, off]"),
+        "{err}"
+    );
+}
+
+#[test]
 fn an_unknown_cascade_fit_names_the_fits_there_are() {
     for command in ["render", "bench"] {
         let mut args = vec![command];

@@ -344,6 +344,7 @@ fn a_render_request_moves_its_camera_between_frames() {
                 options: RenderOptions::default(),
                 shadow_budget: None,
                 count_fragments: false,
+                camera_lod: None,
                 camera_motion,
             },
         )

@@ -36,6 +36,7 @@ fn ink_hatching_follows_the_shadow() {
             options: Default::default(),
             shadow_budget: None,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: Default::default(),
         },
     )

@@ -324,6 +324,7 @@ fn a_sample_count_the_adapter_lacks_falls_back_with_one_warning() {
             options: options(msaa),
             shadow_budget: None,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: Default::default(),
         };
         render_scene_with(&desc, &request).expect(INSTALL)

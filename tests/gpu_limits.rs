@@ -128,6 +128,7 @@ fn a_scene_with_more_instances_than_a_binding_holds_is_refused_before_spawning()
         options: Default::default(),
         shadow_budget: None,
         count_fragments: false,
+        camera_lod: None,
         camera_motion: Default::default(),
     };
     let err = match render_scene_with(&desc, &request) {

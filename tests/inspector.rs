@@ -11,7 +11,7 @@ use penumbra::ecs::Transform;
 use penumbra::ecs::components::DirectionalLight;
 use penumbra::ecs::{AnimationPlayer, ShadowViews};
 use penumbra::layout::ShadowStorage;
-use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
+use penumbra::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::{SceneDesc, load_settings};
 use penumbra::settings::{ContactShadows, ShadowDebugView, ShadowMode, ShadowSettings};
 use penumbra::viewer::{FrameInfo, Inspector};
@@ -330,9 +330,21 @@ fn render_switches_reach_the_render_options() {
     assert_eq!(after.shadow_cache, !before.shadow_cache);
     assert_eq!(after.visibility_resolve, !before.visibility_resolve);
     assert_eq!(after.single_pass_cascades, !before.single_pass_cascades);
-    h.get_by_label("off").click();
+    // Two rows of auto / on / off: the depth prepass's, then the deferred lighting's.
+    h.get_all_by_label("off").next().expect("the prepass's off").click();
     h.run();
     assert_eq!(options(&h).depth_prepass, DepthPrepass::Off);
+    assert_eq!(
+        before.deferred_lighting,
+        DeferredLighting::Auto,
+        "deferred lighting on auto by default"
+    );
+    h.get_all_by_label("off")
+        .last()
+        .expect("the deferred lighting's off")
+        .click();
+    h.run();
+    assert_eq!(options(&h).deferred_lighting, DeferredLighting::Off);
     assert_eq!(before.msaa, Msaa::Off, "MSAA off by default");
     h.get_by_label("4×").click();
     h.run();

@@ -58,6 +58,7 @@ fn three_thousand_lights_render_and_the_last_one_lights_the_image() {
             options: RenderOptions::default(),
             shadow_budget: None,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: Default::default(),
         },
     )

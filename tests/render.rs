@@ -217,6 +217,7 @@ fn default_scene_matches_its_reference_image() {
         },
         shadow_budget: None,
         count_fragments: false,
+        camera_lod: None,
         camera_motion: Default::default(),
     };
     let frame = render_scene_with(&desc, &request).unwrap_or_else(|e| panic!("rendering failed: {e}"));

@@ -57,9 +57,9 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
         ["shadow moments", "shadow cascade moments", "pages", "depth bounds"]
     );
     // Three frames of one size: the camera depth was created once and reused.
-    // The camera depth and normals (for the compute resolve), each created once (MSAA is off
-    // by default: no multisampled colour).
-    assert_eq!(r.counters().transient_resources, 2, "{:?}", r.counters());
+    // The camera depth, normals (for the compute resolve) and shading ids (for the deferred
+    // lighting), each created once (MSAA is off by default: no multisampled colour).
+    assert_eq!(r.counters().transient_resources, 3, "{:?}", r.counters());
 
     let world = app.world_mut();
     let mut suns = world.query::<&mut DirectionalLight>();
@@ -84,8 +84,8 @@ fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
             "depth bounds"
         ]
     );
-    // Nothing new: the pooled depth and normals serve this frame too.
-    assert_eq!(r.counters().transient_resources, 2);
+    // Nothing new: the pooled depth serves this frame too.
+    assert_eq!(r.counters().transient_resources, 3);
 }
 
 /// Overwrites the colour target with one colour; counts its recordings.
@@ -190,8 +190,9 @@ fn a_custom_node_runs_after_what_it_reads_and_an_unread_one_is_culled() {
     );
     assert_eq!(painted.load(Ordering::Relaxed), 2);
     assert_eq!(unread.load(Ordering::Relaxed), 0, "a culled node was recorded");
-    // The culled node's transient was never allocated: only the camera depth and normals were.
-    assert_eq!(r.counters().transient_resources, 2);
+    // The culled node's transient was never allocated: only the camera depth, normals and
+    // shading ids were.
+    assert_eq!(r.counters().transient_resources, 3);
     let image = r.read_image();
     let magenta = image.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
     assert_eq!(magenta, 320 * 180, "the custom node did not paint the whole frame last");

@@ -6,7 +6,7 @@ use bevy_app::App;
 use image::RgbaImage;
 use penumbra::app::{headless_app, spawn_scene};
 use penumbra::layout::ShadowStorage;
-use penumbra::render::Renderer;
+use penumbra::render::{DeferredLighting, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowSettings;
 
@@ -14,6 +14,12 @@ fn app() -> App {
     let renderer = Renderer::headless(96, 54)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = headless_app(renderer);
+    // NOTE: the forward pass draws every material, so a replaced forward shader (which turns
+    // the deferred lighting off) draws the same pixels as the shipped one did.
+    app.insert_resource(RenderOptions {
+        deferred_lighting: DeferredLighting::Off,
+        ..RenderOptions::default()
+    });
     let desc = SceneDesc::load("assets/scenes/default.ron").expect("default scene loads");
     spawn_scene(app.world_mut(), &desc).expect("default scene spawns");
     // Frames must be identical for the image comparisons below.

@@ -54,6 +54,74 @@ fn every_forward_variant_validates() {
     assert!(with > without + 10, "transmission adds {with} − {without} expressions");
 }
 
+#[test]
+fn every_deferred_variant_validates_and_binds_only_its_groups() {
+    let mut library = ShaderLibrary::new().expect("shared modules compose");
+    // NOTE: the deferred pass lights opaque pixels of single-sample frames without analysis
+    // outputs; every other axis of the forward variants applies.
+    let variants: Vec<ForwardVariant> = ForwardVariant::all()
+        .into_iter()
+        .filter(|v| !v.alpha_mask && !v.alpha_to_coverage && !v.analysis)
+        .collect();
+    assert_eq!(
+        variants.len(),
+        128,
+        "PCF and PCSS × spot × point × moments × debug × transmission × many lights"
+    );
+    for (variant, compute) in variants.into_iter().flat_map(|v| [(v, false), (v, true)]) {
+        let module = library
+            .deferred(variant, compute)
+            .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
+        let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        let expected: &[&str] = if compute {
+            &["vs_main", "fs_main", "cs_main"]
+        } else {
+            &["vs_main", "fs_main"]
+        };
+        assert_eq!(entry_points, expected, "{}", variant.label());
+        let mut bindings: Vec<(u32, u32)> = module
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| g.binding.as_ref().map(|b| (b.group, b.binding)))
+            .collect();
+        let count = bindings.len();
+        bindings.sort_unstable();
+        bindings.dedup();
+        assert_eq!(
+            bindings.len(),
+            count,
+            "{}: two globals share a binding",
+            variant.label()
+        );
+        // Group 2: depth, normals, shading ids and the instances, and for the compute entry
+        // the target's storage view and the clear colour (group 1 at most declares the mesh
+        // module's instances, unused).
+        for group in [1, 2] {
+            let slots: Vec<u32> = bindings.iter().filter(|b| b.0 == group).map(|b| b.1).collect();
+            let expected: &[u32] = match (group, compute) {
+                (1, _) => &[0, 1],
+                (_, false) => &[0, 1, 2, 3],
+                (_, true) => &[0, 1, 2, 3, 4, 5],
+            };
+            assert!(
+                slots.iter().all(|s| expected.contains(s)),
+                "{}: group {group} binds {slots:?}",
+                variant.label()
+            );
+        }
+        assert!(
+            bindings.contains(&(2, 2)),
+            "{}: the shading ids are read",
+            variant.label()
+        );
+        assert!(
+            bindings.contains(&(2, 3)),
+            "{}: the instances are read",
+            variant.label()
+        );
+    }
+}
+
 /// Whether `function` has a `discard` anywhere in its body.
 fn has_kill(function: &naga::Function) -> bool {
     fn block(b: &naga::Block) -> bool {
@@ -212,11 +280,21 @@ fn the_resolve_shader_validates_for_every_filter_variant_and_sample_count() {
 }
 
 #[test]
-fn prepass_shader_validates_with_both_entry_points() {
+fn prepass_shader_validates_with_every_entry_point() {
     let mut library = ShaderLibrary::new().unwrap();
     let module = library.prepass().unwrap_or_else(|e| panic!("{e}"));
     let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entry_points, ["vs_main", "fs_masked", "fs_normal", "fs_masked_normal"]);
+    assert_eq!(
+        entry_points,
+        [
+            "vs_main",
+            "fs_masked",
+            "fs_normal",
+            "fs_masked_normal",
+            "fs_normal_id",
+            "fs_masked_normal_id"
+        ]
+    );
 }
 
 #[test]

@@ -127,6 +127,7 @@ fn render(desc: &SceneDesc, budget: Option<u64>) -> Result<penumbra::app::Headle
             options: RenderOptions::default(),
             shadow_budget: budget,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: Default::default(),
         },
     )

@@ -56,6 +56,7 @@ fn every_frame_is_timed_or_counted_and_numbered() {
                 "shadow cascade 3",
                 "depth prepass",
                 "visibility resolve",
+                "deferred lighting",
                 "forward"
             ],
             "frame {}",
@@ -81,6 +82,7 @@ fn a_headless_render_reports_the_timings_of_each_of_its_frames() {
         options: Default::default(),
         shadow_budget: None,
         count_fragments: false,
+        camera_lod: None,
         camera_motion: Default::default(),
     };
     let result = render_scene_with(&default_scene(), &request).unwrap_or_else(|e| panic!("{e}"));

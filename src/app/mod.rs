@@ -19,6 +19,7 @@ use crate::ecs::components::{Camera3d, ViewportSize};
 use crate::ecs::plugin::ShadowPlugin;
 use crate::ecs::shadow_memory::{ShadowMemory, ShadowMemoryBudget};
 use crate::ecs::stats::{ShadowDiagnostics, ShadowStats};
+use crate::ecs::view_lod::CameraLod;
 use crate::render::gpu_types::InstanceGpu;
 use crate::render::options::RenderOptions;
 use crate::render::target::AnalysisImage;
@@ -141,6 +142,7 @@ pub fn render_scene(
             options: RenderOptions::default(),
             shadow_budget: None,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: CameraMotion::default(),
         },
     )
@@ -168,6 +170,8 @@ pub struct RenderRequest<'a> {
     pub count_fragments: bool,
     /// How the camera moves between frames (still by default).
     pub camera_motion: CameraMotion,
+    /// The camera view's level of detail (None: the default [`CameraLod`]).
+    pub camera_lod: Option<CameraLod>,
 }
 
 /// How a headless render moves its camera before each frame after the first: by `step`
@@ -219,6 +223,9 @@ pub fn render_scene_with(desc: &SceneDesc, request: &RenderRequest<'_>) -> Resul
     renderer.count_forward_fragments(request.count_fragments);
     let mut app = headless_app(renderer);
     app.insert_resource(request.options);
+    if let Some(lod) = request.camera_lod {
+        app.insert_resource(lod);
+    }
     if let Some(bytes) = request.shadow_budget {
         app.world_mut().resource_mut::<ShadowMemoryBudget>().bytes = bytes;
     }

@@ -80,6 +80,12 @@ impl Material {
     pub fn is_masked(&self) -> bool {
         matches!(self.alpha_mode, AlphaMode::Mask(_))
     }
+
+    /// True for opaque materials without a texture: their surfaces' colour is the factor
+    /// alone, which the renderer can light from the depth prepass's pixels.
+    pub fn is_untextured(&self) -> bool {
+        !self.is_masked() && self.base_color_texture.is_none()
+    }
 }
 
 /// An 8-bit sRGB RGBA image.

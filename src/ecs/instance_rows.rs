@@ -13,7 +13,7 @@ use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::placement::is_valid_placement;
 use crate::ecs::skinning::SkinnedMesh;
 use crate::math::aabb::Aabb;
-use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
+use crate::shader::contract::{INSTANCE_FLAG_RECEIVE_SHADOWS, INSTANCE_FLAG_UNTEXTURED};
 use crate::shader::instance::InstanceGpu;
 
 /// Marks an instance that casts no shadow in [`RenderInstances`]' caster index.
@@ -110,7 +110,12 @@ impl Row {
             world_rows: InstanceGpu::world_rows(&self.world_from_local),
             base_color: mat.base_color,
             alpha_cutoff: mat.alpha_cutoff(),
-            flags: if self.receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 },
+            flags: if self.receive { INSTANCE_FLAG_RECEIVE_SHADOWS } else { 0 }
+                | if mat.is_untextured() {
+                    INSTANCE_FLAG_UNTEXTURED
+                } else {
+                    0
+                },
             transmission: mat.effective_transmission(),
             _pad: 0,
         }

@@ -75,14 +75,21 @@ pub fn camera_parts(group: &DrawGroup, masked: bool) -> [(bool, bool, &[DrawBatc
     ]
 }
 
+/// Whether the batch's material is one of those `skipped` marks (indexed by material
+/// handle; an empty slice skips none).
+pub fn skipped(skipped: &[bool], batch: &DrawBatch) -> bool {
+    skipped.get(batch.material.0 as usize).copied().unwrap_or(false)
+}
+
 /// Draws `batches` (instanced, indexed), binding each batch's material (group 2) when
 /// `bind_material`: the batches between two material changes are one multi-draw where `args`
-/// allows it ([`DrawArgs`]). Returns the draw commands recorded.
+/// allows it ([`DrawArgs`]). Batches of the materials `skip` marks are left out. Returns the
+/// draw commands recorded.
 pub fn draw_batches(
     pass: &mut wgpu::RenderPass<'_>,
     scene: &SceneGpu,
     batches: &[DrawBatch],
-    bind_material: bool,
+    (bind_material, skip): (bool, &[bool]),
     args: &mut DrawArgs,
 ) -> u32 {
     let mut last_material = None;
@@ -91,6 +98,9 @@ pub fn draw_batches(
         let Some(range) = scene.mesh_ranges.get(batch.mesh.0 as usize) else {
             continue;
         };
+        if skipped(skip, batch) {
+            continue;
+        }
         if bind_material && last_material != Some(batch.material) {
             let Some(group) = scene.material_groups.get(batch.material.0 as usize) else {
                 continue;
@@ -112,13 +122,13 @@ pub fn draw_batches(
 
 /// Draws `batches` from a culling phase's indirect arguments, batch `i` of the slice at
 /// argument `first + i` ([`crate::render::occlusion`]): one multi-draw per run of batches
-/// between material changes (materials bound as [`draw_batches`] binds them). Returns the
-/// draw commands recorded.
+/// between material changes (materials bound and skipped as [`draw_batches`] binds and skips
+/// them). Returns the draw commands recorded.
 pub fn draw_culled(
     pass: &mut wgpu::RenderPass<'_>,
     scene: &SceneGpu,
     batches: &[DrawBatch],
-    bind_material: bool,
+    (bind_material, skip): (bool, &[bool]),
     (args, first): (&wgpu::Buffer, u32),
     counted: &mut DrawArgs,
 ) -> u32 {
@@ -144,8 +154,11 @@ pub fn draw_culled(
             }
             bound = group.is_some();
         }
-        // NOTE: a batch whose material has no group is not drawn.
-        if !bound {
+        // NOTE: a batch whose material has no group is not drawn, nor a skipped one.
+        if skipped(skip, batch) {
+            flush(pass, start..i);
+            start = i + 1;
+        } else if !bound {
             start = i + 1;
         }
     }

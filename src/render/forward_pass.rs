@@ -8,9 +8,10 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::ecs::draw_groups::DrawBatch;
+use crate::render::deferred::{DeferredInputs, DeferredPass, DeferredTarget};
 use crate::render::depth_bounds::wants_depth_bounds;
 use crate::render::draw::{
-    bind_camera_view, camera_parts, draw_batches, draw_culled, mesh_primitive, mesh_vertex_state,
+    bind_camera_view, camera_parts, draw_batches, draw_culled, mesh_primitive, mesh_vertex_state, skipped,
 };
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
@@ -59,6 +60,9 @@ pub struct ForwardPass {
     /// Whether a later pass (the depth-bounds reduction) reads the depth this pass creates,
     /// which is then stored instead of discarded.
     keep_depth: bool,
+    /// The deferred lighting of the prepass's pixels, recorded first when the frame lights
+    /// them so.
+    deferred: DeferredPass,
 }
 
 /// Builds one pipeline, catching shader and pipeline errors instead of panicking.
@@ -146,6 +150,7 @@ impl ForwardPass {
             handles: None,
             multisampled_color: None,
             keep_depth: false,
+            deferred: DeferredPass::default(),
         }
     }
 
@@ -211,6 +216,15 @@ impl RenderNode for ForwardPass {
                 samples,
             })
         });
+        if frame.deferred_lighting
+            && let (Some(normals), Some(ids)) = (frame.normals, frame.shading_ids)
+        {
+            pass.read(normals);
+            pass.read(ids);
+            if let Some(storage) = frame.color_storage {
+                pass.write(storage);
+            }
+        }
         pass.write(frame.color);
         for target in frame.analysis.iter().flatten() {
             pass.write(*target);
@@ -231,6 +245,11 @@ impl RenderNode for ForwardPass {
             depth_prepass,
             visibility,
             samples,
+            deferred_lighting,
+            normals,
+            shading_ids,
+            color_storage,
+            size,
             ..
         }) = self.handles
         else {
@@ -238,7 +257,7 @@ impl RenderNode for ForwardPass {
         };
         let analysis = analysis_targets.is_some();
         let lights = ctx.lights;
-        let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
+        let variant_of = |ctx: &FrameContext<'_>, alpha_mask| {
             let variant = ForwardVariant {
                 analysis,
                 transmission: ctx.scene.any_transmission,
@@ -247,10 +266,38 @@ impl RenderNode for ForwardPass {
             // NOTE: a light whose layer holds its contact shadows alone filters its own
             // shadow maps in this pass.
             let filters_resolved = ctx.shadows.resolved.as_ref().is_some_and(|r| r.filters);
-            let variant = match visibility {
+            match visibility {
                 Some(_) if filters_resolved => variant.reading_resolved(),
                 _ => variant,
+            }
+        };
+        // NOTE: a frame that resolved its shadows reads them through the group that binds the
+        // resolved visibility (the lights' resolve layers point into it).
+        let shadow_group = match (&ctx.shadows.resolved, visibility.is_some()) {
+            (Some(r), true) => r.group.clone(),
+            _ => ctx.shadows.group.clone(),
+        };
+        let [r, g, b] = self.clear_color;
+        let clear = wgpu::Color { r, g, b, a: 1.0 };
+        let deferred_inputs = match (deferred_lighting && depth_prepass, normals, shading_ids) {
+            (true, Some(normals), Some(ids)) => Some(DeferredInputs { depth, normals, ids }),
+            _ => None,
+        };
+        let deferred = deferred_inputs.is_some_and(|inputs| {
+            let variant = variant_of(ctx, false);
+            let target = DeferredTarget {
+                color: resources.view(color),
+                format,
+                storage: color_storage.map(|s| resources.view(s)),
+                clear,
+                size,
             };
+            self.deferred
+                .record(ctx, resources, encoder, (inputs, variant, &shadow_group), target)
+        });
+        ctx.deferred_lighting = deferred;
+        let mut pipeline = |ctx: &mut FrameContext<'_>, alpha_mask, double_sided| {
+            let variant = variant_of(ctx, alpha_mask);
             self.pipeline(
                 ctx,
                 PipelineKey {
@@ -267,7 +314,10 @@ impl RenderNode for ForwardPass {
         // Only the pipelines this frame draws with are built.
         let view_groups = ctx.view_groups;
         let group = &view_groups.group;
-        let wanted = |list: &[DrawBatch], sided| list.iter().any(|b| b.double_sided == sided);
+        let scene = ctx.scene;
+        // NOTE: the materials the deferred lighting lit are not drawn again.
+        let skip: &[bool] = if deferred { &scene.untextured } else { &[] };
+        let wanted = |list: &[DrawBatch], sided| list.iter().any(|b| b.double_sided == sided && !skipped(skip, b));
         let wants = [
             wanted(&group.opaque, false),
             wanted(&group.opaque, true),
@@ -280,21 +330,19 @@ impl RenderNode for ForwardPass {
                 *slot = pipeline(ctx, i >= 2, i % 2 == 1);
             }
         }
-        let [r, g, b] = self.clear_color;
-        let attachment = |view, clear| {
+        let attachment = |view, load| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
+                    load,
                     store: wgpu::StoreOp::Store,
                 },
             })
         };
         // NOTE: a fixed array, not a Vec: nothing is allocated per frame.
         let mut color_attachments = [const { None }; 4];
-        let clear = wgpu::Color { r, g, b, a: 1.0 };
         color_attachments[0] = match self.multisampled_color {
             // NOTE: only the resolved target is kept; the samples are discarded.
             Some(samples) => Some(wgpu::RenderPassColorAttachment {
@@ -306,7 +354,9 @@ impl RenderNode for ForwardPass {
                     store: wgpu::StoreOp::Discard,
                 },
             }),
-            None => attachment(resources.view(color), clear),
+            // NOTE: over the pixels the deferred lighting wrote.
+            None if deferred => attachment(resources.view(color), wgpu::LoadOp::Load),
+            None => attachment(resources.view(color), wgpu::LoadOp::Clear(clear)),
         };
         let mut used = 1;
         // Background: shadow factor 1 (nothing shadows the sky), cascade -1, position w = 0.
@@ -321,7 +371,7 @@ impl RenderNode for ForwardPass {
             wgpu::Color::TRANSPARENT,
         ];
         for (target, clear) in analysis_targets.iter().flatten().zip(clears) {
-            color_attachments[used] = attachment(resources.view(*target), clear);
+            color_attachments[used] = attachment(resources.view(*target), wgpu::LoadOp::Clear(clear));
             used += 1;
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -353,19 +403,12 @@ impl RenderNode for ForwardPass {
         if !bind_camera_view(&mut pass, ctx.scene, None) {
             return;
         }
-        // NOTE: a frame that resolved its shadows reads them through the group that binds the
-        // resolved visibility (the lights' resolve layers point into it).
-        let resolved = self.handles.is_some_and(|h| h.visibility.is_some());
-        let shadow_group = match (&ctx.shadows.resolved, resolved) {
-            (Some(r), true) => &r.group,
-            _ => &ctx.shadows.group,
-        };
-        pass.set_bind_group(3, shadow_group, &[]);
+        pass.set_bind_group(3, &shadow_group, &[]);
         if let Some(counter) = ctx.fragments {
             pass.begin_pipeline_statistics_query(&counter.query_set, 0);
         }
         let group = &ctx.view_groups.group;
-        let (scene, args) = (ctx.scene, &mut *ctx.draw_args);
+        let args = &mut *ctx.draw_args;
         // Every batch with its pipeline, from the view's list or a culling phase's arguments.
         let mut draw = |pass: &mut wgpu::RenderPass<'_>, culled: Option<&Phase<'_>>| {
             let mut calls = 0;
@@ -376,8 +419,8 @@ impl RenderNode for ForwardPass {
                 };
                 pass.set_pipeline(pipeline);
                 calls += match culled {
-                    Some(c) => draw_culled(pass, scene, part, true, (c.args, first), args),
-                    None => draw_batches(pass, scene, part, true, args),
+                    Some(c) => draw_culled(pass, scene, part, (true, skip), (c.args, first), args),
+                    None => draw_batches(pass, scene, part, (true, skip), args),
                 };
             }
             calls

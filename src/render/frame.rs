@@ -51,6 +51,9 @@ pub struct FrameContext<'a> {
     pub shadow_cull: &'a mut ShadowCullGpu,
     /// Draw commands recorded so far this frame (a multi-draw counts once).
     pub draw_calls: u32,
+    /// The prepass's pixels of untextured materials were lit in one pass this frame
+    /// ([`crate::render::deferred`]).
+    pub deferred_lighting: bool,
     /// Shadow views drawn so far this frame (views whose layer already held them are not).
     pub shadow_views_drawn: u32,
     /// Draw calls of shadow views so far this frame (also counted in `draw_calls`).

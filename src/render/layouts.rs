@@ -64,7 +64,7 @@ fn uniform_array<T>(len: usize) -> wgpu::BindingType {
     }
 }
 
-fn storage<T>() -> wgpu::BindingType {
+pub(crate) fn storage<T>() -> wgpu::BindingType {
     wgpu::BindingType::Buffer {
         ty: wgpu::BufferBindingType::Storage { read_only: true },
         has_dynamic_offset: false,

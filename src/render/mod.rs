@@ -3,6 +3,7 @@
 
 pub mod context;
 pub mod counters;
+pub mod deferred;
 pub mod depth_bounds;
 pub mod draw;
 pub mod draw_args;
@@ -39,7 +40,7 @@ pub mod variant;
 pub use context::{GpuContext, GpuError};
 pub use counters::RenderCounters;
 pub use limits::{DeviceLimits, LimitError};
-pub use options::{DepthPrepass, Msaa, RenderOptions};
+pub use options::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
 pub use plugin::RenderPlugin;
 pub use renderer::Renderer;
 pub use report::{FrameReport, PageStats};

@@ -79,6 +79,44 @@ impl std::str::FromStr for Msaa {
     }
 }
 
+/// Whether the prepass's pixels of opaque, untextured materials are lit in one full-screen
+/// pass instead of drawing those materials again in the lighting pass
+/// ([`crate::render::deferred`]). Only where the frame allows it: the prepass runs and writes
+/// normals (the visibility resolve is on), one sample per pixel, no analysis outputs, the
+/// shipped forward shader.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DeferredLighting {
+    /// On where it runs in compute (a target with a storage view: headless renders), which
+    /// costs less than drawing any view's geometry again; elsewhere (a window) while the
+    /// camera's view has at least as many triangles as the target has pixels
+    /// ([`deferred_pays`]): then drawing the geometry again costs more than a full-screen
+    /// render pass over the pixels.
+    #[default]
+    Auto,
+    /// Always.
+    On,
+    /// Never: the lighting pass draws every material.
+    Off,
+}
+
+/// Whether [`DeferredLighting::Auto`] lights the prepass's pixels in a full-screen render
+/// pass for a view of `triangles` visible triangles on a target of `pixels` pixels.
+pub fn deferred_pays(triangles: u64, pixels: u64) -> bool {
+    triangles >= pixels
+}
+
+impl DeferredLighting {
+    /// Whether it runs (where the frame allows it) for a view of `triangles` triangles on
+    /// `pixels` pixels, in `compute` or in a full-screen render pass.
+    pub fn runs(self, triangles: impl FnOnce() -> u64, pixels: u64, compute: bool) -> bool {
+        match self {
+            Self::On => true,
+            Self::Off => false,
+            Self::Auto => compute || deferred_pays(triangles(), pixels),
+        }
+    }
+}
+
 /// Render-wide switches; a world without this resource renders with the defaults.
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
@@ -133,6 +171,10 @@ pub struct RenderOptions {
     /// ([`crate::ecs::shadow_runs`], [`crate::render::shadow_cull`]; not single-pass or
     /// clipmap cascades). Off, the CPU culls every instance and caster.
     pub gpu_culling: bool,
+    /// Light the pixels of opaque, untextured materials from the depth prepass (its depth,
+    /// normals and each pixel's instance) in one full-screen pass, and draw only the other
+    /// materials again in the lighting pass (default [`DeferredLighting::Auto`]).
+    pub deferred_lighting: DeferredLighting,
 }
 
 impl Default for RenderOptions {
@@ -146,6 +188,7 @@ impl Default for RenderOptions {
             multi_draw: true,
             occlusion_culling: true,
             gpu_culling: true,
+            deferred_lighting: DeferredLighting::Auto,
         }
     }
 }
@@ -178,6 +221,17 @@ mod tests {
         assert!(!DepthPrepass::Auto.runs(|| 20_000_000, pixels));
         assert!(DepthPrepass::On.runs(|| u64::MAX, pixels));
         assert!(!DepthPrepass::Off.runs(|| 0, pixels));
+    }
+
+    #[test]
+    fn auto_lights_from_the_prepass_in_compute_or_from_one_triangle_per_pixel() {
+        let pixels = 1920 * 1080;
+        assert!(!DeferredLighting::Auto.runs(|| 60_000, pixels, false));
+        assert!(DeferredLighting::Auto.runs(|| pixels, pixels, false));
+        assert!(DeferredLighting::Auto.runs(|| 6_000_000, pixels, false));
+        assert!(DeferredLighting::Auto.runs(|| 0, pixels, true), "in compute always");
+        assert!(DeferredLighting::On.runs(|| 0, pixels, false));
+        assert!(!DeferredLighting::Off.runs(|| u64::MAX, pixels, true));
     }
 
     #[test]

@@ -45,23 +45,47 @@ pub fn camera_depth((width, height): (u32, u32), samples: u32) -> TextureDesc {
     }
 }
 
+/// A colour target of the prepass at the target's size, also read by later passes.
+fn camera_target(
+    label: &'static str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    samples: u32,
+) -> TextureDesc {
+    TextureDesc {
+        label,
+        width,
+        height,
+        layers: 1,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        samples,
+    }
+}
+
 /// Format of the normals the prepass writes for the compute resolve (octahedron-packed with
 /// the receiver flag: `penumbra::normal_packing`).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
-/// The prepass node; its eight pipelines (opaque or masked, single- or double-sided, with or
-/// without normals) are built on first use, for the frame's sample count (a new count
-/// rebuilds them).
+/// Format of the shading ids the prepass writes when the frame lights its pixels from them
+/// ([`crate::render::deferred`]): each pixel's instance index.
+pub const SHADING_ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// The prepass node; its pipelines (opaque or masked, single- or double-sided, with or
+/// without normals, with or without shading ids) are built on first use, for the frame's
+/// sample count (a new count rebuilds them).
 #[derive(Default)]
 pub struct DepthPrepass {
-    /// Indexed by `normals as usize * 4 + masked as usize * 2 + double_sided as usize`.
-    pipelines: [Option<wgpu::RenderPipeline>; 8],
+    /// Indexed by `ids as usize * 8 + normals as usize * 4 + masked as usize * 2 +
+    /// double_sided as usize`.
+    pipelines: [Option<wgpu::RenderPipeline>; 16],
     /// The sample count `pipelines` were built for.
     samples: u32,
     /// This frame's sample count, set in `setup`.
     frame_samples: u32,
     depth: Option<TextureId>,
     normals: Option<TextureId>,
+    ids: Option<TextureId>,
 }
 
 /// What selects a prepass pipeline.
@@ -70,6 +94,8 @@ struct Key {
     masked: bool,
     double_sided: bool,
     normals: bool,
+    /// Also the shading ids (only with normals).
+    ids: bool,
     samples: u32,
 }
 
@@ -85,7 +111,8 @@ impl DepthPrepass {
             self.pipelines = Default::default();
             self.samples = key.samples;
         }
-        let index = key.normals as usize * 4 + key.masked as usize * 2 + key.double_sided as usize;
+        let index =
+            key.ids as usize * 8 + key.normals as usize * 4 + key.masked as usize * 2 + key.double_sided as usize;
         self.pipelines[index].get_or_insert_with(|| create_pipeline(device, layouts, library, key))
     }
 }
@@ -100,6 +127,7 @@ fn create_pipeline(
         masked,
         double_sided,
         normals,
+        ids,
         samples,
     } = key;
     let module = library
@@ -115,7 +143,10 @@ fn create_pipeline(
         bind_group_layouts: &[Some(&layouts.view), Some(&layouts.instances), material],
         immediate_size: 0,
     });
-    let targets = [Some(wgpu::ColorTargetState::from(NORMAL_FORMAT))];
+    let targets = [
+        Some(wgpu::ColorTargetState::from(NORMAL_FORMAT)),
+        Some(wgpu::ColorTargetState::from(SHADING_ID_FORMAT)),
+    ];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(PREPASS_NAME),
         layout: Some(&layout),
@@ -134,13 +165,15 @@ fn create_pipeline(
         },
         fragment: (masked || normals).then(|| wgpu::FragmentState {
             module: &shader,
-            entry_point: Some(match (masked, normals) {
-                (true, false) => "fs_masked",
-                (false, _) => "fs_normal",
-                (true, true) => "fs_masked_normal",
+            entry_point: Some(match (masked, normals, ids) {
+                (true, false, _) => "fs_masked",
+                (false, _, false) => "fs_normal",
+                (true, true, false) => "fs_masked_normal",
+                (false, _, true) => "fs_normal_id",
+                (true, true, true) => "fs_masked_normal_id",
             }),
             compilation_options: Default::default(),
-            targets: if normals { &targets } else { &[] },
+            targets: &targets[..normals as usize + ids as usize],
         }),
         multiview_mask: None,
         cache: None,
@@ -191,24 +224,27 @@ impl RenderNode for DepthPrepass {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         self.depth = None;
         self.normals = None;
+        self.ids = None;
         self.frame_samples = frame.samples;
         if frame.depth_prepass && frame.depth.is_none() {
             let depth = pass.create_texture(camera_depth(frame.size, frame.samples));
             frame.depth = Some(depth);
             self.depth = Some(depth);
             if frame.visibility.is_some() {
-                let (width, height) = frame.size;
-                let normals = pass.create_texture(TextureDesc {
-                    label: "camera normals",
-                    width,
-                    height,
-                    layers: 1,
-                    format: NORMAL_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                    samples: frame.samples,
-                });
+                let normals = pass.create_texture(camera_target(
+                    "camera normals",
+                    frame.size,
+                    NORMAL_FORMAT,
+                    frame.samples,
+                ));
                 frame.normals = Some(normals);
                 self.normals = Some(normals);
+                if frame.deferred_lighting && frame.samples <= 1 {
+                    let ids =
+                        pass.create_texture(camera_target("camera shading ids", frame.size, SHADING_ID_FORMAT, 1));
+                    frame.shading_ids = Some(ids);
+                    self.ids = Some(ids);
+                }
             }
         }
     }
@@ -243,7 +279,7 @@ impl DepthPrepass {
     ) {
         let Some(depth) = self.depth else { return };
         let late = phase == Some(1);
-        let normals = self.normals.map(|n| {
+        let attachment = |n| {
             Some(wgpu::RenderPassColorAttachment {
                 view: resources.view(n),
                 depth_slice: None,
@@ -257,11 +293,14 @@ impl DepthPrepass {
                     store: wgpu::StoreOp::Store,
                 },
             })
-        });
+        };
+        // NOTE: the shading ids likewise: read only where the depth is covered.
+        let targets = [self.normals.and_then(attachment), self.ids.and_then(attachment)];
+        let used = targets.iter().take_while(|t| t.is_some()).count();
         let name = if late { PREPASS_LATE_NAME } else { PREPASS_NAME };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(name),
-            color_attachments: normals.as_slice(),
+            color_attachments: &targets[..used],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: resources.view(depth),
                 depth_ops: Some(wgpu::Operations {
@@ -294,12 +333,20 @@ impl DepthPrepass {
                 masked,
                 double_sided,
                 normals: self.normals.is_some(),
+                ids: self.ids.is_some(),
                 samples,
             };
             pass.set_pipeline(self.pipeline(device, ctx.layouts, ctx.library, key));
             ctx.draw_calls += match culled {
-                Some(c) => draw_culled(&mut pass, ctx.scene, part, masked, (c.args, first), ctx.draw_args),
-                None => draw_batches(&mut pass, ctx.scene, part, masked, ctx.draw_args),
+                Some(c) => draw_culled(
+                    &mut pass,
+                    ctx.scene,
+                    part,
+                    (masked, &[]),
+                    (c.args, first),
+                    ctx.draw_args,
+                ),
+                None => draw_batches(&mut pass, ctx.scene, part, (masked, &[]), ctx.draw_args),
             };
         }
     }

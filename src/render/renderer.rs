@@ -19,7 +19,7 @@ use crate::render::layouts::Layouts;
 use crate::render::limits::UploadProblems;
 use crate::render::occlusion::{OcclusionGpu, occlusion_wanted};
 use crate::render::options::Msaa;
-use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs};
+use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs, visible_triangles};
 use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
@@ -365,7 +365,19 @@ impl Renderer {
         if let Err(e) = prepared {
             problems.errors.push(format!("the frame is not drawn: {e}"));
         }
-        match self.build_graph(input, target, (prepass, samples)) {
+        // NOTE: the prepass writes normals only where the frame resolves (same condition as
+        // the resolve node's).
+        let deferred = prepass
+            && samples == 1
+            && target.analysis.is_none()
+            && input.options.deferred_lighting.runs(
+                || visible_triangles(input),
+                u64::from(size.0) * u64::from(size.1),
+                target.storage.is_some(),
+            )
+            && self.shadows.resolved.is_some()
+            && !self.library.forward_replaced();
+        match self.build_graph(input, target, (prepass, samples, deferred)) {
             Ok(created) => self.counters.transient_resources += created,
             Err(e) => {
                 drawable = false;
@@ -406,6 +418,7 @@ impl Renderer {
             timer: &mut self.timer,
             fragments: self.fragments.as_ref(),
             draw_calls: 0,
+            deferred_lighting: false,
             shadow_views_drawn: 0,
             shadow_draw_calls: 0,
             shadow_cleared_texels: 0,
@@ -429,6 +442,7 @@ impl Renderer {
             ctx.shadow_cleared_texels,
         );
         let (shadow_views_scrolled, shadow_drawn_texels) = (ctx.shadow_views_scrolled, ctx.shadow_drawn_texels);
+        let deferred_lighting = ctx.deferred_lighting;
         overlay(&self.gpu, &mut encoder);
         self.draw_args.upload(&self.gpu.queue);
         self.timer.resolve(&mut encoder);
@@ -447,6 +461,7 @@ impl Renderer {
         report.timed_frame = latest.frame;
         report.draw_calls = draw_calls;
         report.draws = self.draw_args.draws() as u32;
+        report.deferred_lighting = deferred_lighting;
         report.shadow_views_drawn = shadow_views_drawn;
         report.shadow_draw_calls = shadow_draw_calls;
         report.shadow_cleared_texels = shadow_cleared_texels;

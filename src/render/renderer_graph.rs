@@ -42,11 +42,15 @@ impl Renderer {
         &mut self,
         input: &FrameInputs<'_>,
         target: &TargetViews,
-        (depth_prepass, samples): (bool, u32),
+        (depth_prepass, samples, deferred_lighting): (bool, u32, bool),
     ) -> Result<u32, GraphError> {
         let graph = &mut self.graph;
         graph.begin_frame();
         let color = graph.import_texture("target colour", &target.color);
+        let color_storage = target
+            .storage
+            .as_ref()
+            .map(|view| graph.import_texture("target colour (storage)", view));
         let analysis = target.analysis.as_ref().map(|[shadow, position, normal]| {
             [
                 graph.import_texture("analysis shadow", shadow),
@@ -56,6 +60,7 @@ impl Renderer {
         });
         let mut frame = FrameResources {
             color,
+            color_storage,
             color_format: target.format,
             size: (target.width, target.height),
             samples,
@@ -76,6 +81,8 @@ impl Renderer {
                 .resolved
                 .as_ref()
                 .map(|r| graph.import_texture("resolved visibility", &r.target.view)),
+            deferred_lighting,
+            shading_ids: None,
         };
         graph.build(&self.gpu.device, &mut frame, input)
     }

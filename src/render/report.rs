@@ -16,6 +16,9 @@ pub struct FrameReport {
     pub draw_calls: u32,
     /// Instanced draws recorded, one per batch, in multi-draws or one by one.
     pub draws: u32,
+    /// The prepass's pixels of untextured materials were lit in one pass, and the lighting
+    /// pass drew only the other materials ([`crate::render::deferred`]).
+    pub deferred_lighting: bool,
     /// Shadow views drawn (a view whose layer still holds its content is not).
     pub shadow_views_drawn: u32,
     /// Draw calls of the shadow views.

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use wgpu::util::DeviceExt;
 
-use crate::ecs::assets::{ImageData, MeshHandle, Meshes};
+use crate::ecs::assets::{ImageData, Material, MeshHandle, Meshes};
 use crate::mesh::Vertex;
 use crate::render::context::GpuContext;
 use crate::render::frame_inputs::FrameInputs;
@@ -59,6 +59,9 @@ pub struct SceneGpu {
     /// Whether a material has diffuse transmission: the lighting pass compiles its code in
     /// only then.
     pub any_transmission: bool,
+    /// Per material handle: opaque and untextured ([`Material::is_untextured`]), so lit from
+    /// the prepass when the frame lights it so ([`crate::render::deferred`]).
+    pub untextured: Vec<bool>,
 }
 
 pub(crate) fn instances_group(
@@ -137,6 +140,7 @@ impl SceneGpu {
             material_generation: (u64::MAX, u64::MAX),
             skinning: SkinningGpu::default(),
             any_transmission: false,
+            untextured: Vec::new(),
         }
     }
 
@@ -305,6 +309,7 @@ impl SceneGpu {
         // that sample an image the same way share one texture.
         let mut views: HashMap<TextureKey, wgpu::TextureView> = HashMap::new();
         self.any_transmission = materials.as_slice().iter().any(|m| m.effective_transmission() > 0.0);
+        self.untextured = materials.as_slice().iter().map(Material::is_untextured).collect();
         self.material_groups = materials
             .as_slice()
             .iter()

@@ -6,8 +6,12 @@ use image::RgbaImage;
 
 use crate::render::readback::read_buffer;
 
-/// Colour format of headless targets (written as sRGB PNG).
+/// Colour format of headless targets as passes draw them (written as sRGB PNG); the texture
+/// itself is [`HEADLESS_STORAGE_FORMAT`], which compute passes write through a second view.
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The plain format of the headless colour texture: its storage view's (a compute pass that
+/// writes it encodes sRGB itself).
+pub const HEADLESS_STORAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Depth format of the camera's depth buffer (reverse-Z: cleared to 0, nearer is greater).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Format of the three analysis targets.
@@ -19,6 +23,9 @@ pub struct TargetViews {
     pub color: wgpu::TextureView,
     /// Its format.
     pub format: wgpu::TextureFormat,
+    /// The colour texture seen as [`HEADLESS_STORAGE_FORMAT`] for compute passes to write
+    /// (sRGB-encoded when `format` is sRGB); None where the target cannot be a storage texture.
+    pub storage: Option<wgpu::TextureView>,
     /// Analysis attachments (shadow, position, normal), when the frame is to be scored.
     pub analysis: Option<[wgpu::TextureView; 3]>,
     /// Size in pixels.
@@ -190,6 +197,7 @@ impl TargetViews {
         Self {
             color,
             format,
+            storage: None,
             analysis: None,
             width,
             height,
@@ -201,12 +209,38 @@ impl HeadlessTarget {
     /// Allocates a `width`×`height` target; with `analysis`, also the three analysis targets.
     pub fn new(device: &wgpu::Device, width: u32, height: u32, analysis: bool) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let color = texture_2d(device, "headless colour", (width, height, 1), HEADLESS_FORMAT, usage);
+        // NOTE: a plain texture drawn through an sRGB view (an sRGB format cannot be a storage
+        // texture); the bytes read back are the same.
+        let color = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("headless colour"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HEADLESS_STORAGE_FORMAT,
+            usage: usage | wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[HEADLESS_FORMAT],
+        });
         let analysis = analysis.then(|| {
             ["analysis shadow", "analysis position", "analysis normal"]
                 .map(|label| texture_2d(device, label, (width, height, 1), ANALYSIS_FORMAT, usage))
         });
-        let mut views = TargetViews::for_color(view(&color), HEADLESS_FORMAT, width, height);
+        // NOTE: each view asks only for the usage its format allows.
+        let srgb = color.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(HEADLESS_FORMAT),
+            usage: Some(wgpu::TextureUsages::RENDER_ATTACHMENT),
+            ..Default::default()
+        });
+        let storage = color.create_view(&wgpu::TextureViewDescriptor {
+            usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
+            ..Default::default()
+        });
+        let mut views = TargetViews::for_color(srgb, HEADLESS_FORMAT, width, height);
+        views.storage = Some(storage);
         views.analysis = analysis.as_ref().map(|textures| textures.each_ref().map(view));
         Self { color, analysis, views }
     }

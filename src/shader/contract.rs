@@ -51,6 +51,12 @@ pub const PAGE_NONE: u32 = u32::MAX;
 pub const RESOLVE_NONE: u32 = u32::MAX;
 /// `Instance::flags`: the instance receives shadows.
 pub const INSTANCE_FLAG_RECEIVE_SHADOWS: u32 = 1;
+/// `Instance::flags`: the instance's material is opaque and has no texture, so the prepass's
+/// pixels of it can be lit without drawing it again ([`crate::render::deferred`]).
+pub const INSTANCE_FLAG_UNTEXTURED: u32 = 2;
+/// What the prepass writes into the camera's shading ids where the pixel's surface is not
+/// lit from them (it is drawn again by the forward pass).
+pub const SHADING_ID_NONE: u32 = u32::MAX;
 /// Bits of a single-pass caster entry below its cascade mask: the instance index.
 pub const CASCADE_MASK_SHIFT: u32 = 28;
 /// Largest PCSS kernel radius, in texels: bounds the cost where layered casters make the
@@ -70,7 +76,7 @@ pub enum Value {
 }
 
 /// Every shared constant: its name (the same in Rust and WGSL) and value.
-pub const CONSTANTS: [(&str, Value); 24] = [
+pub const CONSTANTS: [(&str, Value); 26] = [
     ("MAX_LIGHTS", Value::U32(MAX_LIGHTS)),
     ("MAX_SHADOW_VIEWS", Value::U32(MAX_SHADOW_VIEWS)),
     ("LIGHT_DIRECTIONAL", Value::U32(LIGHT_DIRECTIONAL)),
@@ -98,6 +104,8 @@ pub const CONSTANTS: [(&str, Value); 24] = [
         "INSTANCE_FLAG_RECEIVE_SHADOWS",
         Value::U32(INSTANCE_FLAG_RECEIVE_SHADOWS),
     ),
+    ("INSTANCE_FLAG_UNTEXTURED", Value::U32(INSTANCE_FLAG_UNTEXTURED)),
+    ("SHADING_ID_NONE", Value::U32(SHADING_ID_NONE)),
     ("CASCADE_MASK_SHIFT", Value::U32(CASCADE_MASK_SHIFT)),
     ("MAX_PENUMBRA_TEXELS", Value::F32(MAX_PENUMBRA_TEXELS)),
     ("MOMENT_MIPS", Value::U32(MOMENT_MIPS)),

@@ -49,7 +49,7 @@ const BINDINGS: (&str, fn() -> String) = ("shadows/bindings.wgsl (generated)", g
 const BEFORE_BINDINGS: usize = 3;
 
 /// Import modules, in dependency order.
-const MODULES: [ModuleSource; 17] = [
+const MODULES: [ModuleSource; 18] = [
     ModuleSource {
         file: "frame.wgsl",
         source: include_str!("../../shaders/frame.wgsl"),
@@ -103,6 +103,10 @@ const MODULES: [ModuleSource; 17] = [
         source: include_str!("../../shaders/lights.wgsl"),
     },
     ModuleSource {
+        file: "shading.wgsl",
+        source: include_str!("../../shaders/shading.wgsl"),
+    },
+    ModuleSource {
         file: "mesh.wgsl",
         source: include_str!("../../shaders/mesh.wgsl"),
     },
@@ -122,6 +126,10 @@ const MODULES: [ModuleSource; 17] = [
 const FORWARD: ModuleSource = ModuleSource {
     file: "forward.wgsl",
     source: include_str!("../../shaders/forward.wgsl"),
+};
+const DEFERRED: ModuleSource = ModuleSource {
+    file: "deferred.wgsl",
+    source: include_str!("../../shaders/deferred.wgsl"),
 };
 const PROBE: ModuleSource = ModuleSource {
     file: "probe.wgsl",
@@ -275,6 +283,16 @@ impl ShaderLibrary {
         }
     }
 
+    /// The deferred lighting of the prepass's pixels (`deferred.wgsl`) for one forward
+    /// variant: the shipped material's lighting, which it shares with the shipped forward
+    /// shader; `vs_main` and `fs_main`, and with `compute` also `cs_main` (writing a storage
+    /// view of the target).
+    pub fn deferred(&mut self, variant: ForwardVariant, compute: bool) -> Result<naga::Module, ShaderError> {
+        let mut defs = variant.shader_defs();
+        defs.extend(defs_of([("DEFERRED_COMPUTE", compute)]));
+        self.compose(DEFERRED.file, DEFERRED.source, defs)
+    }
+
     /// Replaces the forward shader with a material's own WGSL (which may `#import`
     /// `penumbra::lights` and the other library modules). It must keep the forward shader's
     /// interface: `vs_main` and `fs_main`, bind groups 0–3 as in `forward.wgsl`, and the
@@ -304,6 +322,12 @@ impl ShaderLibrary {
         if self.forward_override.take().is_some() {
             self.forward_generation += 1;
         }
+    }
+
+    /// Whether a material's own forward shader replaced the shipped one
+    /// ([`set_forward_source`](Self::set_forward_source)).
+    pub fn forward_replaced(&self) -> bool {
+        self.forward_override.is_some()
     }
 
     /// Changes every time the forward shader does.

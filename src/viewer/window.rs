@@ -306,6 +306,7 @@ impl Viewer {
         let target = TargetViews {
             color: view,
             format: scene_format,
+            storage: None,
             analysis: None,
             width: config.width,
             height: config.height,

@@ -114,6 +114,7 @@ pub fn still_frame(
             options,
             shadow_budget: None,
             count_fragments: false,
+            camera_lod: None,
             camera_motion: Default::default(),
         },
     )

@@ -59,6 +59,9 @@ pub enum GraphError {
 pub struct FrameResources {
     /// The colour target (imported).
     pub color: TextureId,
+    /// The colour target's storage view (imported), where compute passes can write it
+    /// ([`TargetViews::storage`](crate::render::target::TargetViews)).
+    pub color_storage: Option<TextureId>,
     /// Its format.
     pub color_format: wgpu::TextureFormat,
     /// The target's size in pixels.
@@ -85,6 +88,15 @@ pub struct FrameResources {
     pub normals: Option<TextureId>,
     /// The resolved visibility (imported), when the frame resolves it.
     pub visibility: Option<TextureId>,
+    /// The frame lights the prepass's pixels of untextured materials in a full-screen pass
+    /// (decided once per frame by the renderer from
+    /// [`RenderOptions::deferred_lighting`](crate::render::RenderOptions) and what the frame
+    /// has: a prepass with normals, one sample, no analysis, the shipped forward shader).
+    pub deferred_lighting: bool,
+    /// The instance seen at each pixel where it is lit from the prepass (or
+    /// [`SHADING_ID_NONE`](crate::shader::contract::SHADING_ID_NONE)), written by the prepass
+    /// when the frame lights it so.
+    pub shading_ids: Option<TextureId>,
 }
 
 impl FrameResources {

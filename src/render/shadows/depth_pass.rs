@@ -377,11 +377,11 @@ impl DepthPass {
                 pass,
                 ctx.scene,
                 batches,
-                masked,
+                (masked, &[]),
                 (args, base + first_arg),
                 ctx.draw_args,
             ),
-            None => draw_batches(pass, ctx.scene, batches, masked, ctx.draw_args),
+            None => draw_batches(pass, ctx.scene, batches, (masked, &[]), ctx.draw_args),
         };
         let mut calls = draw(&mut pass, &group.opaque, false, 0);
         if let Some(masked) = &masked {

@@ -158,10 +158,10 @@ impl DepthPass {
             pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
             pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
             pass.set_pipeline(&opaque);
-            calls += draw_batches(&mut pass, ctx.scene, &region.group.opaque, false, ctx.draw_args);
+            calls += draw_batches(&mut pass, ctx.scene, &region.group.opaque, (false, &[]), ctx.draw_args);
             if let Some(masked) = &masked {
                 pass.set_pipeline(masked);
-                calls += draw_batches(&mut pass, ctx.scene, &region.group.masked, true, ctx.draw_args);
+                calls += draw_batches(&mut pass, ctx.scene, &region.group.masked, (true, &[]), ctx.draw_args);
             }
         }
         ctx.draw_calls += calls;

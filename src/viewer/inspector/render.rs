@@ -1,11 +1,11 @@
 //! The render-wide switches of [`RenderOptions`]: the depth prepass, the shadow cache, the
-//! compute visibility resolve, single-pass cascades, multi-draw and MSAA; and the camera
-//! view's LOD ([`CameraLod`]).
+//! compute visibility resolve, single-pass cascades, multi-draw, GPU and occlusion culling,
+//! deferred lighting and MSAA; and the camera view's LOD ([`CameraLod`]).
 
 use egui::Ui;
 
 use crate::ecs::view_lod::CameraLod;
-use crate::render::{DepthPrepass, Msaa, RenderOptions};
+use crate::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
 
 /// Draws the switches over `options`; true when one changed.
 pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
@@ -37,6 +37,18 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
     );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
+    ui.horizontal(|ui| {
+        ui.label("deferred lighting").on_hover_text(
+            "light the prepass's pixels of untextured opaque materials in one full-screen pass instead of drawing them again; auto: while the view has at least as many triangles as pixels",
+        );
+        for (value, name) in [
+            (DeferredLighting::Auto, "auto"),
+            (DeferredLighting::On, "on"),
+            (DeferredLighting::Off, "off"),
+        ] {
+            ui.radio_value(&mut edited.deferred_lighting, value, name);
+        }
+    });
     ui.horizontal(|ui| {
         ui.label("MSAA").on_hover_text(
             "samples per pixel: smooth edges, and alpha-to-coverage for alpha-masked materials; 1× alpha-tests them",
