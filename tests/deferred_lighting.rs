@@ -14,7 +14,7 @@ use bevy_ecs::world::Mut;
 use common::{INSTALL, still_scene};
 use image::RgbaImage;
 use penumbra::render::frame_inputs::FrameInputs;
-use penumbra::render::target::{TargetViews, read_texture};
+use penumbra::render::target::{TargetViews, read_texture, texture_2d};
 use penumbra::render::{DeferredLighting, Msaa, RenderOptions, Renderer};
 
 const SIZE: (u32, u32) = (320, 180);
@@ -126,20 +126,8 @@ fn render_without_storage(app: &mut App) -> RgbaImage {
     app.world_mut().resource_scope(|world, mut renderer: Mut<Renderer>| {
         let device = renderer.gpu.device.clone();
         let format = wgpu::TextureFormat::Rgba8UnormSrgb;
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("window-like target"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let texture = texture_2d(&device, "window-like target", (width, height, 1), format, usage);
         let target = TargetViews::for_color(texture.create_view(&Default::default()), format, width, height);
         renderer.render_to(&FrameInputs::from_world(world, 2), &target, &mut |_, _| {});
         assert!(
