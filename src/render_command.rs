@@ -134,9 +134,9 @@ pub struct RenderArgs {
     /// 16 384 instances or more and scenes of 16 384 casters or more).
     #[arg(long)]
     no_gpu_culling: bool,
-    /// Light the prepass's pixels of opaque, untextured materials in one full-screen pass
-    /// instead of drawing them again: auto (while the view has at least as many triangles as
-    /// pixels), on or off.
+    /// Light the prepass's pixels of opaque, untextured materials in one compute pass instead
+    /// of drawing them again: auto (on, where the frame allows it: a prepass with normals, no
+    /// MSAA, no `--shadow-out`), on or off.
     #[arg(long, value_enum, default_value_t = Deferred::Auto)]
     deferred_lighting: Deferred,
     /// The camera view's largest geometric error of a coarser mesh level, in pixels (default
