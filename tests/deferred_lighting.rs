@@ -19,7 +19,9 @@ use penumbra::render::{DeferredLighting, Msaa, RenderOptions, Renderer};
 
 const SIZE: (u32, u32) = (320, 180);
 
-/// `scene` rendered for two frames with deferred lighting `deferred` (and `msaa`).
+/// `scene` rendered for two frames with deferred lighting `deferred` (and `msaa`); with it
+/// on, for up to two more until a frame used it (on lavapipe a frame of the field, under
+/// parallel tests, once in about ten runs did not; the next ones did).
 fn render(scene: &str, deferred: DeferredLighting, msaa: Msaa) -> App {
     let renderer = Renderer::headless(SIZE.0, SIZE.1).expect(INSTALL);
     let mut app = still_scene(renderer, scene);
@@ -30,6 +32,12 @@ fn render(scene: &str, deferred: DeferredLighting, msaa: Msaa) -> App {
     });
     app.update();
     app.update();
+    for _ in 0..2 {
+        if deferred != DeferredLighting::On || app.world().resource::<Renderer>().last_report.deferred_lighting {
+            break;
+        }
+        app.update();
+    }
     app
 }
 
@@ -74,7 +82,11 @@ fn the_image_lit_from_the_prepass_equals_the_forward_image() {
         let scene = format!("assets/scenes/{name}.ron");
         let deferred = render(&scene, DeferredLighting::On, Msaa::Off);
         let forward = render(&scene, DeferredLighting::Off, Msaa::Off);
-        assert!(deferred_ran(&deferred), "{name}: the deferred lighting did not run");
+        assert!(
+            deferred_ran(&deferred),
+            "{name}: the deferred lighting did not run ({:?})",
+            renderer(&deferred).pipeline_error()
+        );
         assert!(
             !deferred_ran(&forward),
             "{name}: the deferred lighting ran while turned off"
@@ -90,7 +102,7 @@ fn the_image_lit_from_the_prepass_equals_the_forward_image() {
             "{name}: {drawn} of {} pixels drawn; largest difference {largest}, {over_one} pixels over 1; draws {draws_forward} → {draws_deferred}",
             a.width() * a.height()
         );
-        assert!(drawn > 5_000, "{name}: only {drawn} pixels drawn to compare");
+        assert!(drawn > 10_000, "{name}: only {drawn} pixels drawn to compare");
         assert!(
             largest <= 1 && over_one == 0,
             "{name}: differs by up to {largest} ({over_one} pixels over 1)"
@@ -148,7 +160,7 @@ fn a_target_without_a_storage_view_is_lit_by_a_full_screen_pass_to_the_same_imag
         let fragment = render_without_storage(&mut deferred);
         let forward = renderer(&render(&scene, DeferredLighting::Off, Msaa::Off)).read_image();
         let drawn = drawn_pixels(&forward);
-        assert!(drawn > 5_000, "{name}: only {drawn} pixels drawn to compare");
+        assert!(drawn > 10_000, "{name}: only {drawn} pixels drawn to compare");
         for (what, image) in [("full-screen pass", &fragment), ("compute pass", &compute)] {
             let (largest, over_one) = difference(image, &forward);
             println!(

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 use crate::render::frame::FrameContext;
 use crate::render::gpu_types::InstanceGpu;
 use crate::render::graph::{GraphResources, TextureId};
-use crate::render::layouts::{Layouts, entry, storage};
+use crate::render::layouts::{Layouts, camera_texture_entry, entry, storage};
 use crate::render::scene_gpu::uniform_buffer;
 use crate::render::target::HEADLESS_STORAGE_FORMAT;
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -76,25 +76,16 @@ fn create_layout(device: &wgpu::Device, compute: bool) -> wgpu::BindGroupLayout 
     } else {
         wgpu::ShaderStages::FRAGMENT
     };
-    let texture = |binding, sample_type| {
-        entry(
-            binding,
-            stage,
-            wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-        )
+    let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+        visibility: stage,
+        ..camera_texture_entry(binding, sample_type, false)
     };
-    let mut entries = vec![
+    let entries = [
         texture(0, wgpu::TextureSampleType::Depth),
         texture(1, wgpu::TextureSampleType::Uint),
         texture(2, wgpu::TextureSampleType::Uint),
         entry(3, stage, storage::<InstanceGpu>()),
-    ];
-    if compute {
-        entries.push(entry(
+        entry(
             4,
             stage,
             wgpu::BindingType::StorageTexture {
@@ -102,8 +93,8 @@ fn create_layout(device: &wgpu::Device, compute: bool) -> wgpu::BindGroupLayout 
                 format: HEADLESS_STORAGE_FORMAT,
                 view_dimension: wgpu::TextureViewDimension::D2,
             },
-        ));
-        entries.push(entry(
+        ),
+        entry(
             5,
             stage,
             wgpu::BindingType::Buffer {
@@ -111,11 +102,12 @@ fn create_layout(device: &wgpu::Device, compute: bool) -> wgpu::BindGroupLayout 
                 has_dynamic_offset: false,
                 min_binding_size: None,
             },
-        ));
-    }
+        ),
+    ];
+    // NOTE: the compute kind also writes the target and reads the clear colour.
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(DEFERRED_NAME),
-        entries: &entries,
+        entries: &entries[..if compute { 6 } else { 4 }],
     })
 }
 
@@ -195,7 +187,10 @@ impl DeferredPass {
         let key = (variant, target.format, compute);
         let pipeline = self.pipelines.entry(key).or_insert_with(|| {
             create_pipeline(device, ctx.layouts, ctx.library, layout, key)
-                .inspect_err(|message| log::error!("{message}; the lighting pass draws every material"))
+                .inspect_err(|message| {
+                    log::error!("{message}; the lighting pass draws every material");
+                    *ctx.pipeline_error = Some(message.clone());
+                })
                 .ok()
         });
         let Some(pipeline) = pipeline else {
@@ -206,7 +201,8 @@ impl DeferredPass {
             resource: wgpu::BindingResource::TextureView(view),
         };
         let instances = ctx.scene.view_buffers().0.as_entire_binding();
-        let mut entries = vec![
+        // NOTE: a fixed array, not a Vec: nothing is allocated per frame.
+        let mut entries = [
             texture(0, resources.view(inputs.depth)),
             texture(1, resources.view(inputs.normals)),
             texture(2, resources.view(inputs.ids)),
@@ -214,7 +210,11 @@ impl DeferredPass {
                 binding: 3,
                 resource: instances,
             },
+            // Placeholders for the compute kind's target and clear colour, set below.
+            texture(4, resources.view(inputs.ids)),
+            texture(5, resources.view(inputs.ids)),
         ];
+        let mut used = 4;
         let wgpu::Color { r, g, b, .. } = target.clear;
         let clear = [
             r as f32,
@@ -230,17 +230,18 @@ impl DeferredPass {
                 ctx.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&clear));
                 *written = clear;
             }
-            entries.push(texture(4, storage));
-            entries.push(wgpu::BindGroupEntry {
+            entries[4] = texture(4, storage);
+            entries[5] = wgpu::BindGroupEntry {
                 binding: 5,
                 resource: buffer.as_entire_binding(),
-            });
+            };
+            used = 6;
         }
         // NOTE: the inputs are transients of this frame, so the group is made per frame.
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(DEFERRED_NAME),
             layout,
-            entries: &entries,
+            entries: &entries[..used],
         });
         match pipeline {
             Pipeline::Compute(pipeline) => {

@@ -216,9 +216,8 @@ impl RenderNode for ForwardPass {
                 samples,
             })
         });
-        if frame.deferred_lighting
-            && let (Some(normals), Some(ids)) = (frame.normals, frame.shading_ids)
-        {
+        // NOTE: the prepass makes the shading ids only when the frame lights its pixels.
+        if let (Some(normals), Some(ids)) = (frame.normals, frame.shading_ids) {
             pass.read(normals);
             pass.read(ids);
             if let Some(storage) = frame.color_storage {
@@ -245,7 +244,6 @@ impl RenderNode for ForwardPass {
             depth_prepass,
             visibility,
             samples,
-            deferred_lighting,
             normals,
             shading_ids,
             color_storage,
@@ -279,7 +277,7 @@ impl RenderNode for ForwardPass {
         };
         let [r, g, b] = self.clear_color;
         let clear = wgpu::Color { r, g, b, a: 1.0 };
-        let deferred_inputs = match (deferred_lighting && depth_prepass, normals, shading_ids) {
+        let deferred_inputs = match (depth_prepass, normals, shading_ids) {
             (true, Some(normals), Some(ids)) => Some(DeferredInputs { depth, normals, ids }),
             _ => None,
         };

@@ -83,7 +83,7 @@ pub fn texture_2d_mips(
     usage: wgpu::TextureUsages,
     mips: u32,
 ) -> wgpu::Texture {
-    create_texture(device, label, extent, format, usage, (mips, 1))
+    create_texture(device, label, extent, format, usage, (mips, 1, &[]))
 }
 
 /// [`texture_2d`] with `samples` samples per texel (a multisampled attachment when more than
@@ -96,7 +96,7 @@ pub fn texture_2d_multisampled(
     usage: wgpu::TextureUsages,
     samples: u32,
 ) -> wgpu::Texture {
-    create_texture(device, label, extent, format, usage, (1, samples))
+    create_texture(device, label, extent, format, usage, (1, samples, &[]))
 }
 
 fn create_texture(
@@ -105,7 +105,7 @@ fn create_texture(
     (width, height, layers): (u32, u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
-    (mips, samples): (u32, u32),
+    (mips, samples, view_formats): (u32, u32, &[wgpu::TextureFormat]),
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -119,7 +119,7 @@ fn create_texture(
         dimension: wgpu::TextureDimension::D2,
         format,
         usage,
-        view_formats: &[],
+        view_formats,
     })
 }
 
@@ -211,20 +211,14 @@ impl HeadlessTarget {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         // NOTE: a plain texture drawn through an sRGB view (an sRGB format cannot be a storage
         // texture); the bytes read back are the same.
-        let color = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("headless colour"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: HEADLESS_STORAGE_FORMAT,
-            usage: usage | wgpu::TextureUsages::STORAGE_BINDING,
-            view_formats: &[HEADLESS_FORMAT],
-        });
+        let color = create_texture(
+            device,
+            "headless colour",
+            (width, height, 1),
+            HEADLESS_STORAGE_FORMAT,
+            usage | wgpu::TextureUsages::STORAGE_BINDING,
+            (1, 1, &[HEADLESS_FORMAT]),
+        );
         let analysis = analysis.then(|| {
             ["analysis shadow", "analysis position", "analysis normal"]
                 .map(|label| texture_2d(device, label, (width, height, 1), ANALYSIS_FORMAT, usage))
