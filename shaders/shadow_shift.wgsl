@@ -8,10 +8,11 @@ struct Shift {
     offset: vec2<i32>,
     // Texels per side of the source.
     side: i32,
-    layer: i32,
+    _pad: i32,
 }
 
-@group(0) @binding(0) var source: texture_depth_2d_array;
+// The moved layer alone (a view of one layer, so only it changes state for the read).
+@group(0) @binding(0) var source: texture_depth_2d;
 @group(0) @binding(1) var<uniform> shift: Shift;
 
 @vertex
@@ -26,5 +27,5 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32 {
     if any(texel < vec2<i32>(0)) || any(texel >= vec2<i32>(shift.side)) {
         return 0.0;
     }
-    return textureLoad(source, texel, shift.layer, 0);
+    return textureLoad(source, texel, 0);
 }

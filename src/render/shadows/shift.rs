@@ -27,8 +27,7 @@ pub const MAX_SHIFTS_PER_FRAME: usize = 64;
 struct ShiftGpu {
     offset: IVec2,
     side: i32,
-    layer: i32,
-    _pad: [u32; 60],
+    _pad: [u32; 61],
 }
 
 /// The depth layer a scrolling layer is moved through (owned by the shadow resources, so the
@@ -78,8 +77,9 @@ pub struct ShiftTarget<'a> {
 #[derive(Default)]
 pub struct LevelShift {
     pipeline: Option<(wgpu::BindGroupLayout, wgpu::RenderPipeline, wgpu::Buffer)>,
-    /// The bind group over a storage (its allocation id), kept while it lives.
-    group: Option<(u64, wgpu::BindGroup)>,
+    /// The bind groups over a storage's layers (its allocation id; one per layer, made on a
+    /// layer's first shift), kept while it lives.
+    groups: Option<(u64, Vec<Option<wgpu::BindGroup>>)>,
     /// Shifts recorded this frame.
     used: usize,
 }
@@ -114,25 +114,34 @@ impl LevelShift {
         if self.used >= MAX_SHIFTS_PER_FRAME || scratch.side != storage.side {
             return false;
         }
+        let Some(view) = storage.layer_views.get(layer as usize) else {
+            return false;
+        };
         let (layout, pipeline, uniforms) = self.pipeline.get_or_insert_with(|| create(device, library));
         let at = self.used as u64 * STRIDE;
         self.used += 1;
         let data = ShiftGpu {
             offset,
             side: resolution.min(storage.side) as i32,
-            layer: layer as i32,
-            _pad: [0; 60],
+            _pad: [0; 61],
         };
         queue.write_buffer(uniforms, at, bytemuck::bytes_of(&data));
         let side = storage.side;
-        if self.group.as_ref().is_none_or(|(id, _)| *id != storage.id) {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        if self.groups.as_ref().is_none_or(|(id, _)| *id != storage.id) {
+            self.groups = Some((storage.id, Vec::new()));
+        }
+        let groups = &mut self.groups.as_mut().expect("set above").1;
+        if groups.len() <= layer as usize {
+            groups.resize(layer as usize + 1, None);
+        }
+        let group = groups[layer as usize].get_or_insert_with(|| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("clipmap shift"),
                 layout,
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&storage.flat_view),
+                        resource: wgpu::BindingResource::TextureView(view),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
@@ -143,10 +152,8 @@ impl LevelShift {
                         }),
                     },
                 ],
-            });
-            self.group = Some((storage.id, group));
-        }
-        let group = &self.group.as_ref().expect("made above").1;
+            })
+        });
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("clipmap shift"),
@@ -164,7 +171,7 @@ impl LevelShift {
                 multiview_mask: None,
             });
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, group, &[at as u32]);
+            pass.set_bind_group(0, &*group, &[at as u32]);
             pass.draw(0..3, 0..1);
         }
         encoder.copy_texture_to_texture(
@@ -210,7 +217,7 @@ fn create(
                 wgpu::ShaderStages::FRAGMENT,
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 },
             ),
