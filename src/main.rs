@@ -83,6 +83,18 @@ fn view(args: penumbra::viewer::ViewerArgs) -> Result<(), penumbra::viewer::View
         "viewer: {} frames drawn in {} ticks on {}",
         summary.frames, summary.ticks, summary.adapter
     );
+    if args.offscreen && summary.frames > 0 {
+        let ms = summary.elapsed.as_secs_f64() * 1e3 / f64::from(summary.frames);
+        let gpu = summary
+            .median_gpu_ms(1)
+            .map_or_else(|| "no GPU timings".to_owned(), |m| format!("GPU {m:.2} ms (median)"));
+        println!(
+            "offscreen: {:.1} ms a frame ({:.1} frames a second) over {:.2} s; {gpu}",
+            ms,
+            1e3 / ms,
+            summary.elapsed.as_secs_f64()
+        );
+    }
     if let Some(path) = summary.screenshot {
         println!("screenshot written to {}", path.display());
     }

@@ -251,7 +251,6 @@ pub fn contact_values(text: &str) -> Result<ContactShadows, String> {
     }
 }
 
-/// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
 /// A camera LOD error on the command line: pixels from 0 to 16.
 fn lod_pixels(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
@@ -260,6 +259,7 @@ fn lod_pixels(text: &str) -> Result<f32, String> {
     }
 }
 
+/// The side of the finest clipmap level on the command line: metres from 0.5 to 1e5.
 fn clipmap_extent(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
         Ok(m) if (0.5..=1.0e5).contains(&m) => Ok(m),

@@ -100,6 +100,30 @@ fn camera_lod_and_deferred_lighting_say_what_they_expect() {
 }
 
 #[test]
+#[cfg(feature = "viewer")]
+fn the_offscreen_viewer_needs_a_frame_count_and_a_sane_walk() {
+    let out = penumbra(&["view", "assets/scenes/default.ron", "--offscreen"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("the following required arguments were not provided") && err.contains("--exit-after <EXIT_AFTER>"),
+        "{err}"
+    );
+    for value in ["0", "-1", "2000", "x"] {
+        let arg = format!("--walk={value}");
+        let out = penumbra(&["view", "assets/scenes/default.ron", &arg]);
+        assert_eq!(out.status.code(), Some(2), "{value}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!(
+                "invalid value '{value}' for '--walk <WALK>': expected metres from 0.001 to 1000, found `{value}`"
+            )),
+            "{value}: {err}"
+        );
+    }
+}
+
+#[test]
 fn an_unknown_cascade_fit_names_the_fits_there_are() {
     for command in ["render", "bench"] {
         let mut args = vec![command];

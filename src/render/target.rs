@@ -99,6 +99,18 @@ pub fn texture_2d_multisampled(
     create_texture(device, label, extent, format, usage, (1, samples, &[]))
 }
 
+/// [`texture_2d`] (one layer) that may also be viewed in `view_formats`.
+pub fn texture_2d_viewed(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    view_formats: &[wgpu::TextureFormat],
+) -> wgpu::Texture {
+    create_texture(device, label, (width, height, 1), format, usage, (1, 1, view_formats))
+}
+
 fn create_texture(
     device: &wgpu::Device,
     label: &str,

@@ -42,6 +42,23 @@ pub struct ViewerArgs {
     /// GPU supports. The inspector changes it live.
     #[arg(long, default_value = "1")]
     pub msaa: Msaa,
+    /// Draw into an offscreen image made like a window's (plain BGRA, drawn through its sRGB
+    /// view) instead of a window, for machines without a display: the same frames, inspector
+    /// included, unpresented; prints how long they took. Needs `--exit-after`.
+    #[arg(long, requires = "exit_after")]
+    pub offscreen: bool,
+    /// Move the camera this many metres forward every frame, level, the way it faces
+    /// (0.001-1000): a scripted walk, as `render --camera-step` for the viewer.
+    #[arg(long, value_parser = walk)]
+    pub walk: Option<f32>,
+}
+
+/// Metres per frame `--walk` accepts: 0.001 to 1000.
+fn walk(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(m) if (0.001..=1000.0).contains(&m) => Ok(m),
+        _ => Err(format!("expected metres from 0.001 to 1000, found `{text}`")),
+    }
 }
 
 /// Window sides accepted: 1 to the largest texture side of any adapter (the surface is
@@ -62,6 +79,8 @@ impl ViewerArgs {
             shader: self.shader.clone(),
             exercise: self.exercise,
             msaa: self.msaa,
+            offscreen: self.offscreen,
+            walk: self.walk,
         }
     }
 }

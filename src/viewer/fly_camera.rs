@@ -86,6 +86,15 @@ impl FlyCamera {
         }
     }
 
+    /// Moves `metres` horizontally the way the camera faces (its yaw; pitch ignored), as a
+    /// scripted walk does each frame.
+    pub fn walk(&mut self, metres: f32) {
+        if metres.is_finite() {
+            let (sin, cos) = self.yaw.sin_cos();
+            self.position += Vec3::new(-sin, 0.0, -cos) * metres;
+        }
+    }
+
     /// The camera's transform.
     pub fn transform(&self) -> Transform {
         Transform {
@@ -99,6 +108,20 @@ impl FlyCamera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_walk_moves_level_the_way_the_camera_faces() {
+        let mut cam = FlyCamera::looking_at(Vec3::new(0.0, 10.0, 0.0), Vec3::new(3.0, 0.0, -4.0));
+        cam.walk(2.5);
+        // Facing (3, −4) on the ground (pitched down): 2.5 m along it, height kept.
+        assert!(
+            cam.position.abs_diff_eq(Vec3::new(1.5, 10.0, -2.0), 1e-5),
+            "{}",
+            cam.position
+        );
+        cam.walk(f32::NAN);
+        assert!(cam.position.is_finite());
+    }
 
     #[test]
     fn looking_at_faces_the_target() {

@@ -13,6 +13,8 @@ pub mod history;
 pub mod inspector;
 #[cfg(feature = "viewer")]
 mod options;
+#[cfg(feature = "viewer")]
+mod presenter;
 pub mod reload;
 #[cfg(feature = "viewer")]
 mod surface;

@@ -25,6 +25,9 @@ pub enum ViewerError {
     /// The scene could not be spawned.
     #[error(transparent)]
     Spawn(#[from] SpawnError),
+    /// The options contradict each other.
+    #[error("invalid viewer options: {0}")]
+    Options(String),
     /// The screenshot could not be written.
     #[error("cannot write the screenshot `{path}`: {message}")]
     Screenshot {
@@ -66,6 +69,11 @@ pub struct ViewerOptions {
     pub exercise: bool,
     /// Samples per pixel to start with (the inspector's "MSAA" changes it).
     pub msaa: Msaa,
+    /// Draw into an offscreen frame made like a swapchain image instead of a window (for
+    /// machines without a display); needs `exit_after`.
+    pub offscreen: bool,
+    /// Move the camera this many metres forward (where it looks) every frame.
+    pub walk: Option<f32>,
 }
 
 impl Default for ViewerOptions {
@@ -79,12 +87,14 @@ impl Default for ViewerOptions {
             shader: None,
             exercise: false,
             msaa: Msaa::default(),
+            offscreen: false,
+            walk: None,
         }
     }
 }
 
 /// What a viewer run did, for scripted runs and tests.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ViewerSummary {
     /// Frames drawn and presented.
     pub frames: u32,
@@ -98,4 +108,19 @@ pub struct ViewerSummary {
     pub adapter: String,
     /// Errors shown in the inspector on the last tick (rejected reloads, shader errors).
     pub errors: Vec<String>,
+    /// The GPU time of the newest timed frame after each frame drawn, ms (the sum of its
+    /// timed passes; 0 until a frame's timings have arrived).
+    pub gpu_ms: Vec<f32>,
+    /// Offscreen: the wall time from the first frame's start to the GPU finishing the last.
+    pub elapsed: std::time::Duration,
+}
+
+impl ViewerSummary {
+    /// The median of [`gpu_ms`](Self::gpu_ms) over the frames after the first `skip` (None
+    /// without such frames).
+    pub fn median_gpu_ms(&self, skip: usize) -> Option<f32> {
+        let mut ms: Vec<f32> = self.gpu_ms.iter().skip(skip).copied().filter(|m| *m > 0.0).collect();
+        ms.sort_by(f32::total_cmp);
+        ms.get(ms.len() / 2).copied()
+    }
 }

@@ -1,9 +1,9 @@
 //! The window loop: winit events, the ECS app (the same [`ShadowPlugin`] and renderer as the
 //! CLI), live reload of the scene, settings and shader files, the fly camera, and drawing the
-//! scene plus the egui inspector into each swapchain image.
+//! scene plus the egui inspector into each swapchain image — or, offscreen, the same frames in
+//! a loop into a texture made like one ([`Presenter`]).
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use bevy_app::App;
@@ -13,7 +13,7 @@ use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
-use winit::window::{Window, WindowId};
+use winit::window::WindowId;
 
 use crate::app::PreparedScene;
 use crate::ecs::components::{Camera3d, ViewportSize};
@@ -31,16 +31,14 @@ use crate::viewer::exercise::{EXERCISE_TICKS, ExerciseStep, exercise_step};
 use crate::viewer::fly_camera::{FlyCamera, MoveKeys};
 use crate::viewer::inspector::{FrameInfo, Inspector};
 use crate::viewer::options::{ViewerError, ViewerOptions, ViewerSummary};
+use crate::viewer::presenter::Presenter;
 use crate::viewer::reload::{FileWatch, LiveReload, ReloadOutcome, set_sun_settings};
-use crate::viewer::surface::WindowSurface;
 
-/// Window, surface and the renderers that draw into it.
+/// Where frames go and the renderers that draw them.
 struct WindowState {
-    window: Arc<Window>,
-    surface: WindowSurface,
+    presenter: Presenter,
     renderer: Renderer,
     egui_ctx: egui::Context,
-    egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
 }
 
@@ -101,7 +99,6 @@ pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, V
     }
     let camera = FlyCamera::looking_at(desc.camera.position, desc.camera.target);
     let reload = LiveReload::new(scene_path, desc, watched_settings);
-    let event_loop = EventLoop::new().map_err(|e| ViewerError::Window(e.to_string()))?;
     let mut viewer = Viewer {
         app,
         window: None,
@@ -122,22 +119,40 @@ pub fn run(scene_path: &Path, options: ViewerOptions) -> Result<ViewerSummary, V
         error: None,
         options,
     };
-    event_loop
-        .run_app(&mut viewer)
-        .map_err(|e| ViewerError::Window(e.to_string()))?;
+    if viewer.options.offscreen {
+        viewer.run_offscreen()?;
+    } else {
+        let event_loop = EventLoop::new().map_err(|e| ViewerError::Window(e.to_string()))?;
+        event_loop
+            .run_app(&mut viewer)
+            .map_err(|e| ViewerError::Window(e.to_string()))?;
+    }
     match viewer.error {
         Some(e) => Err(e),
         None => Ok(viewer.summary),
     }
 }
 
+#[path = "window_offscreen.rs"]
+mod offscreen;
 #[path = "window_open.rs"]
 mod open;
 
 impl Viewer {
     fn resize(&mut self, width: u32, height: u32) {
         let Some(state) = &mut self.window else { return };
-        state.surface.resize(&state.renderer.gpu.device, width, height);
+        state.presenter.resize(&state.renderer.gpu.device, width, height);
+    }
+
+    /// Takes `state` as where frames go, with the device's shadow-memory budget unless the
+    /// application set one.
+    pub(super) fn adopt(&mut self, state: WindowState) {
+        state.presenter.request_redraw();
+        let world = self.app.world_mut();
+        if *world.resource::<ShadowMemoryBudget>() == ShadowMemoryBudget::default() {
+            world.insert_resource(state.renderer.gpu.shadow_memory_budget());
+        }
+        self.window = Some(state);
     }
 
     fn key(&mut self, code: KeyCode, pressed: bool) {
@@ -159,13 +174,12 @@ impl Viewer {
         log::info!("exercise: {step:?}");
         match step {
             ExerciseStep::Resize(w, h) => {
-                if let Some(state) = &self.window {
-                    // The window system answers with a Resized event (or ignores it).
-                    let _ = state.window.request_inner_size(PhysicalSize::new(w, h));
+                if let Some(state) = &mut self.window {
+                    state.presenter.request_size(&state.renderer.gpu.device, w, h);
                 }
             }
             ExerciseStep::Minimise => {
-                self.restore_size = self.window.as_ref().map(|s| s.window.inner_size());
+                self.restore_size = self.window.as_ref().map(|s| s.presenter.inner_size());
                 self.resize(0, 0);
             }
             ExerciseStep::Restore => {
@@ -237,12 +251,13 @@ impl Viewer {
         let dt = (now - self.last_frame).as_secs_f32();
         self.last_frame = now;
         self.camera.advance(self.keys, dt);
+        if let Some(metres) = self.options.walk {
+            self.camera.walk(metres);
+        }
         let Some(state) = &mut self.window else { return };
         let world = self.app.world_mut();
-        world.insert_resource(ViewportSize {
-            width: state.surface.config.width,
-            height: state.surface.config.height,
-        });
+        let (width, height) = state.presenter.size();
+        world.insert_resource(ViewportSize { width, height });
         let mut cameras = world.query::<(&Camera3d, &mut Transform)>();
         for (_, mut t) in cameras.iter_mut(world) {
             *t = self.camera.transform();
@@ -256,7 +271,7 @@ impl Viewer {
         errors.extend(self.reload.error.iter().chain(&self.shader_error).cloned());
         errors.extend(state.renderer.pipeline_error().map(str::to_owned));
         errors.extend(self.render_errors.iter().cloned());
-        let raw = state.egui_state.take_egui_input(&state.window);
+        let raw = state.presenter.egui_input();
         let world = self.app.world_mut();
         let inspector = &mut self.inspector;
         let camera = &mut self.camera;
@@ -269,9 +284,7 @@ impl Viewer {
                 egui::ScrollArea::vertical().show(ui, |ui| inspector.ui(ui, world, &info, Some(camera)));
             });
         });
-        state
-            .egui_state
-            .handle_platform_output(&state.window, output.platform_output);
+        state.presenter.platform_output(output.platform_output);
         let jobs = state.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
 
         // Textures are updated (and freed) before the frame is acquired, so no delta is ever
@@ -289,17 +302,18 @@ impl Viewer {
         textures.clear();
 
         let lose = std::mem::take(&mut self.lose_surface);
-        let Some(frame) = state.surface.acquire(&gpu.device, lose) else {
-            self.summary.surface_recoveries = state.surface.recoveries;
+        let Some(frame) = state.presenter.acquire(&gpu.device, lose) else {
+            self.summary.surface_recoveries = state.presenter.recoveries();
             return;
         };
-        let config = &state.surface.config;
+        let (width, height) = state.presenter.size();
         let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [config.width, config.height],
+            size_in_pixels: [width, height],
             pixels_per_point: output.pixels_per_point,
         };
-        let scene_format = config.format.add_srgb_suffix();
-        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+        let format = state.presenter.format();
+        let scene_format = format.add_srgb_suffix();
+        let view = frame.texture().create_view(&wgpu::TextureViewDescriptor {
             format: Some(scene_format),
             ..Default::default()
         });
@@ -308,11 +322,11 @@ impl Viewer {
             format: scene_format,
             storage: None,
             analysis: None,
-            width: config.width,
-            height: config.height,
+            width,
+            height,
         };
-        let egui_view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(config.format),
+        let egui_view = frame.texture().create_view(&wgpu::TextureViewDescriptor {
+            format: Some(format),
             ..Default::default()
         });
         let egui_renderer = &mut state.egui_renderer;
@@ -345,6 +359,8 @@ impl Viewer {
         state.renderer.last_report.pages = state.renderer.read_page_stats();
         self.inspector
             .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
+        let gpu_ms = state.renderer.last_report.passes.iter().fold(0.0, |ms, p| ms + p.ms);
+        self.summary.gpu_ms.push(gpu_ms as f32);
         // NOTE: warnings are already logged by the renderer; errors stay on screen.
         state.renderer.take_warnings();
         let render_errors = state.renderer.take_errors();
@@ -352,21 +368,17 @@ impl Viewer {
             self.render_errors = render_errors;
         }
         self.summary.frames += 1;
-        self.summary.surface_recoveries = state.surface.recoveries;
+        self.summary.surface_recoveries = state.presenter.recoveries();
         let finished = self.finished();
         let Some(state) = &mut self.window else { return };
+        let gpu = &state.renderer.gpu;
         if finished && let Some(path) = self.options.screenshot.clone() {
-            let gpu = &state.renderer.gpu;
-            match state
-                .surface
-                .save_screenshot(&gpu.device, &gpu.queue, &frame.texture, &path)
-            {
+            match state.presenter.save_screenshot(&gpu.device, &gpu.queue, &frame, &path) {
                 Ok(()) => self.summary.screenshot = Some(path),
                 Err(e) => self.error = Some(e),
             }
         }
-        state.window.pre_present_notify();
-        state.renderer.gpu.queue.present(frame);
+        state.presenter.present(&gpu.queue, frame);
     }
 
     /// True once the scripted frame count (and the exercise script) is done.
@@ -382,15 +394,7 @@ impl ApplicationHandler for Viewer {
             return;
         }
         match self.open(event_loop) {
-            Ok(state) => {
-                state.window.request_redraw();
-                // NOTE: a budget the application set is kept; else the device's.
-                let world = self.app.world_mut();
-                if *world.resource::<ShadowMemoryBudget>() == ShadowMemoryBudget::default() {
-                    world.insert_resource(state.renderer.gpu.shadow_memory_budget());
-                }
-                self.window = Some(state);
-            }
+            Ok(state) => self.adopt(state),
             Err(e) => {
                 self.error = Some(e);
                 event_loop.exit();
@@ -399,8 +403,12 @@ impl ApplicationHandler for Viewer {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        if let Some(state) = &mut self.window {
-            let response = state.egui_state.on_window_event(&state.window, &event);
+        if let Some(WindowState {
+            presenter: Presenter::Window { window, egui_state, .. },
+            ..
+        }) = &mut self.window
+        {
+            let response = egui_state.on_window_event(window, &event);
             // NOTE: egui sees every event, but only input it used is withheld from the camera;
             // resizes and redraws always reach the viewer.
             let input = matches!(
@@ -459,7 +467,7 @@ impl ApplicationHandler for Viewer {
 
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
         if let Some(state) = &self.window {
-            state.window.request_redraw();
+            state.presenter.request_redraw();
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Opening the viewer's window: the winit window, its surface and GPU device, the renderer
-//! that draws into it and egui's state and renderer.
+//! that draws into it and egui's state and renderer; or, offscreen, a headless device and a
+//! frame made like a swapchain image.
 
 use std::sync::Arc;
 
@@ -8,8 +9,9 @@ use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::{Viewer, WindowState};
-use crate::render::{GpuContext, Renderer};
+use crate::render::{GpuContext, GpuError, Renderer};
 use crate::viewer::options::ViewerError;
+use crate::viewer::presenter::{OFFSCREEN_FORMAT, OffscreenFrame, Presenter};
 use crate::viewer::surface::WindowSurface;
 
 impl Viewer {
@@ -46,11 +48,31 @@ impl Viewer {
         );
         self.summary.adapter = gpu.describe();
         Ok(WindowState {
-            window,
-            surface,
+            presenter: Presenter::Window {
+                window,
+                surface,
+                egui_state: Box::new(egui_state),
+            },
             renderer: Renderer::for_window(gpu),
             egui_ctx,
-            egui_state,
+            egui_renderer,
+        })
+    }
+
+    /// Opens a headless device and an offscreen frame of the options' size.
+    pub(super) fn open_offscreen(&mut self) -> Result<WindowState, ViewerError> {
+        let gpu = GpuContext::headless()?;
+        gpu.limits
+            .check_target(self.options.width, self.options.height)
+            .map_err(GpuError::from)?;
+        let frame = OffscreenFrame::new(&gpu.device, self.options.width, self.options.height);
+        let egui_renderer =
+            egui_wgpu::Renderer::new(&gpu.device, OFFSCREEN_FORMAT, egui_wgpu::RendererOptions::default());
+        self.summary.adapter = gpu.describe();
+        Ok(WindowState {
+            presenter: Presenter::Offscreen(frame),
+            renderer: Renderer::for_window(gpu),
+            egui_ctx: egui::Context::default(),
             egui_renderer,
         })
     }
