@@ -5,7 +5,7 @@
 //! lighting pass within one level per channel, and the lighting pass then draws only the
 //! batches of the other materials; a target without a storage view (a window's) is lit by the
 //! full-screen render pass to the same image; it is not used where it cannot reproduce the
-//! forward shader (a material's own shader, MSAA).
+//! forward shader (a material's own shader, MSAA) or has nothing to light (no untextured material).
 
 mod common;
 
@@ -13,15 +13,15 @@ use bevy_app::App;
 use bevy_ecs::world::Mut;
 use common::{INSTALL, still_scene};
 use image::RgbaImage;
+use penumbra::app::{headless_app, spawn_scene};
 use penumbra::render::frame_inputs::FrameInputs;
 use penumbra::render::target::{TargetViews, read_texture, texture_2d};
 use penumbra::render::{DeferredLighting, Msaa, RenderOptions, Renderer};
+use penumbra::scene::{AlphaMode, SceneDesc};
 
 const SIZE: (u32, u32) = (320, 180);
 
-/// `scene` rendered for two frames with deferred lighting `deferred` (and `msaa`); with it
-/// on, for up to two more until a frame used it (on lavapipe a frame of the field, under
-/// parallel tests, once in about ten runs did not; the next ones did).
+/// `scene` rendered for two frames with deferred lighting `deferred` (and `msaa`).
 fn render(scene: &str, deferred: DeferredLighting, msaa: Msaa) -> App {
     let renderer = Renderer::headless(SIZE.0, SIZE.1).expect(INSTALL);
     let mut app = still_scene(renderer, scene);
@@ -32,12 +32,6 @@ fn render(scene: &str, deferred: DeferredLighting, msaa: Msaa) -> App {
     });
     app.update();
     app.update();
-    for _ in 0..2 {
-        if deferred != DeferredLighting::On || app.world().resource::<Renderer>().last_report.deferred_lighting {
-            break;
-        }
-        app.update();
-    }
     app
 }
 
@@ -45,13 +39,21 @@ fn renderer(app: &App) -> &Renderer {
     app.world().resource::<Renderer>()
 }
 
-/// Whether the last frame recorded the deferred lighting pass.
-fn deferred_ran(app: &App) -> bool {
-    renderer(app)
-        .last_report
-        .passes
-        .iter()
-        .any(|p| p.name == "deferred lighting")
+/// Whether the last frame recorded the deferred lighting pass: its report says so, and its
+/// GPU timings hold the pass. The timings are waited for: the report's pass list is the newest
+/// frame whose timings had arrived, on lavapipe now and then still none after two frames.
+fn deferred_ran(app: &mut App) -> bool {
+    let mut renderer = app.world_mut().resource_mut::<Renderer>();
+    let flagged = renderer.last_report.deferred_lighting;
+    let timings = renderer.wait_for_timings();
+    let last = timings.last().expect("the frames' timings");
+    let timed = last.passes.iter().any(|p| p.name == "deferred lighting");
+    assert_eq!(
+        flagged, timed,
+        "frame {}: the report says the deferred lighting ran: {flagged}, its timings: {timed}",
+        last.frame
+    );
+    flagged
 }
 
 /// The largest difference of any channel, and how many pixels differ by more than one level.
@@ -80,15 +82,15 @@ fn the_image_lit_from_the_prepass_equals_the_forward_image() {
     let scenes = ["default", "garden", "lights", "point", "spot", "thin", "field"];
     for name in scenes {
         let scene = format!("assets/scenes/{name}.ron");
-        let deferred = render(&scene, DeferredLighting::On, Msaa::Off);
-        let forward = render(&scene, DeferredLighting::Off, Msaa::Off);
+        let mut deferred = render(&scene, DeferredLighting::On, Msaa::Off);
+        let mut forward = render(&scene, DeferredLighting::Off, Msaa::Off);
         assert!(
-            deferred_ran(&deferred),
+            deferred_ran(&mut deferred),
             "{name}: the deferred lighting did not run ({:?})",
             renderer(&deferred).pipeline_error()
         );
         assert!(
-            !deferred_ran(&forward),
+            !deferred_ran(&mut forward),
             "{name}: the deferred lighting ran while turned off"
         );
         let (a, b) = (renderer(&deferred).read_image(), renderer(&forward).read_image());
@@ -118,7 +120,7 @@ fn the_image_lit_from_the_prepass_equals_the_forward_image() {
 fn a_material_shader_of_its_own_or_msaa_turns_it_off() {
     let scene = "assets/scenes/default.ron";
     assert!(
-        !deferred_ran(&render(scene, DeferredLighting::On, Msaa::Sample4)),
+        !deferred_ran(&mut render(scene, DeferredLighting::On, Msaa::Sample4)),
         "ran under MSAA"
     );
     let mut renderer = Renderer::headless(SIZE.0, SIZE.1).expect(INSTALL);
@@ -127,8 +129,31 @@ fn a_material_shader_of_its_own_or_msaa_turns_it_off() {
         .unwrap_or_else(|e| panic!("{e}"));
     let mut app = still_scene(renderer, scene);
     app.update();
-    assert!(!deferred_ran(&app), "ran with a material's own forward shader");
+    assert!(!deferred_ran(&mut app), "ran with a material's own forward shader");
     assert!(self::renderer(&app).pipeline_error().is_none());
+}
+
+/// Checks that a scene whose materials are all textured (nothing for the prepass to light)
+/// does not run the deferred lighting even when asked to, and is still drawn.
+#[test]
+fn a_scene_without_untextured_materials_does_not_run_it() {
+    let mut desc = SceneDesc::load("assets/scenes/default.ron").expect("the default scene");
+    for m in &mut desc.materials {
+        m.texture = Some("../textures/foliage.png".into());
+        m.alpha = AlphaMode::Opaque;
+    }
+    let mut app = headless_app(Renderer::headless(SIZE.0, SIZE.1).expect(INSTALL));
+    spawn_scene(app.world_mut(), &desc).expect("the scene spawns");
+    app.insert_resource(RenderOptions {
+        deferred_lighting: DeferredLighting::On,
+        ..RenderOptions::default()
+    });
+    app.update();
+    app.update();
+    assert!(!deferred_ran(&mut app), "ran without an untextured material");
+    let drawn = drawn_pixels(&renderer(&app).read_image());
+    println!("{drawn} pixels drawn");
+    assert!(drawn > 10_000, "only {drawn} pixels drawn");
 }
 
 /// The next frame of `app` rendered into a plain sRGB texture of its own, which has no storage

@@ -83,7 +83,8 @@ impl std::str::FromStr for Msaa {
 /// pass instead of drawing those materials again in the lighting pass
 /// ([`crate::render::deferred`]). Only where the frame allows it: the prepass runs and writes
 /// normals (the visibility resolve is on), one sample per pixel, no analysis outputs, the
-/// shipped forward shader.
+/// shipped forward shader; and only where some material is opaque and untextured (else there
+/// is nothing for it to light).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DeferredLighting {
     /// On where it runs in compute (a target with a storage view: headless renders), which

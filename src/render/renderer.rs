@@ -376,7 +376,8 @@ impl Renderer {
                 target.storage.is_some(),
             )
             && self.shadows.resolved.is_some()
-            && !self.library.forward_replaced();
+            && !self.library.forward_replaced()
+            && self.scene.untextured.contains(&true);
         match self.build_graph(input, target, (prepass, samples, deferred)) {
             Ok(created) => self.counters.transient_resources += created,
             Err(e) => {
