@@ -1,14 +1,15 @@
-//! Shadow LODs: a spawned sphere comes with coarser meshes; a far cascade, whose texels are
-//! wide, draws the spheres with one of them while the near cascades (and the camera, its own
-//! levels off) draw the full mesh; and the image barely changes against drawing full meshes
-//! everywhere.
+//! Shadow LODs: a spawned sphere comes with three coarser meshes; a far cascade, whose texels
+//! are wide, draws the spheres with one of them while the near cascades (and the camera, its
+//! own levels off) draw the full mesh; and the image barely changes against drawing full
+//! meshes everywhere (the triangles each cascade draws are printed).
 
 mod common;
 
 use bevy_app::App;
 use common::still_scene;
+use penumbra::ecs::draw_groups::DrawBatch;
 use penumbra::ecs::shadow_lods::ShadowLods;
-use penumbra::ecs::{CameraLod, MeshHandle, ShadowViews, ViewDrawGroups};
+use penumbra::ecs::{CameraLod, MeshHandle, Meshes, ShadowViews, ViewDrawGroups};
 use penumbra::render::Renderer;
 
 const SCENE: &str = "assets/bench/field.ron";
@@ -21,6 +22,19 @@ fn app() -> App {
     app.insert_resource(CameraLod { max_error_pixels: 0.0 });
     app.update();
     app
+}
+
+/// The triangles each shadow view draws (its batches' instances times their meshes').
+fn view_triangles(app: &App) -> Vec<u64> {
+    let world = app.world();
+    let meshes = world.resource::<Meshes>();
+    let triangles = |b: &DrawBatch| meshes.get(b.mesh).map_or(0, |m| m.indices.len() as u64 / 3) * u64::from(b.count);
+    let views = world.resource::<ShadowViews>();
+    views
+        .groups
+        .iter()
+        .map(|g| g.opaque.iter().chain(&g.masked).map(triangles).sum())
+        .collect()
 }
 
 /// The meshes each shadow view draws.
@@ -52,7 +66,7 @@ fn far_cascades_draw_spheres_coarser_and_the_image_barely_changes() {
         .find(|&m| !lods.get(m).is_empty())
         .expect("the camera sees the balls, which have shadow LODs");
     let coarse: Vec<MeshHandle> = lods.get(ball).iter().map(|l| l.mesh).collect();
-    assert_eq!(coarse.len(), 2);
+    assert_eq!(coarse.len(), 3);
     assert!(
         camera.iter().all(|m| !coarse.contains(m)),
         "the camera draws full meshes"
@@ -68,6 +82,7 @@ fn far_cascades_draw_spheres_coarser_and_the_image_barely_changes() {
         "cascade 3 draws a coarser ball: {per_view:?} (levels {coarse:?})"
     );
     let with_lods = app.world().resource::<Renderer>().read_image();
+    let lod_triangles = view_triangles(&app);
 
     // Without levels every cascade draws the full ball (and every map is drawn again).
     app.world_mut().resource_mut::<ShadowLods>().clear();
@@ -78,6 +93,8 @@ fn far_cascades_draw_spheres_coarser_and_the_image_barely_changes() {
         "{per_view:?}"
     );
     assert_eq!(app.world().resource::<Renderer>().last_report.shadow_views_drawn, 4);
+    let full_triangles = view_triangles(&app);
+    println!("triangles per cascade: {full_triangles:?} with full meshes, {lod_triangles:?} with LODs");
     let full = app.world().resource::<Renderer>().read_image();
     let pixels = (full.width() * full.height()) as usize;
     let differing = with_lods
