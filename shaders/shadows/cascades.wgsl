@@ -90,6 +90,12 @@ fn project_to_cascade(light: Light, index: u32, world_pos: vec3<f32>, normal: ve
     let uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
     var out: MapSample;
     out.uv = view.rect.xy + uv * view.rect.zw;
+    if view.page.w > 0.0 {
+        // NOTE: a wrapping layer holds its window's first texel at `page.xy` (UV); the taps
+        // around `uv` wrap round the layer's edges with it.
+        out.uv = fract(out.uv + view.page.xy);
+        out.page = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
     // NOTE: a receiver past the box's far plane (depth < 0) is compared as if on it: a
     // stored caster (depth > 0) still shadows it, an empty texel (cleared to 0) does not.
     out.depth = max(clip.z, 0.0);

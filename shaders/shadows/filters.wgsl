@@ -8,7 +8,9 @@
 #define_import_path penumbra::shadows::filters
 
 #import penumbra::contract::SHADOW_FLAG_BLOCKER_EARLY_OUT
-#import penumbra::shadows::bindings::{page_atlas, shadow_compare, shadow_point}
+#import penumbra::shadows::bindings::{
+    page_atlas, shadow_compare, shadow_compare_wrap, shadow_point, shadow_point_wrap,
+}
 #import penumbra::shadows::page_table::page_uv
 #import penumbra::shadows::types::Light
 #import penumbra::shadows::common::{
@@ -32,12 +34,15 @@ struct MapSample {
     // One texel, in layer UV.
     texel: f32,
     // A paged level (z > 0): xy the grid page of its window's first page, z the page side in
-    // texels; `uv` is then the level's UV and `layer` its place in the page table.
+    // texels; `uv` is then the level's UV and `layer` its place in the page table. A level
+    // whose layer wraps: w > 0 (z = 0), and taps past the layer's edges wrap round to the
+    // opposite edge.
     page: vec4<f32>,
 }
 
-// A hardware 2x2 comparison at `uv` (layer UV) against `depth`: of `map`'s layer, or of the
-// page pool's atlas through the page table for a paged level (lit where the page is missing).
+// A hardware 2x2 comparison at `uv` (layer UV) against `depth`: of `map`'s layer (wrapping
+// round its edges for a layer that wraps), or of the page pool's atlas through the page table
+// for a paged level (lit where the page is missing).
 fn map_compare(map: texture_depth_2d_array, p: MapSample, uv: vec2<f32>, depth: f32) -> f32 {
     if p.page.z > 0.0 {
         let at = page_uv(p.page, p.layer, p.texel, uv);
@@ -45,6 +50,9 @@ fn map_compare(map: texture_depth_2d_array, p: MapSample, uv: vec2<f32>, depth: 
             return 1.0;
         }
         return textureSampleCompareLevel(page_atlas, shadow_compare, at, 0, depth);
+    }
+    if p.page.w > 0.0 {
+        return textureSampleCompareLevel(map, shadow_compare_wrap, uv, p.layer, depth);
     }
     return textureSampleCompareLevel(map, shadow_compare, uv, p.layer, depth);
 }
@@ -58,6 +66,9 @@ fn map_gather(map: texture_depth_2d_array, p: MapSample, uv: vec2<f32>) -> vec4<
             return vec4<f32>(0.0);
         }
         return textureGather(page_atlas, shadow_point, at, 0);
+    }
+    if p.page.w > 0.0 {
+        return textureGather(map, shadow_point_wrap, uv, p.layer);
     }
     return textureGather(map, shadow_point, uv, p.layer);
 }

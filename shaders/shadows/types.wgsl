@@ -73,7 +73,9 @@ struct ShadowView {
     exponents: vec2<f32>,
     // A paged clipmap level (penumbra::shadows::page_table): xy the grid page of its window's
     // first page, z its page side in texels (0: not paged); `layer` is then its level in the
-    // page table.
+    // page table. A clipmap level whose layer wraps (it fills its layer, which keeps each
+    // texel where it is while the window moves): w = 1, z = 0, xy the UV in the layer of the
+    // window's first texel.
     page: vec4<f32>,
 }
 

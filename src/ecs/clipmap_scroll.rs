@@ -5,7 +5,9 @@
 //! draws only the strips the window newly covers ([`exposed_strips`]) and the regions where
 //! casters moved, each with the casters that reach it. The renderer checks that its layer
 //! holds this version at last frame's window (`Scroll::from`) and draws the level whole
-//! otherwise.
+//! otherwise. A level filtered by depth comparisons wraps instead of moving
+//! ([`Scroll::origin`]): its layer keeps every texel where it was drawn, the window's first
+//! texel moving round the layer, so a moved window costs only its strips.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
@@ -49,6 +51,9 @@ struct Held {
     level: u32,
     version: u64,
     window: I64Vec2,
+    /// The window the level was last drawn whole for (its first texel at the layer's first),
+    /// for a layer that wraps.
+    anchor: Option<I64Vec2>,
 }
 
 /// A region one scrolling view draws, and the casters reaching it (its batches index `list`).
@@ -99,22 +104,33 @@ pub(crate) fn plan_scrolls(
         };
         let to = level.first_texel;
         let here = window(level, view.resolution);
+        // NOTE: moments are blurred up to the layer's edges, so a moments sun's layer moves.
+        let wraps = !sun.settings.filter.mode.effective(true).is_sun_moments();
         let held = scratch
             .held
             .iter()
             .find(|h| h.entity == view.entity && h.level == view.kind.index)
-            .filter(|h| h.version == view.version);
+            .filter(|h| h.version == view.version && h.anchor.is_some() == wraps)
+            .copied();
+        let anchor = wraps.then(|| held.and_then(|h| h.anchor).unwrap_or(to));
+        // NOTE: layer columns follow grid x, layer rows run against grid y.
+        let origin = anchor.map(|a| {
+            let n = i64::from(view.resolution.max(1));
+            [(to.x - a.x).rem_euclid(n) as u32, (a.y - to.y).rem_euclid(n) as u32]
+        });
         scratch.next.push(Held {
             entity: view.entity,
             level: view.kind.index,
             version: view.version,
             window: to,
+            anchor,
         });
         let Some(held) = held else {
             *scroll = Scroll {
                 from: to,
                 to,
                 fresh: entry.cull,
+                origin,
                 ..Scroll::default()
             };
             continue;
@@ -196,6 +212,7 @@ pub(crate) fn plan_scrolls(
             first_region: first,
             region_count: scratch.count as u32 - first,
             fresh: entry.cull,
+            origin,
         };
     }
     std::mem::swap(&mut scratch.held, &mut scratch.next);

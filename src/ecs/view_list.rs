@@ -185,7 +185,9 @@ pub struct ShadowView {
 /// How a clipmap level's layer moves this frame: its content is moved from the window it was
 /// drawn for last frame (`from`, the grid texel of the window's first texel) to this frame's
 /// (`to`), then the regions [`ShadowViews::regions`]`[first_region..][..region_count]` are
-/// drawn: the strips the window newly covers and where casters changed.
+/// drawn: the strips the window newly covers and where casters changed. A layer that wraps
+/// (`origin`) is not moved: its texels stay where they are and the regions are drawn where
+/// the window's texels lie in it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Scroll {
     /// Last frame's window.
@@ -200,6 +202,12 @@ pub struct Scroll {
     /// the casters of an earlier window, and a renderer that must draw the view whole asks
     /// for it again ([`ScrollResync`](crate::ecs::clipmap_scroll::ScrollResync)).
     pub fresh: bool,
+    /// Where the layer holds the window's first texel, when it wraps: each grid texel stays at
+    /// the layer texel it was drawn at when the level was last drawn whole, modulo the
+    /// layer's side (columns left to right, rows top to bottom); `[0, 0]` after a whole draw.
+    /// None where the layer is moved instead (a sun filtering moments, which are blurred up
+    /// to the layer's edges). A renderer wraps only a view that fills its layer.
+    pub origin: Option<[u32; 2]>,
 }
 
 /// Part of a scrolling view's layer to draw again, with the casters that reach it.

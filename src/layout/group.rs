@@ -21,6 +21,11 @@ pub enum Slot {
     CompareSampler,
     /// The nearest-neighbour sampler for raw depth reads (PCSS blocker search).
     PointSampler,
+    /// [`CompareSampler`](Slot::CompareSampler) repeating at the layer's edges: for a clipmap
+    /// level whose layer wraps (its window's texels kept where they are as it moves).
+    WrapCompareSampler,
+    /// [`PointSampler`](Slot::PointSampler) repeating at the layer's edges.
+    WrapPointSampler,
     /// The bilinear sampler that filters the moments (trilinear over a sun's mips).
     MomentsSampler,
     /// The Poisson tap patterns.
@@ -86,6 +91,8 @@ impl Slot {
             Slot::Views => "shadow_views",
             Slot::CompareSampler => "shadow_compare",
             Slot::PointSampler => "shadow_point",
+            Slot::WrapCompareSampler => "shadow_compare_wrap",
+            Slot::WrapPointSampler => "shadow_point_wrap",
             Slot::MomentsSampler => "moments_sampler",
             Slot::PoissonTaps => "poisson_taps",
             Slot::Resolved => "resolved_visibility",
@@ -101,8 +108,8 @@ impl Slot {
         match self {
             Slot::Lights => BindingKind::Uniform("LightList"),
             Slot::Views => BindingKind::Uniform("ShadowViewList"),
-            Slot::CompareSampler => BindingKind::CompareSampler,
-            Slot::PointSampler => BindingKind::NearestSampler,
+            Slot::CompareSampler | Slot::WrapCompareSampler => BindingKind::CompareSampler,
+            Slot::PointSampler | Slot::WrapPointSampler => BindingKind::NearestSampler,
             Slot::MomentsSampler => BindingKind::FilterSampler,
             Slot::PoissonTaps => BindingKind::Uniform("PoissonTaps"),
             Slot::Resolved => BindingKind::UnfilterableFloatArray,
@@ -124,6 +131,10 @@ impl Slot {
                 "Comparison sampler: 1 where the reference depth is >= the stored depth (reverse-Z)."
             }
             Slot::PointSampler => "Nearest-neighbour sampler for raw depth reads (PCSS blocker search).",
+            Slot::WrapCompareSampler => "The comparison sampler, repeating at the edges (a wrapping clipmap layer).",
+            Slot::WrapPointSampler => {
+                "The nearest-neighbour sampler, repeating at the edges (a wrapping clipmap layer)."
+            }
             Slot::MomentsSampler => "Bilinear sampler of the moments (trilinear over a sun's mips).",
             Slot::PoissonTaps => "The Poisson tap patterns.",
             Slot::Resolved => {
@@ -145,11 +156,13 @@ impl Slot {
 }
 
 /// The bindings that do not belong to a storage, before the storages' own.
-const COMMON: [Slot; 7] = [
+const COMMON: [Slot; 9] = [
     Slot::Lights,
     Slot::Views,
     Slot::CompareSampler,
     Slot::PointSampler,
+    Slot::WrapCompareSampler,
+    Slot::WrapPointSampler,
     Slot::MomentsSampler,
     Slot::PoissonTaps,
     Slot::Resolved,

@@ -8,8 +8,10 @@
 //! turning the camera changes nothing, and moving it shifts each window by whole texels. The
 //! depth range of every level covers every caster of the scene (rounded out onto a coarse
 //! grid), so it does not change with the camera either. A window that moves keeps the
-//! texels it still covers (the renderer moves them by the window's shift) and only the
-//! strips newly exposed are drawn ([`exposed_strips`]).
+//! texels it still covers and only the strips newly exposed are drawn ([`exposed_strips`]):
+//! a layer filtered by depth comparisons wraps (its texels stay put and the window's first
+//! texel moves round it, [`wrapped_parts`]), one filtering moments is moved by the window's
+//! shift.
 //!
 //! A receiver samples the finest level whose window holds it with a margin for the filter
 //! ([`select_level`]) and blends into the next level across a band at the window's edge.
@@ -18,6 +20,7 @@ use glam::{DVec3, I64Vec2, Mat3, Mat4, Vec2, Vec3};
 
 use crate::math::aabb::Aabb;
 use crate::math::cascades::{Cascade, CascadeSet, MAX_CASCADES};
+use crate::math::footprint::TexelRect;
 use crate::math::light_space::light_rotation;
 use crate::math::pcss::pcss_params_f64;
 use crate::math::snapping::{f32_down, f32_sat, f32_up, quantize_extent_up};
@@ -325,6 +328,26 @@ pub fn clipmap_cascades(set: &ClipmapSet, angular_diameter: f32) -> CascadeSet {
 pub fn grid_point(set: &ClipmapSet, level: &ClipmapLevel, texel: I64Vec2, z: f32) -> Vec3 {
     let xy = texel.as_dvec2() * f64::from(level.texel);
     set.light_rotation.transpose() * DVec3::new(xy.x, xy.y, f64::from(z)).as_vec3()
+}
+
+/// The parts of `rect` (texels of a window `side` texels wide, rows from its top) in a layer
+/// that wraps with the window's first texel at layer texel `origin`: for each part, the
+/// viewport origin that draws the window there (`origin` less a side where the part wraps
+/// round) and the part's texels in the layer. At most four parts; together they cover the
+/// layer texels of `rect` once.
+pub fn wrapped_parts(rect: TexelRect, origin: [u32; 2], side: u32) -> impl Iterator<Item = ([i64; 2], TexelRect)> {
+    let n = i64::from(side);
+    let [ox, oy] = origin.map(|o| i64::from(o) % n.max(1));
+    (0..4).filter_map(move |q| {
+        let (vx, vy) = (ox - (q & 1) * n, oy - (q >> 1) * n);
+        let cut = |a: u32, b: u32, v: i64| {
+            let (lo, hi) = ((i64::from(a) + v).max(0), (i64::from(b) + v).min(n));
+            (lo < hi).then_some((lo as u32, hi as u32))
+        };
+        let (x0, x1) = cut(rect.x0, rect.x1, vx)?;
+        let (y0, y1) = cut(rect.y0, rect.y1, vy)?;
+        Some(([vx, vy], TexelRect { x0, y0, x1, y1 }))
+    })
 }
 
 #[cfg(test)]

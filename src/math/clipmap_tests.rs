@@ -182,3 +182,63 @@ fn as_cascades_each_level_keeps_its_window_texel_and_depth() {
     let last = set.active().last().unwrap();
     assert!(cascades.end >= last.extent * 0.5 * 2f32.sqrt());
 }
+
+#[test]
+fn wrapped_parts_cover_a_rect_once_where_its_window_lies_in_the_layer() {
+    let side = 16u32;
+    let rects = [
+        TexelRect {
+            x0: 0,
+            y0: 0,
+            x1: 16,
+            y1: 16,
+        },
+        TexelRect {
+            x0: 3,
+            y0: 10,
+            x1: 9,
+            y1: 16,
+        },
+        TexelRect {
+            x0: 15,
+            y0: 0,
+            x1: 16,
+            y1: 1,
+        },
+        TexelRect {
+            x0: 4,
+            y0: 4,
+            x1: 4,
+            y1: 9,
+        },
+    ];
+    for rect in rects {
+        for origin in [[0, 0], [5, 0], [0, 11], [7, 13], [15, 15]] {
+            let mut hits = vec![0u32; (side * side) as usize];
+            let mut parts = 0;
+            for ([vx, vy], part) in wrapped_parts(rect, origin, side) {
+                parts += 1;
+                assert!(part.x1 <= side && part.y1 <= side && part.area() > 0, "{part:?}");
+                for y in part.y0..part.y1 {
+                    for x in part.x0..part.x1 {
+                        // The window texel drawn at this layer texel with this viewport.
+                        let (wx, wy) = (i64::from(x) - vx, i64::from(y) - vy);
+                        assert!((0..16).contains(&wx) && (0..16).contains(&wy), "{origin:?} {part:?}");
+                        let (wx, wy) = (wx as u32, wy as u32);
+                        assert!(rect.x0 <= wx && wx < rect.x1 && rect.y0 <= wy && wy < rect.y1);
+                        // It is the layer texel the window texel wraps to.
+                        assert_eq!((x, y), ((wx + origin[0]) % side, (wy + origin[1]) % side));
+                        hits[(y * side + x) as usize] += 1;
+                    }
+                }
+            }
+            assert!(parts <= 4);
+            let covered: u64 = hits.iter().map(|&h| u64::from(h)).sum();
+            assert_eq!(covered, rect.area(), "{rect:?} at {origin:?}");
+            assert!(
+                hits.iter().all(|&h| h <= 1),
+                "{rect:?} at {origin:?}: a texel drawn twice"
+            );
+        }
+    }
+}

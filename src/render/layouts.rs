@@ -30,6 +30,10 @@ pub struct Layouts {
     pub material: wgpu::BindGroupLayout,
     /// Hardware comparison sampler for the shadow map (reverse-Z: lit when ref >= stored).
     pub shadow_compare: wgpu::Sampler,
+    /// `shadow_compare` repeating at the edges (a wrapping clipmap layer).
+    pub shadow_compare_wrap: wgpu::Sampler,
+    /// `shadow_point` repeating at the edges.
+    pub shadow_point_wrap: wgpu::Sampler,
     /// Nearest sampler for raw shadow depth reads.
     pub shadow_point: wgpu::Sampler,
     /// Bilinear, clamped sampler for VSM moments.
@@ -165,17 +169,11 @@ impl Layouts {
                 ),
             ],
         });
-        let shadow_compare = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow compare"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::GreaterEqual),
-            ..Default::default()
-        });
-        let shadow_point = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow point"),
-            ..Default::default()
-        });
+        let shadow_compare = device.create_sampler(&compare_sampler("shadow compare", wgpu::AddressMode::ClampToEdge));
+        let shadow_point = device.create_sampler(&point_sampler("shadow point", wgpu::AddressMode::ClampToEdge));
+        let shadow_compare_wrap =
+            device.create_sampler(&compare_sampler("shadow compare wrap", wgpu::AddressMode::Repeat));
+        let shadow_point_wrap = device.create_sampler(&point_sampler("shadow point wrap", wgpu::AddressMode::Repeat));
         let moments_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow moments"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -203,10 +201,36 @@ impl Layouts {
             instances,
             material,
             shadow_compare,
+            shadow_compare_wrap,
+            shadow_point_wrap,
             shadow_point,
             moments_sampler,
             material_sampler,
         }
+    }
+}
+
+/// The shadow maps' comparison sampler (bilinear, reverse-Z `GreaterEqual`), addressing its
+/// edges with `mode`.
+fn compare_sampler(label: &str, mode: wgpu::AddressMode) -> wgpu::SamplerDescriptor<'_> {
+    wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: mode,
+        address_mode_v: mode,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        compare: Some(wgpu::CompareFunction::GreaterEqual),
+        ..Default::default()
+    }
+}
+
+/// The shadow maps' nearest-neighbour sampler for raw depths, addressing its edges with `mode`.
+fn point_sampler(label: &str, mode: wgpu::AddressMode) -> wgpu::SamplerDescriptor<'_> {
+    wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: mode,
+        address_mode_v: mode,
+        ..Default::default()
     }
 }
 

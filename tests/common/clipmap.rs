@@ -12,6 +12,13 @@ pub fn long_field_with(resolution: u32, cache: bool) -> App {
 
 /// [`long_field_with`], its sun filtered with `mode` (moments without contact hardening).
 pub fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> App {
+    let mut app = long_field_unrendered(resolution, cache, mode);
+    app.update();
+    app
+}
+
+/// [`long_field_filtered`] before its first frame.
+pub fn long_field_unrendered(resolution: u32, cache: bool, mode: ShadowMode) -> App {
     use penumbra::render::RenderOptions;
     use penumbra::settings::{ShadowSettings, SunLayout};
     let renderer = penumbra::render::Renderer::headless(160, 90)
@@ -33,7 +40,6 @@ pub fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> Ap
             level0_extent: 32.0,
         };
     }
-    app.update();
     app
 }
 

@@ -78,6 +78,8 @@ struct Layer {
     written: Option<TileMask>,
     /// The window a scrolling view's content was drawn for (grid texel of its first texel).
     window: Option<glam::I64Vec2>,
+    /// Where the layer holds that window's first texel (`[0, 0]` unless it wraps).
+    origin: [u32; 2],
 }
 
 #[path = "depth_scroll.rs"]

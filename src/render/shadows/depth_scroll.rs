@@ -1,40 +1,73 @@
 //! The depth pass's scrolling views (clipmap levels, [`crate::ecs::clipmap_scroll`]): a layer
-//! that holds the view's content version at last frame's window is moved by whole texels
-//! ([`LevelShift`](crate::render::shadows::shift::LevelShift)) and only the view's regions
-//! are drawn, each cleared and drawn under its scissor rectangle; any other layer is drawn
-//! whole.
+//! that holds the view's content version at last frame's window keeps it, and only the view's
+//! regions are drawn, each cleared and drawn under its scissor rectangle. A layer that wraps
+//! ([`wrap_origin`]) keeps every texel where it is: a region is drawn where the window's texels
+//! lie in it ([`wrapped_parts`]); any other layer is moved by whole texels
+//! ([`LevelShift`](crate::render::shadows::shift::LevelShift)). A layer that does not hold
+//! the view is drawn whole (in up to four parts where it wraps with its window elsewhere than
+//! at its first texel).
 
-use glam::IVec2;
+use glam::{I64Vec2, IVec2};
 
 use super::DepthPass;
 use crate::ecs::view_list::Scroll;
+use crate::math::clipmap::wrapped_parts;
+use crate::math::footprint::TexelRect;
 use crate::render::draw::draw_batches;
 use crate::render::frame::FrameContext;
 use crate::render::shadows::casters::CasterKey;
-use crate::render::shadows::gpu::CasterViewGpu;
+use crate::render::shadows::gpu::{CasterViewGpu, wrap_origin};
 use crate::render::shadows::shift::ShiftTarget;
 
+/// What a scrolling view draws into its layer by rectangle.
+#[derive(Clone, Copy)]
+enum Parts {
+    /// Its regions this frame.
+    Regions(Scroll),
+    /// The whole window, from the view's draw group.
+    Whole,
+}
+
+/// Where a wrapping layer that held the window starting at grid texel `from` with its first
+/// texel at `origin` holds the window moved by `d` grid texels (`side` texels a side).
+fn advanced(origin: [u32; 2], d: I64Vec2, side: u32) -> [u32; 2] {
+    let n = i64::from(side.max(1));
+    [
+        (i64::from(origin[0]) + d.x).rem_euclid(n) as u32,
+        (i64::from(origin[1]) - d.y).rem_euclid(n) as u32,
+    ]
+}
+
 impl DepthPass {
-    /// Draws scrolling view `v`: moved and drawn by region where its layer allows, else whole.
+    /// Draws scrolling view `v`: kept (wrapped round or moved) and drawn by region where its
+    /// layer allows, else whole.
     pub(super) fn scroll_or_draw(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder, v: usize) {
         let view = &ctx.shadow_views.views[v];
         let Some(scroll) = view.scroll else { return };
         let (kind, version, resolution, slot) = (view.kind, view.version, view.resolution, view.slot);
         let storage = self.storage(kind);
+        let wrap = wrap_origin(view, storage.side);
         let (id, layers) = &mut self.held[kind.storage.index()];
         if *id != storage.id {
             *id = storage.id;
             layers.clear();
         }
         let held = layers.get(slot as usize).copied().unwrap_or_default();
+        let d = scroll.to - scroll.from;
+        // NOTE: a wrapping layer is kept only where its texels lie where this frame's origin
+        // says; a moved one only where it holds its window at its first texel.
+        let placed = match wrap {
+            Some(origin) => advanced(held.origin, d, resolution) == origin,
+            None => held.origin == [0, 0],
+        };
         let kept = self.cache
             && held.version == version
             && held.window == Some(scroll.from)
-            && (scroll.to - scroll.from).abs().max_element() < i64::from(resolution);
+            && d.abs().max_element() < i64::from(resolution)
+            && placed;
         let moved = scroll.from != scroll.to;
         let shifted = kept
-            && (!moved || {
-                let d = scroll.to - scroll.from;
+            && (wrap.is_some() || !moved || {
                 // NOTE: target texel + offset = source texel; layer rows grow downwards.
                 let offset = IVec2::new(d.x as i32, -d.y as i32);
                 let (device, queue) = (&ctx.gpu.device, &ctx.gpu.queue);
@@ -54,14 +87,30 @@ impl DepthPass {
                 })
             });
         if !shifted {
+            if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
+                // NOTE: what the layer holds cannot be kept: draw it whole whatever its version.
+                layer.version = 0;
+            }
             if self.claim(ctx, v) {
-                let group = &ctx.shadow_views.groups[v];
-                self.draw(ctx, encoder, v, 1, group);
+                match wrap {
+                    Some(origin) if origin != [0, 0] => {
+                        ctx.shadow_views_drawn += 1;
+                        self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
+                    }
+                    _ => {
+                        let group = &ctx.shadow_views.groups[v];
+                        self.draw(ctx, encoder, v, 1, group);
+                    }
+                }
             }
             let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) else {
                 return;
             };
             layer.window = Some(scroll.to);
+            layer.origin = wrap.unwrap_or_default();
+            if wrap.is_some_and(|o| o != [0, 0]) {
+                layer.written = None;
+            }
             if !scroll.fresh {
                 // NOTE: the list was made for an earlier window and may miss casters of this
                 // one: culling makes it again next frame, and the layer, holding nothing it
@@ -74,22 +123,26 @@ impl DepthPass {
         }
         if moved || scroll.region_count > 0 {
             ctx.shadow_views_scrolled += 1;
-            self.draw_regions(ctx, encoder, v, scroll);
+            self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), wrap.unwrap_or_default());
         }
         if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
             layer.window = Some(scroll.to);
+            layer.origin = wrap.unwrap_or_default();
             // NOTE: what the moved layer holds is no longer the footprint of one draw.
             layer.written = None;
         }
     }
 
-    /// Clears and draws the regions of scrolling view `v` into its layer.
-    fn draw_regions(
+    /// Clears and draws `parts` of scrolling view `v` into its layer, which holds the
+    /// window's first texel at `origin` (wrapping round its edges; `[0, 0]` where it does not
+    /// wrap).
+    fn draw_parts(
         &mut self,
         ctx: &mut FrameContext<'_>,
         encoder: &mut wgpu::CommandEncoder,
         v: usize,
-        scroll: Scroll,
+        parts: Parts,
+        origin: [u32; 2],
     ) {
         let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
             return;
@@ -98,9 +151,24 @@ impl DepthPass {
         let Some(settings) = ctx.lights.view_settings(view) else {
             return;
         };
-        let first = scroll.first_region as usize;
-        let regions = &ctx.shadow_views.regions[first..first + scroll.region_count as usize];
-        if regions.is_empty() {
+        let whole = matches!(parts, Parts::Whole).then(|| {
+            let full = TexelRect {
+                x0: 0,
+                y0: 0,
+                x1: view.resolution,
+                y1: view.resolution,
+            };
+            (full, &ctx.shadow_views.groups[v])
+        });
+        let listed = match parts {
+            Parts::Regions(scroll) => {
+                let first = scroll.first_region as usize;
+                &ctx.shadow_views.regions[first..first + scroll.region_count as usize]
+            }
+            Parts::Whole => &[],
+        };
+        let rects = || whole.into_iter().chain(listed.iter().map(|r| (r.rect, &r.group)));
+        if rects().next().is_none() {
             return;
         }
         let unclipped = ctx.gpu.unclipped_depth;
@@ -112,16 +180,15 @@ impl DepthPass {
                 .clone()
         };
         let opaque = pipeline(false);
-        let masked = regions
-            .iter()
-            .any(|r| !r.group.masked.is_empty())
-            .then(|| pipeline(true));
+        let masked = rects().any(|(_, g)| !g.masked.is_empty()).then(|| pipeline(true));
         ctx.counters.caster_pipelines += built;
         let clear = self.clears.get(&ctx.gpu.device, ctx.library, 0).clone();
         let storage = self.storage(view.kind);
         let name = &mut self.names[v];
         super::view_name(ctx.lights, view, name);
-        name.push_str(" regions");
+        if matches!(parts, Parts::Regions(_)) {
+            name.push_str(" regions");
+        }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(name.as_str()),
             color_attachments: &[],
@@ -137,31 +204,29 @@ impl DepthPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if view.resolution < storage.side {
-            let side = view.resolution as f32;
-            pass.set_viewport(0.0, 0.0, side, side, 0.0, 1.0);
-        }
+        let side = view.resolution;
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let offset = (v * size_of::<CasterViewGpu>()) as u32;
         let mut calls = 0;
-        for region in regions {
-            let r = region.rect;
-            if r.area() == 0 {
-                continue;
-            }
-            ctx.shadow_drawn_texels += r.area();
-            ctx.shadow_cleared_texels += r.area();
-            pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
-            pass.set_pipeline(&clear);
-            pass.draw(0..6, 0..1);
-            pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
-            pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
-            pass.set_pipeline(&opaque);
-            calls += draw_batches(&mut pass, ctx.scene, &region.group.opaque, (false, &[]), ctx.draw_args);
-            if let Some(masked) = &masked {
-                pass.set_pipeline(masked);
-                calls += draw_batches(&mut pass, ctx.scene, &region.group.masked, (true, &[]), ctx.draw_args);
+        for (rect, group) in rects() {
+            // NOTE: without wrapping (`origin` 0) the one part is the rectangle itself, drawn
+            // with the window at the layer's first texel.
+            for ([vx, vy], r) in wrapped_parts(rect, origin, side) {
+                ctx.shadow_drawn_texels += r.area();
+                ctx.shadow_cleared_texels += r.area();
+                pass.set_viewport(vx as f32, vy as f32, side as f32, side as f32, 0.0, 1.0);
+                pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+                pass.set_pipeline(&clear);
+                pass.draw(0..6, 0..1);
+                pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
+                pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
+                pass.set_pipeline(&opaque);
+                calls += draw_batches(&mut pass, ctx.scene, &group.opaque, (false, &[]), ctx.draw_args);
+                if let Some(masked) = &masked {
+                    pass.set_pipeline(masked);
+                    calls += draw_batches(&mut pass, ctx.scene, &group.masked, (true, &[]), ctx.draw_args);
+                }
             }
         }
         ctx.draw_calls += calls;

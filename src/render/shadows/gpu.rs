@@ -88,7 +88,8 @@ pub struct ShadowViewGpu {
     /// A sun's moments (EVSM): the positive and negative warp exponents of this cascade.
     pub exponents: Vec2,
     /// A paged level: xy the grid page of its window's first page, z its page side in texels
-    /// (0 for a view that is not paged).
+    /// (0 for a view that is not paged). A level whose layer wraps: w = 1, xy the UV of its
+    /// window's first texel in the layer ([`wrap_origin`]).
     pub page: Vec4,
 }
 
@@ -321,9 +322,23 @@ pub fn pack_view(lights: &FrameLights, view: &ShadowView, side: u32, support: Mo
         let first = page.first_page.as_vec2();
         gpu.page = Vec4::new(first.x, first.y, page.page_size as f32, 0.0);
     }
+    if let Some(origin) = wrap_origin(view, side) {
+        // NOTE: the layer holds the window's first texel at `origin` (`penumbra::shadows::types`).
+        let n = view.resolution as f32;
+        gpu.page = Vec4::new(origin[0] as f32 / n, origin[1] as f32 / n, 0.0, 1.0);
+    }
     if let Some(m) = baked {
         gpu.exponents = Vec2::new(m.c_positive, m.c_negative);
         gpu.range.w = m.depth_start;
     }
     gpu
+}
+
+/// Where a clipmap level's layer holds its window's first texel when the layer wraps: its
+/// scroll asks for it and the view fills its layer (`side` texels); None where the layer is
+/// moved with the window instead.
+pub fn wrap_origin(view: &ShadowView, side: u32) -> Option<[u32; 2]> {
+    view.scroll
+        .and_then(|s| s.origin)
+        .filter(|_| view.resolution == side && view.shading.page.is_none())
 }

@@ -158,6 +158,8 @@ fn shadow_group(
                 Slot::PoissonTaps => taps.as_entire_binding(),
                 Slot::CompareSampler => wgpu::BindingResource::Sampler(&layouts.shadow_compare),
                 Slot::PointSampler => wgpu::BindingResource::Sampler(&layouts.shadow_point),
+                Slot::WrapCompareSampler => wgpu::BindingResource::Sampler(&layouts.shadow_compare_wrap),
+                Slot::WrapPointSampler => wgpu::BindingResource::Sampler(&layouts.shadow_point_wrap),
                 Slot::MomentsSampler => wgpu::BindingResource::Sampler(&layouts.moments_sampler),
                 Slot::Resolved => wgpu::BindingResource::TextureView(&visibility.view),
                 Slot::Maps(s) => wgpu::BindingResource::TextureView(&maps[s.index()].array_view),
