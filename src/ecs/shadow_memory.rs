@@ -255,6 +255,8 @@ fn request(
         },
         coverage,
         scrolls: kind == LightKind::Directional && !paged && settings.map.layout.clipmap_levels().is_some(),
+        // NOTE: as `ecs::clipmap_scroll` decides: moments are blurred up to a layer's edges.
+        wraps: !settings.filter.mode.effective(true).is_sun_moments(),
     };
     (request, entity)
 }

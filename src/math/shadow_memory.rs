@@ -121,9 +121,12 @@ pub struct LightRequest {
     /// Its share of the screen ([`screen_coverage`](crate::math::light_budget::screen_coverage);
     /// infinite for a sun): lights smallest on screen are lowered first.
     pub coverage: f32,
-    /// Its layers scroll (a sun's clipmap): the array then also holds one depth layer of its
-    /// side to move a layer through.
+    /// Its layers scroll (a sun's clipmap): unless they wrap, the array then also holds one
+    /// depth layer of its side to move a layer through.
     pub scrolls: bool,
+    /// Its scrolling layers wrap instead of moving (a sun filtered by depth comparisons) where
+    /// they fill the array's layers: they need no layer to move through.
+    pub wraps: bool,
 }
 
 /// The device's moment formats, which set the bytes of a moment texel.
@@ -199,7 +202,6 @@ pub fn storage_bytes(requests: &[LightRequest], resolutions: &[u32], costs: &Mem
         let i = storage_index(r.kind);
         out[i].side = out[i].side.max(res);
         out[i].layers += r.views;
-        scrolls[i] |= r.scrolls;
         match r.moments {
             MomentUse::None => {}
             MomentUse::Vsm { blur: b } => {
@@ -221,6 +223,12 @@ pub fn storage_bytes(requests: &[LightRequest], resolutions: &[u32], costs: &Mem
     if let Some(format) = cascade_moment_format(suns, costs.support) {
         let mips = if hardening { hardening_mips(out[0].side) } else { 1 };
         moments[0] = Some((format.texel_bytes(), mips));
+    }
+    // NOTE: a scrolling light whose layers wrap moves none, unless the array's layers are
+    // larger than its own (it then fills a corner of them, which cannot wrap).
+    for (r, &res) in granted() {
+        let i = storage_index(r.kind);
+        scrolls[i] |= r.scrolls && (!r.wraps || res < out[i].side);
     }
     for (i, s) in out.iter_mut().enumerate() {
         let layer = u64::from(s.side).pow(2);

@@ -24,6 +24,7 @@ fn spot(resolution: u32, coverage: f32) -> LightRequest {
         moments: MomentUse::None,
         coverage,
         scrolls: false,
+        wraps: false,
     }
 }
 
@@ -35,6 +36,7 @@ fn point_vsm(resolution: u32, coverage: f32) -> LightRequest {
         moments: MomentUse::Vsm { blur: true },
         coverage,
         scrolls: false,
+        wraps: false,
     }
 }
 
@@ -46,6 +48,7 @@ fn sun(resolution: u32, cascades: u32, moments: MomentUse) -> LightRequest {
         moments,
         coverage: f32::INFINITY,
         scrolls: false,
+        wraps: false,
     }
 }
 
@@ -222,6 +225,7 @@ fn request() -> impl Strategy<Value = LightRequest> {
             moments,
             coverage,
             scrolls: false,
+            wraps: false,
         }
     })
 }
@@ -262,4 +266,14 @@ fn a_scrolling_sun_adds_one_depth_layer_to_move_through() {
     let [b, ..] = storage_bytes(&[scrolling], &[1024], &costs);
     assert_eq!(a.shift, 0);
     assert_eq!(b.total() - a.total(), 1024 * 1024 * 4);
+    // Wrapping layers move nothing, unless a larger light's layers leave them a corner.
+    let wrapping = LightRequest {
+        wraps: true,
+        ..scrolling
+    };
+    let [c, ..] = storage_bytes(&[wrapping], &[1024], &costs);
+    assert_eq!(c.shift, 0);
+    let larger = sun(2048, 4, MomentUse::None);
+    let [d, ..] = storage_bytes(&[wrapping, larger], &[1024, 2048], &costs);
+    assert_eq!(d.shift, 2048 * 2048 * 4);
 }

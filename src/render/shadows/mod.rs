@@ -44,7 +44,7 @@ use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
 use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_FLAG_CONTACT_ONLY, SINGLE_PASS_VIEWS, ShadowViewGpu,
-    assign_resolve_layers, pack_lights, pack_view,
+    assign_resolve_layers, pack_lights, pack_view, wrap_origin,
 };
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::EntryGpu;
@@ -350,7 +350,11 @@ impl ShadowResources {
                 rebuild = true;
             }
         }
-        let scrolling = views.views.iter().find(|v| v.scroll.is_some());
+        // NOTE: only a scrolling view whose layer does not wrap is moved through the scratch.
+        let scrolling = views
+            .views
+            .iter()
+            .find(|v| v.scroll.is_some() && wrap_origin(v, self.storage(v.kind).side).is_none());
         let side = scrolling.map_or(0, |v| self.storage(v.kind).side);
         if scrolling.is_none() {
             self.shift_scratch = None;
