@@ -81,6 +81,11 @@ pub(crate) struct ScrollScratch {
     rects: Vec<GridRect>,
     /// The mesh each mesh draws in the level being planned (its shadow LOD).
     lods: Vec<[MeshHandle; MAX_SUN_VIEWS]>,
+    /// The renderer keeps layers between frames ([`ShadowCulling::cached`]): a layer that
+    /// wraps keeps its origin; otherwise each frame draws it whole at origin `[0, 0]`.
+    ///
+    /// [`ShadowCulling::cached`]: crate::ecs::receiver_culling::ShadowCulling::cached
+    pub(crate) cached: bool,
 }
 
 /// Sets the [`Scroll`] of every scrolling view (the windows it moves between) and lists the
@@ -112,7 +117,9 @@ pub(crate) fn plan_scrolls(
             .find(|h| h.entity == view.entity && h.level == view.kind.index)
             .filter(|h| h.version == view.version && h.anchor.is_some() == wraps)
             .copied();
-        let anchor = wraps.then(|| held.and_then(|h| h.anchor).unwrap_or(to));
+        // NOTE: a renderer that keeps no layer draws every level whole: at origin [0, 0] that
+        // is one draw, not one per part.
+        let anchor = wraps.then(|| held.filter(|_| scratch.cached).and_then(|h| h.anchor).unwrap_or(to));
         // NOTE: layer columns follow grid x, layer rows run against grid y.
         let origin = anchor.map(|a| {
             let n = i64::from(view.resolution.max(1));

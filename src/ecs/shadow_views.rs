@@ -119,6 +119,7 @@ pub fn update_shadow_views(
         view.footprint = entry.footprint;
         view.version = entry.version;
     }
+    scratch.scrolls.cached = culling.cached;
     let regions = plan_scrolls(
         &lights,
         &instances,

@@ -70,25 +70,42 @@ pub fn walk(app: &mut App, step: Vec3, yaw: f32) {
     }
 }
 
-/// The layers of `app`'s first sun's levels, in level order.
-pub fn first_sun_levels(app: &App, sun: bevy_ecs::entity::Entity) -> Vec<Vec<f32>> {
+/// The texels of `view`'s layer in its window's order: where the layer wraps, turned back
+/// round from where it holds the window's first texel.
+pub fn window_texels(app: &App, view: &penumbra::ecs::view_list::ShadowView) -> Vec<f32> {
     use penumbra::layout::ShadowStorage;
     use penumbra::render::Renderer;
+    use penumbra::render::shadows::gpu::wrap_origin;
+    let renderer = app.world().resource::<Renderer>();
+    let layer = renderer
+        .read_shadow_map(ShadowStorage::Cascades, view.slot)
+        .expect("a level");
+    let side = (layer.len() as f64).sqrt() as usize;
+    match wrap_origin(view, side as u32) {
+        None => layer,
+        Some([ox, oy]) => {
+            let (ox, oy) = (ox as usize, oy as usize);
+            (0..side * side)
+                .map(|i| layer[((i / side + oy) % side) * side + (i % side + ox) % side])
+                .collect()
+        }
+    }
+}
+
+/// The layers of `app`'s levels of `sun` (every sun's where None), in level order, in their
+/// windows' order ([`window_texels`]).
+pub fn sun_levels(app: &App, sun: Option<bevy_ecs::entity::Entity>) -> Vec<Vec<f32>> {
     let views = app.world().resource::<penumbra::ecs::ShadowViews>();
-    let mut slots: Vec<_> = views
+    let mut levels: Vec<_> = views
         .views
         .iter()
-        .filter(|v| v.entity == sun)
-        .map(|v| (v.kind.index, v.slot))
+        .filter(|v| v.scroll.is_some() && sun.is_none_or(|s| v.entity == s))
         .collect();
-    slots.sort();
-    let renderer = app.world().resource::<Renderer>();
-    slots
-        .iter()
-        .map(|&(_, slot)| {
-            renderer
-                .read_shadow_map(ShadowStorage::Cascades, slot)
-                .expect("a level")
-        })
-        .collect()
+    levels.sort_by_key(|v| (v.slot, v.kind.index));
+    levels.iter().map(|v| window_texels(app, v)).collect()
+}
+
+/// The layers of `app`'s first sun's levels, in level order, in their windows' order.
+pub fn first_sun_levels(app: &App, sun: bevy_ecs::entity::Entity) -> Vec<Vec<f32>> {
+    sun_levels(app, Some(sun))
 }
