@@ -80,7 +80,9 @@ impl Renderer {
 
     /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
     /// `side`² reverse-Z depths, row by row (None past the last layer or before any shadow map
-    /// of that storage exists). It waits for the GPU; for tests and debugging.
+    /// of that storage exists). A clipmap level whose layer wraps holds its window turned round
+    /// its origin ([`Scroll::origin`](crate::ecs::view_list::Scroll::origin)). It waits for
+    /// the GPU; for tests and debugging.
     pub fn read_shadow_map(&self, storage: ShadowStorage, layer: u32) -> Option<Vec<f32>> {
         let storage = self.shadows.array(storage);
         if storage.placeholder {
