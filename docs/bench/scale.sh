@@ -2,9 +2,10 @@
 # Reproduces the scale figures of docs/benchmarks.md ("A million casters"): the 100k field
 # (`assets/scenes/field.ron`), the 101 760 boxes of 2 120 sizes (`assets/bench/many_boxes.ron`)
 # and the million (`assets/bench/million.ron`) at 1920×1080, 30 frames: still, with every
-# shadow map drawn each frame (`--no-shadow-cache`), and with the camera stepping 0.37 m a
-# frame. With a second binary BASE, each run is repeated with it (the code before, in the same
-# session).
+# shadow map drawn each frame (`--no-shadow-cache`), with the camera stepping 0.37 m a frame,
+# and stepping so over the sun's clipmap (`--layout clipmap`: 6 levels, the finest 32 m) in
+# place of its cascades. With a second binary BASE, each run is repeated with it (the code
+# before, in the same session).
 #
 #   bash docs/bench/scale.sh [PENUMBRA] [OUT] [BASE]
 #
@@ -28,6 +29,7 @@ for scene in assets/scenes/field.ron assets/bench/many_boxes.ron assets/bench/mi
     render "$bin" "$s-$b-still" "$scene"
     render "$bin" "$s-$b-nocache" "$scene" --no-shadow-cache
     render "$bin" "$s-$b-moving" "$scene" --camera-step 0,0,-0.37
+    render "$bin" "$s-$b-clipmap-moving" "$scene" --camera-step 0,0,-0.37 --layout clipmap
   done
 done
 # One line per run: the shadow maps, the prepass, the lighting pass and the whole GPU frame
