@@ -12,6 +12,7 @@ pub mod casters;
 pub mod clear;
 pub mod depth_pass;
 pub mod gpu;
+mod groups;
 pub mod jobs;
 pub mod moment_storage;
 pub mod moments_pass;
@@ -34,7 +35,6 @@ use wgpu::util::DeviceExt;
 
 use crate::ecs::light_views::FrameLights;
 use crate::ecs::view_list::{ShadowViewKind, ShadowViews};
-use crate::layout::group::{Slot, bindings};
 use crate::layout::{ShadowStorage, StorageMoments};
 use crate::render::context::GpuContext;
 use crate::render::counters::RenderCounters;
@@ -46,6 +46,7 @@ use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_FLAG_CONTACT_ONLY, SINGLE_PASS_VIEWS, ShadowViewGpu,
     assign_resolve_layers, pack_lights, pack_view, wrap_origin,
 };
+use crate::render::shadows::groups::{caster_groups, shadow_group};
 use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::EntryGpu;
 use crate::render::shadows::page_pool::{PagePool, PoolKey};
@@ -133,68 +134,6 @@ fn write_if_changed(queue: &wgpu::Queue, buffer: &wgpu::Buffer, last: &mut Vec<u
     last.clear();
     last.extend_from_slice(data);
     true
-}
-
-/// The shadow bind group over `buffers` (lights, more lights, views, Poisson taps, page
-/// table), each storage's depth array and moments, and the resolved `visibility`: one entry
-/// per binding of [`bindings`].
-fn shadow_group(
-    device: &wgpu::Device,
-    layouts: &Layouts,
-    buffers: [&wgpu::Buffer; 5],
-    maps: &[Arc<DepthArray>; ShadowStorage::COUNT],
-    moments: &[Arc<MomentArray>; ShadowStorage::COUNT],
-    visibility: &VisibilityTarget,
-) -> wgpu::BindGroup {
-    let [lights, more_lights, views, taps, page_table] = buffers;
-    let entries: Vec<wgpu::BindGroupEntry> = bindings()
-        .enumerate()
-        .map(|(binding, b)| wgpu::BindGroupEntry {
-            binding: binding as u32,
-            resource: match b.slot {
-                Slot::Lights => lights.as_entire_binding(),
-                Slot::MoreLights => more_lights.as_entire_binding(),
-                Slot::Views => views.as_entire_binding(),
-                Slot::PoissonTaps => taps.as_entire_binding(),
-                Slot::CompareSampler => wgpu::BindingResource::Sampler(&layouts.shadow_compare),
-                Slot::PointSampler => wgpu::BindingResource::Sampler(&layouts.shadow_point),
-                Slot::WrapCompareSampler => wgpu::BindingResource::Sampler(&layouts.shadow_compare_wrap),
-                Slot::WrapPointSampler => wgpu::BindingResource::Sampler(&layouts.shadow_point_wrap),
-                Slot::MomentsSampler => wgpu::BindingResource::Sampler(&layouts.moments_sampler),
-                Slot::Resolved => wgpu::BindingResource::TextureView(&visibility.view),
-                Slot::Maps(s) => wgpu::BindingResource::TextureView(&maps[s.index()].array_view),
-                Slot::Moments(s) => wgpu::BindingResource::TextureView(&moments[s.index()].moments.sampled),
-                Slot::PageTable(_) => page_table.as_entire_binding(),
-            },
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("shadows"),
-        layout: &layouts.shadows,
-        entries: &entries,
-    })
-}
-
-/// The caster groups of one view and of a single-pass run of views over `buffer`.
-fn caster_groups(device: &wgpu::Device, layouts: &Layouts, buffer: &wgpu::Buffer) -> [wgpu::BindGroup; 2] {
-    let group = |label, layout, views: usize| {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new((views * size_of::<CasterViewGpu>()) as u64),
-                }),
-            }],
-        })
-    };
-    [
-        group("caster views", &layouts.caster_view, 1),
-        group("caster views (single pass)", &layouts.caster_views, SINGLE_PASS_VIEWS),
-    ]
 }
 
 impl ShadowResources {
