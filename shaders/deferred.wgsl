@@ -8,7 +8,7 @@
 //
 // Two entry points: a full-screen triangle (`vs_main`, `fs_main`) that discards the other
 // pixels over the colour the pass cleared, and, with DEFERRED_COMPUTE, a compute pass
-// (`cs_main`) that writes every pixel of the target's storage view: the lit colour, sRGB-
+// (`main`) that writes every pixel of the target's storage view: the lit colour, sRGB-
 // encoded, or the clear colour where the lighting pass draws (or nothing was drawn). On GPUs
 // whose fragment stage is slow next to their compute (the H200), the compute pass is the
 // cheaper of the two.
@@ -83,7 +83,7 @@ fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(camera_depth);
     if id.x >= size.x || id.y >= size.y {
         return;

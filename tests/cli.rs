@@ -35,6 +35,14 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Runs `penumbra args`, checks that the command line was refused (exit code 2), and returns
+/// what it printed to stderr.
+fn refused(args: &[&str]) -> String {
+    let out = penumbra(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+    stderr(&out)
+}
+
 fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
@@ -65,9 +73,7 @@ fn image_sizes_are_checked_when_the_command_line_is_parsed() {
         ("--height", "-3"),
     ] {
         let arg = format!("{flag}={value}");
-        let out = penumbra(&["render", "assets/scenes/default.ron", &arg]);
-        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {}", stderr(&out));
-        let err = stderr(&out);
+        let err = refused(&["render", "assets/scenes/default.ron", &arg]);
         assert!(
             err.contains(&format!("invalid value '{value}' for '{flag} <")),
             "{flag} {value}: {err}"
@@ -79,9 +85,7 @@ fn image_sizes_are_checked_when_the_command_line_is_parsed() {
 fn camera_lod_and_deferred_lighting_say_what_they_expect() {
     for value in ["-1", "17", "nan"] {
         let arg = format!("--camera-lod={value}");
-        let out = penumbra(&["render", "assets/scenes/default.ron", &arg]);
-        assert_eq!(out.status.code(), Some(2), "{value}: {}", stderr(&out));
-        let err = stderr(&out);
+        let err = refused(&["render", "assets/scenes/default.ron", &arg]);
         assert!(
             err.contains(&format!(
                 "invalid value '{value}' for '--camera-lod <CAMERA_LOD>': expected pixels from 0 to 16, found `{value}`"
@@ -89,9 +93,7 @@ fn camera_lod_and_deferred_lighting_say_what_they_expect() {
             "{value}: {err}"
         );
     }
-    let out = penumbra(&["render", "assets/scenes/default.ron", "--deferred-lighting", "maybe"]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let err = stderr(&out);
+    let err = refused(&["render", "assets/scenes/default.ron", "--deferred-lighting", "maybe"]);
     assert!(
         err.contains("invalid value 'maybe' for '--deferred-lighting <DEFERRED_LIGHTING>'")
             && err.contains("[possible values: auto, on, off]"),
@@ -102,18 +104,14 @@ fn camera_lod_and_deferred_lighting_say_what_they_expect() {
 #[test]
 #[cfg(feature = "viewer")]
 fn the_offscreen_viewer_needs_a_frame_count_and_a_sane_walk() {
-    let out = penumbra(&["view", "assets/scenes/default.ron", "--offscreen"]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let err = stderr(&out);
+    let err = refused(&["view", "assets/scenes/default.ron", "--offscreen"]);
     assert!(
         err.contains("the following required arguments were not provided") && err.contains("--exit-after <EXIT_AFTER>"),
         "{err}"
     );
     for value in ["0", "-1", "2000", "x"] {
         let arg = format!("--walk={value}");
-        let out = penumbra(&["view", "assets/scenes/default.ron", &arg]);
-        assert_eq!(out.status.code(), Some(2), "{value}: {}", stderr(&out));
-        let err = stderr(&out);
+        let err = refused(&["view", "assets/scenes/default.ron", &arg]);
         assert!(
             err.contains(&format!(
                 "invalid value '{value}' for '--walk <WALK>': expected metres from 0.001 to 1000, found `{value}`"
@@ -131,9 +129,7 @@ fn an_unknown_cascade_fit_names_the_fits_there_are() {
             args.push("assets/scenes/default.ron");
         }
         args.extend(["--fit", "loose"]);
-        let out = penumbra(&args);
-        assert_eq!(out.status.code(), Some(2), "{command}: {}", stderr(&out));
-        let err = stderr(&out);
+        let err = refused(&args);
         assert!(
             err.contains("invalid value 'loose' for '--fit <FIT>'")
                 && err.contains("[possible values: tight, stable, depth-bounds]"),

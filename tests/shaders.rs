@@ -74,7 +74,7 @@ fn every_deferred_variant_validates_and_binds_only_its_groups() {
             .unwrap_or_else(|e| panic!("{}: {e}", variant.label()));
         let entry_points: Vec<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
         let expected: &[&str] = if compute {
-            &["vs_main", "fs_main", "cs_main"]
+            &["vs_main", "fs_main", "main"]
         } else {
             &["vs_main", "fs_main"]
         };

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 use crate::render::frame::FrameContext;
 use crate::render::gpu_types::InstanceGpu;
 use crate::render::graph::{GraphResources, TextureId};
-use crate::render::layouts::{Layouts, camera_texture_entry, entry, storage};
+use crate::render::layouts::{Layouts, camera_texture_entry, entry, main_compute_pipeline, storage};
 use crate::render::scene_gpu::uniform_buffer;
 use crate::render::target::HEADLESS_STORAGE_FORMAT;
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -122,25 +122,19 @@ fn create_pipeline(
 ) -> Result<Pipeline, String> {
     let module = library.deferred(variant, compute).map_err(|e| e.to_string())?;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(DEFERRED_NAME),
-        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
-    });
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(DEFERRED_NAME),
-        bind_group_layouts: &[Some(&layouts.view), None, Some(inputs), Some(&layouts.shadows)],
-        immediate_size: 0,
-    });
+    let groups = [Some(&layouts.view), None, Some(inputs), Some(&layouts.shadows)];
     let pipeline = if compute {
-        Pipeline::Compute(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(DEFERRED_NAME),
-            layout: Some(&layout),
-            module: &shader,
-            entry_point: Some("cs_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        }))
+        Pipeline::Compute(main_compute_pipeline(device, DEFERRED_NAME, module, &groups))
     } else {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(DEFERRED_NAME),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(DEFERRED_NAME),
+            bind_group_layouts: &groups,
+            immediate_size: 0,
+        });
         Pipeline::Render(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(DEFERRED_NAME),
             layout: Some(&layout),

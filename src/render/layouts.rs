@@ -30,12 +30,12 @@ pub struct Layouts {
     pub material: wgpu::BindGroupLayout,
     /// Hardware comparison sampler for the shadow map (reverse-Z: lit when ref >= stored).
     pub shadow_compare: wgpu::Sampler,
+    /// Nearest sampler for raw shadow depth reads.
+    pub shadow_point: wgpu::Sampler,
     /// `shadow_compare` repeating at the edges (a wrapping clipmap layer).
     pub shadow_compare_wrap: wgpu::Sampler,
     /// `shadow_point` repeating at the edges.
     pub shadow_point_wrap: wgpu::Sampler,
-    /// Nearest sampler for raw shadow depth reads.
-    pub shadow_point: wgpu::Sampler,
     /// Bilinear, clamped sampler for VSM moments.
     pub moments_sampler: wgpu::Sampler,
     /// Trilinear, repeating sampler for material textures.
@@ -201,9 +201,9 @@ impl Layouts {
             instances,
             material,
             shadow_compare,
+            shadow_point,
             shadow_compare_wrap,
             shadow_point_wrap,
-            shadow_point,
             moments_sampler,
             material_sampler,
         }

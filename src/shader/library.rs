@@ -285,7 +285,7 @@ impl ShaderLibrary {
 
     /// The deferred lighting of the prepass's pixels (`deferred.wgsl`) for one forward
     /// variant: the shipped material's lighting, which it shares with the shipped forward
-    /// shader; `vs_main` and `fs_main`, and with `compute` also `cs_main` (writing a storage
+    /// shader; `vs_main` and `fs_main`, and with `compute` also `main` (writing a storage
     /// view of the target).
     pub fn deferred(&mut self, variant: ForwardVariant, compute: bool) -> Result<naga::Module, ShaderError> {
         let mut defs = variant.shader_defs();

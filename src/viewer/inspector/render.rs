@@ -7,22 +7,39 @@ use egui::Ui;
 use crate::ecs::view_lod::CameraLod;
 use crate::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
 
+/// A labelled row of radio buttons (`label` with its hover text) choosing `value` among
+/// `choices`.
+fn radio_row<T: PartialEq, const N: usize>(
+    ui: &mut Ui,
+    (label, hover): (&str, &str),
+    value: &mut T,
+    choices: [(T, &str); N],
+) {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(hover);
+        for (choice, name) in choices {
+            ui.radio_value(value, choice, name);
+        }
+    });
+}
+
 /// Draws the switches over `options`; true when one changed.
 pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
     let before = *options;
     let edited = options;
-    ui.horizontal(|ui| {
-        ui.label("depth prepass").on_hover_text(
+    radio_row(
+        ui,
+        (
+            "depth prepass",
             "write depth first, so the lighting pass shades each pixel once; auto: while the view has fewer triangles than pixels",
-        );
-        for (value, name) in [
+        ),
+        &mut edited.depth_prepass,
+        [
             (DepthPrepass::Auto, "auto"),
             (DepthPrepass::On, "on"),
             (DepthPrepass::Off, "off"),
-        ] {
-            ui.radio_value(&mut edited.depth_prepass, value, name);
-        }
-    });
+        ],
+    );
     ui.checkbox(&mut edited.shadow_cache, "shadow cache")
         .on_hover_text("keep shadow maps whose view and casters did not change; off: draw every map every frame");
     ui.checkbox(&mut edited.visibility_resolve, "compute resolve")
@@ -37,26 +54,28 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
     );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
-    ui.horizontal(|ui| {
-        ui.label("deferred lighting").on_hover_text(
+    radio_row(
+        ui,
+        (
+            "deferred lighting",
             "light the prepass's pixels of untextured opaque materials in one full-screen pass instead of drawing them again; auto: while the view has at least as many triangles as pixels",
-        );
-        for (value, name) in [
+        ),
+        &mut edited.deferred_lighting,
+        [
             (DeferredLighting::Auto, "auto"),
             (DeferredLighting::On, "on"),
             (DeferredLighting::Off, "off"),
-        ] {
-            ui.radio_value(&mut edited.deferred_lighting, value, name);
-        }
-    });
-    ui.horizontal(|ui| {
-        ui.label("MSAA").on_hover_text(
+        ],
+    );
+    radio_row(
+        ui,
+        (
+            "MSAA",
             "samples per pixel: smooth edges, and alpha-to-coverage for alpha-masked materials; 1× alpha-tests them",
-        );
-        for (value, name) in [(Msaa::Off, "1×"), (Msaa::Sample2, "2×"), (Msaa::Sample4, "4×")] {
-            ui.radio_value(&mut edited.msaa, value, name);
-        }
-    });
+        ),
+        &mut edited.msaa,
+        [(Msaa::Off, "1×"), (Msaa::Sample2, "2×"), (Msaa::Sample4, "4×")],
+    );
     *edited != before
 }
 
