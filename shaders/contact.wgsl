@@ -15,7 +15,7 @@
 #define_import_path penumbra::contact
 
 #import penumbra::contract::{LIGHT_DIRECTIONAL, SHADOW_FLAG_TEMPORAL}
-#import penumbra::frame::frame
+#import penumbra::frame::{frame, world_at}
 #import penumbra::normal_packing::unpack_normal
 #import penumbra::shadows::common::interleaved_gradient_noise
 #import penumbra::shadows::types::Light
@@ -42,13 +42,6 @@ const EDGE_ON_COSINE: f32 = 0.05;
 // occluded: the prepass's depth and normal are rounded.
 const DEPTH_TOLERANCE_PIXELS: f32 = 0.5;
 const GOLDEN_RATIO_FRACT: f32 = 0.618033988749;
-
-// The world point at `pixel` (in pixels, from the top left) and reverse-Z `depth`.
-fn world_at(pixel: vec2<f32>, depth: f32, size: vec2<u32>) -> vec3<f32> {
-    let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
-    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
-    return h.xyz / h.w;
-}
 
 // How far `point` lies behind the surface the camera saw at `pixel` (depth `depth`, unit
 // normal `normal`), metres along the camera's ray through `point`; negative in front of it.

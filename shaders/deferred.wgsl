@@ -14,7 +14,7 @@
 // cheaper of the two.
 #import penumbra::contract::{INSTANCE_FLAG_RECEIVE_SHADOWS, SHADING_ID_NONE}
 #import penumbra::forward_io::transmission_byte
-#import penumbra::frame::frame
+#import penumbra::frame::{frame, world_at}
 #import penumbra::lights::make_surface
 #import penumbra::mesh::Instance
 #import penumbra::normal_packing::unpack_normal
@@ -37,10 +37,7 @@ fn lit_pixel(pixel: vec2<i32>, frag_coord: vec2<f32>) -> vec4<f32> {
     }
     let instance = shaded_instances[id];
     let normal = unpack_normal(textureLoad(camera_normals, pixel, 0).r).xyz;
-    let size = vec2<f32>(textureDimensions(camera_depth));
-    let ndc = vec2<f32>(frag_coord.x / size.x * 2.0 - 1.0, 1.0 - frag_coord.y / size.y * 2.0);
-    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
-    let world = h.xyz / h.w;
+    let world = world_at(frag_coord, depth, textureDimensions(camera_depth));
     let view_depth = -(frame.view_from_world * vec4<f32>(world, 1.0)).z;
     let surface = make_surface(world, normal, view_depth, frag_coord);
     let receives = (instance.flags & INSTANCE_FLAG_RECEIVE_SHADOWS) != 0u;

@@ -7,7 +7,7 @@
 // limits (words 0 and 1, plain f32 bits) and every minimum at 0xffffffff, maximum at 0.
 //
 // With MSAA (MULTISAMPLED) the depth is multisampled and each pixel is read at sample 0.
-#import penumbra::frame::frame
+#import penumbra::frame::{frame, world_at}
 
 const BANDS: u32 = 32u;
 const WORDS: u32 = 196u;
@@ -46,9 +46,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
         // Reverse-Z: 0 is the far plane, where nothing was drawn.
         if depth > 0.0 {
             let pixel = vec2<f32>(id.xy) + 0.5;
-            let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
-            let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
-            let world = h.xyz / h.w;
+            let world = world_at(pixel, depth, size);
             let view_depth = -(frame.view_from_world * vec4<f32>(world, 1.0)).z;
             let near = bitcast<f32>(atomicLoad(&seen[0]));
             let far = bitcast<f32>(atomicLoad(&seen[1]));

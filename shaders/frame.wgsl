@@ -24,3 +24,11 @@ struct FrameUniforms {
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
+
+// The world point at `pixel` (in pixels, from the top left) and reverse-Z `depth` of a
+// camera target `size` pixels wide and high.
+fn world_at(pixel: vec2<f32>, depth: f32, size: vec2<u32>) -> vec3<f32> {
+    let ndc = vec2<f32>(pixel.x / f32(size.x) * 2.0 - 1.0, 1.0 - pixel.y / f32(size.y) * 2.0);
+    let h = frame.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}

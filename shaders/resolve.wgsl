@@ -14,9 +14,9 @@
 // surface's plane to the pixel centre, where the lighting pass shades: a pixel covered by one
 // surface resolves what the lighting pass would filter. A lighting-pass fragment on an edge
 // pixel whose sample 0 saw another surface reads that surface's shadow.
-#import penumbra::contact::{SAMPLE_POSITION, camera_depth, camera_normals, contact_visibility, world_at}
+#import penumbra::contact::{SAMPLE_POSITION, camera_depth, camera_normals, contact_visibility}
 #import penumbra::contract::{MAX_LIGHTS, RESOLVE_NONE, SHADOW_FLAG_CONTACT_ONLY}
-#import penumbra::frame::frame
+#import penumbra::frame::{frame, world_at}
 #import penumbra::lights::{filtered_visibility, light_count, light_incidence, make_surface}
 #import penumbra::normal_packing::{packed_transmits, unpack_normal}
 #import penumbra::shadows::bindings::lights
