@@ -108,8 +108,9 @@ pub struct ViewerSummary {
     pub adapter: String,
     /// Errors shown in the inspector on the last tick (rejected reloads, shader errors).
     pub errors: Vec<String>,
-    /// The GPU time of the newest timed frame after each frame drawn, ms (the sum of its
-    /// timed passes; 0 until a frame's timings have arrived).
+    /// In a run with a frame count (`exit_after`), the GPU time of the newest timed frame
+    /// after each frame drawn, ms (the sum of its timed passes; 0 until a frame's timings
+    /// have arrived); empty otherwise.
     pub gpu_ms: Vec<f32>,
     /// Offscreen: the wall time from the first frame's start to the GPU finishing the last.
     pub elapsed: std::time::Duration,

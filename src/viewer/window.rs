@@ -359,8 +359,11 @@ impl Viewer {
         state.renderer.last_report.pages = state.renderer.read_page_stats();
         self.inspector
             .record(&state.renderer.last_report, self.app.world().resource::<ShadowStats>());
-        let gpu_ms = state.renderer.last_report.passes.iter().fold(0.0, |ms, p| ms + p.ms);
-        self.summary.gpu_ms.push(gpu_ms as f32);
+        // NOTE: kept for scripted runs only: an open window would grow the list forever.
+        if self.options.exit_after.is_some() {
+            let gpu_ms = state.renderer.last_report.passes.iter().fold(0.0, |ms, p| ms + p.ms);
+            self.summary.gpu_ms.push(gpu_ms as f32);
+        }
         // NOTE: warnings are already logged by the renderer; errors stay on screen.
         state.renderer.take_warnings();
         let render_errors = state.renderer.take_errors();
