@@ -105,7 +105,7 @@ pub struct ShadowResources {
 pub struct Resolved {
     /// One layer per shadowed light.
     pub target: VisibilityTarget,
-    /// The shadow group with `target` at its [`Slot::Resolved`] binding.
+    /// The shadow group with `target` at its [`Slot::Resolved`](crate::layout::group::Slot::Resolved) binding.
     pub group: wgpu::BindGroup,
     /// Every shadowed light's layer holds its filtered shadow (none holds contact shadows
     /// alone), so the lighting pass may leave the filters out.
