@@ -1,16 +1,16 @@
-//! The command line as a user meets it: sizes and output paths are checked before any work,
-//! every failed write is a non-zero exit with the reason, nothing half-written is left, and
-//! `check` loads everything `render` would.
+//! The command line as a user meets it (values it refuses: `cli_values.rs`): sizes and output
+//! paths are checked before any work, every failed write is a non-zero exit with the reason,
+//! nothing half-written is left, and `check` loads everything `render` would.
+
+// NOTE: each test binary uses its own share of the helpers.
+#[allow(dead_code)]
+#[path = "common/cli_run.rs"]
+mod cli_run;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn penumbra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .args(args)
-        .output()
-        .expect("the penumbra binary runs")
-}
+use cli_run::{penumbra, stderr};
 
 /// The arguments of `penumbra render` of the default scene at 48×32, one frame.
 const SMALL_RENDER: [&str; 8] = [
@@ -29,18 +29,6 @@ fn small_render(extra: &[&str]) -> Output {
     let mut args = SMALL_RENDER.to_vec();
     args.extend_from_slice(extra);
     penumbra(&args)
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// Runs `penumbra args`, checks that the command line was refused (exit code 2), and returns
-/// what it printed to stderr.
-fn refused(args: &[&str]) -> String {
-    let out = penumbra(args);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
-    stderr(&out)
 }
 
 fn stdout(out: &Output) -> String {
@@ -62,80 +50,6 @@ fn files_in(dir: &Path) -> Vec<String> {
         .collect();
     names.sort();
     names
-}
-
-#[test]
-fn image_sizes_are_checked_when_the_command_line_is_parsed() {
-    for (flag, value) in [
-        ("--width", "0"),
-        ("--height", "0"),
-        ("--width", "40000"),
-        ("--height", "-3"),
-    ] {
-        let arg = format!("{flag}={value}");
-        let err = refused(&["render", "assets/scenes/default.ron", &arg]);
-        assert!(
-            err.contains(&format!("invalid value '{value}' for '{flag} <")),
-            "{flag} {value}: {err}"
-        );
-    }
-}
-
-#[test]
-fn camera_lod_and_deferred_lighting_say_what_they_expect() {
-    for value in ["-1", "17", "nan"] {
-        let arg = format!("--camera-lod={value}");
-        let err = refused(&["render", "assets/scenes/default.ron", &arg]);
-        assert!(
-            err.contains(&format!(
-                "invalid value '{value}' for '--camera-lod <CAMERA_LOD>': expected pixels from 0 to 16, found `{value}`"
-            )),
-            "{value}: {err}"
-        );
-    }
-    let err = refused(&["render", "assets/scenes/default.ron", "--deferred-lighting", "maybe"]);
-    assert!(
-        err.contains("invalid value 'maybe' for '--deferred-lighting <DEFERRED_LIGHTING>'")
-            && err.contains("[possible values: auto, on, off]"),
-        "{err}"
-    );
-}
-
-#[test]
-#[cfg(feature = "viewer")]
-fn the_offscreen_viewer_needs_a_frame_count_and_a_sane_walk() {
-    let err = refused(&["view", "assets/scenes/default.ron", "--offscreen"]);
-    assert!(
-        err.contains("the following required arguments were not provided") && err.contains("--exit-after <EXIT_AFTER>"),
-        "{err}"
-    );
-    for value in ["0", "-1", "2000", "x"] {
-        let arg = format!("--walk={value}");
-        let err = refused(&["view", "assets/scenes/default.ron", &arg]);
-        assert!(
-            err.contains(&format!(
-                "invalid value '{value}' for '--walk <WALK>': expected metres from 0.001 to 1000, found `{value}`"
-            )),
-            "{value}: {err}"
-        );
-    }
-}
-
-#[test]
-fn an_unknown_cascade_fit_names_the_fits_there_are() {
-    for command in ["render", "bench"] {
-        let mut args = vec![command];
-        if command == "render" {
-            args.push("assets/scenes/default.ron");
-        }
-        args.extend(["--fit", "loose"]);
-        let err = refused(&args);
-        assert!(
-            err.contains("invalid value 'loose' for '--fit <FIT>'")
-                && err.contains("[possible values: tight, stable, depth-bounds]"),
-            "{command}: {err}"
-        );
-    }
 }
 
 #[test]
