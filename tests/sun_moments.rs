@@ -269,11 +269,14 @@ fn a_constant_penumbra_stays_continuous_across_cascade_splits() {
         let off = (0.5 - lo).max(hi - 0.5);
         println!("{name}: largest step {jump:.4}, values {lo:.3}..{hi:.3}");
         // Measured on lavapipe: steps of at most 0.0203 between probes 10 cm apart; values
-        // at most 0.167 from the true 0.5 (16-bit EVSM2; the others 0.153).
+        // at most 0.167 from the true 0.5 (16-bit EVSM2; the others 0.153). How far they stray
+        // depends on where the maps' texels and mips fall on the wall: with the wall and the
+        // probes moved in 9 cm steps (8 places) EVSM2 in 32 bits reached 0.209 at `1d895d7`,
+        // EVSM4 0.180 and MSM in 32 bits 0.176.
         assert!(jump <= 0.06, "{name}: a step of {jump:.4} along a constant penumbra");
         assert!(
-            off <= 0.2,
-            "{name}: {lo:.3}..{hi:.3} along a penumbra centred on 0.5 (limit 0.2 from it)"
+            off <= 0.23,
+            "{name}: {lo:.3}..{hi:.3} along a penumbra centred on 0.5 (limit 0.23 from it)"
         );
     }
 }
