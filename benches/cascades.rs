@@ -82,6 +82,7 @@ fn frame_input() -> CascadeInput {
         fit: CascadeFit::Tight,
         angular_diameter: 0.0093,
         blend_width: 0.1,
+        snap_cells: 0,
         seen: None,
     }
 }

@@ -69,6 +69,10 @@ pub struct BenchArgs {
     /// Override how every scene's cascades are fitted: tight, stable or depth-bounds.
     #[arg(long, value_enum)]
     fit: Option<Fit>,
+    /// Override the fewest cells per side of the grid every scene's cascade boxes snap to,
+    /// 0-64.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
+    snap_cells: Option<u32>,
     /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
     #[arg(long, value_parser = sun_degrees, conflicts_with = "sun_diameters")]
     sun_diameter: Option<f32>,
@@ -148,6 +152,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         slope_bias: args.slope_bias,
         sun_diameter: args.sun_diameter,
         fit: args.fit.map(Into::into),
+        snap_cells: args.snap_cells,
         resolution: args.resolution,
         contact: args.contact_shadows,
     };

@@ -58,6 +58,12 @@ pub struct RenderArgs {
     /// depth-bounds (to the depths the camera saw, a frame or two late).
     #[arg(long, value_enum)]
     fit: Option<Fit>,
+    /// Fewest cells per side of the grid the sun's cascade boxes snap to, 0-64 (default: the
+    /// scene's, else 0: cells of the texels a box's rounded-up extent leaves spare): a moving
+    /// camera redraws a cascade only when its box crosses a cell; N makes cells at least 1/N
+    /// of a box, which grows by a cell.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
+    snap_cells: Option<u32>,
     /// Texels per side of every light's shadow maps (cascades, clipmap levels, spot maps, cube
     /// faces), 256-4096 (default: the scene's).
     #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
@@ -280,6 +286,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         moment_contact_hardening,
         sun_diameter,
         fit,
+        snap_cells,
         resolution,
         layout,
         clipmap_levels,
@@ -361,6 +368,9 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         }
         if let Some(fit) = fit {
             s.map.cascades.fit = fit.into();
+        }
+        if let Some(cells) = snap_cells {
+            s.map.cascades.snap_cells = cells;
         }
         if let Some(side) = resolution {
             s.map.resolution = side;

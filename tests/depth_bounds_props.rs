@@ -93,6 +93,7 @@ fn input(camera: CameraView, count: usize, lambda: f32, max_distance: f32, seen:
         fit: CascadeFit::DepthBounds,
         angular_diameter: 0.01,
         blend_width: 0.1,
+        snap_cells: 0,
         seen,
     }
 }

@@ -126,9 +126,10 @@ fn input() -> BoxedStrategy<CascadeInput> {
         prop_oneof![Just(512u32), Just(1024), Just(2048), Just(4096)],
         fit(),
         0.0f32..0.1,
+        prop_oneof![Just(0u32), Just(8), Just(16), Just(64)],
     )
         .prop_map(
-            |(camera, light_direction, scene_bounds, count, lambda, dist, resolution, fit, ad)| {
+            |(camera, light_direction, scene_bounds, count, lambda, dist, resolution, fit, ad, snap_cells)| {
                 CascadeInput {
                     camera,
                     light_direction,
@@ -142,6 +143,7 @@ fn input() -> BoxedStrategy<CascadeInput> {
                     fit,
                     angular_diameter: ad,
                     blend_width: 0.1,
+                    snap_cells,
                     seen: None,
                 }
             },
@@ -202,9 +204,10 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
         prop_oneof![Just(0u32), Just(1), Just(u32::MAX), any::<u32>()],
         fit(),
         finite_f32(),
+        prop_oneof![Just(0u32), Just(16), Just(u32::MAX), any::<u32>()],
     )
         .prop_map(
-            |(camera, dir, bounds, count, (lambda, dist), res, fit, ad)| CascadeInput {
+            |(camera, dir, bounds, count, (lambda, dist), res, fit, ad, snap_cells)| CascadeInput {
                 camera,
                 light_direction: dir,
                 scene_bounds: bounds,
@@ -216,6 +219,7 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
                 fit,
                 angular_diameter: ad,
                 blend_width: 0.1,
+                snap_cells,
                 seen: None,
             },
         )

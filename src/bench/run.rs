@@ -100,6 +100,8 @@ pub struct SettingsOverrides {
     pub sun_diameter: Option<f32>,
     /// How every scene's cascades are fitted.
     pub fit: Option<CascadeFit>,
+    /// Cells per side of the grid every scene's cascade boxes snap to.
+    pub snap_cells: Option<u32>,
     /// Every scene's shadow-map resolution (texels per side).
     pub resolution: Option<u32>,
     /// Every light's contact shadows (the `-contact` presets use them instead of the
@@ -125,6 +127,9 @@ impl SettingsOverrides {
         }
         if let Some(fit) = self.fit {
             s.map.cascades.fit = fit;
+        }
+        if let Some(cells) = self.snap_cells {
+            s.map.cascades.snap_cells = cells;
         }
         if let Some(resolution) = self.resolution {
             s.map.resolution = resolution;

@@ -276,6 +276,7 @@ pub fn update_frame_lights(
                     fit: sun.settings.map.cascades.fit,
                     angular_diameter: sun.light.angular_diameter,
                     blend_width: sun.settings.map.cascades.blend_width,
+                    snap_cells: sun.settings.map.cascades.snap_cells,
                     seen: seen.relative_to(origin.0),
                 });
             }

@@ -1,7 +1,8 @@
 //! Receiver-bounded caster culling for cascades ([`crate::math::receivers`]): each sun's
 //! cascade boxes, as culling sees them, shrink to the light-space bounds of the receivers in
-//! the camera's frustum and their slice (grown by the filter's reach), so casters whose shadow
-//! cannot land on anything the camera sees are not drawn. Receivers are taken by culling
+//! the camera's frustum and their slice (grown by the filter's reach, and widened to whole
+//! cells where the boxes snap to a coarse grid), so casters whose shadow cannot land on
+//! anything the camera sees are not drawn. Receivers are taken by culling
 //! chunk; recomputed only when the camera, the instance list or the sun's cascades change.
 
 use bevy_ecs::resource::Resource;
@@ -17,7 +18,7 @@ use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunk_groups::{frustum_test, visit_groups};
 use crate::math::chunks::CHUNK;
 use crate::math::frustum::{Frustum, slice_corners};
-use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers};
+use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers, snap_to_grid};
 use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 
 /// A chunk whose sphere is larger than this fraction of the largest slice's half extent is
@@ -172,8 +173,11 @@ impl ReceiverCache {
                 );
                 for (cascade, bound) in set.cascades.iter_mut().zip(&self.bounds) {
                     let reach = FILTER_REACH_TEXELS * cascade.texel_world_size;
-                    (cascade.light_min, cascade.light_max) =
-                        shrink_to_receivers(cascade.light_min, cascade.light_max, bound, reach);
+                    let whole = (cascade.light_min, cascade.light_max);
+                    let shrunk = shrink_to_receivers(whole.0, whole.1, bound, reach);
+                    // NOTE: a box that holds while the camera moves within a cell culls to
+                    // whole cells too, so its casters (and its map) hold with it.
+                    (cascade.light_min, cascade.light_max) = snap_to_grid(shrunk, cascade.hold_grid, whole);
                 }
             }
             if i < self.keys.len() {

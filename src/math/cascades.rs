@@ -6,14 +6,15 @@ use glam::{DMat3, DVec3, DVec4, Mat3, Mat4, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::math::aabb::Aabb;
-use crate::math::clip::clipped_bounds;
-use crate::math::frustum::{CameraBasis, CameraView};
+use crate::math::cascade_coverage::{Coverage, receivers_from_camera, stable_coverage, tight_coverage};
+use crate::math::frustum::CameraView;
 use crate::math::light_space::light_rotation;
 use crate::math::pcss::pcss_params_f64;
 use crate::math::seen_depths::SeenDepths;
-use crate::math::snapping::{TexelSnap, f32_down, f32_sat, f32_up, snap_interval};
+use crate::math::snapping::{TexelSnap, f32_down, f32_sat, f32_up, quantize_extent_up, snap_interval, snap_outwards};
 use crate::math::splits::wide_view_splits;
 
+pub use crate::math::cascade_coverage::FILTER_REACH_TEXELS;
 pub use crate::math::splits::MAX_CASCADES;
 
 /// The most views a sun's set holds: [`MAX_CASCADES`] cascades, or up to this many clipmap
@@ -46,6 +47,11 @@ pub enum CascadeFit {
 /// box size never depends on the camera position. The published f32 bounds stay ordered
 /// even when this is below an f32 ulp, because they are rounded outwards.
 pub const MIN_BOX_EXTENT: f64 = 1.0e-4;
+
+/// Steps a cascade's depth range snaps to: its near and far planes move in steps of
+/// `1 / HOLD_DEPTH_STEPS` of it (rounded onto the extent grid), so a camera moving less than
+/// that keeps them (the range grows by under 1/64, 1.6 %).
+pub const HOLD_DEPTH_STEPS: f64 = 64.0;
 
 /// Furthest (world units) the near plane of a cascade is pushed towards the light to reach
 /// the scene's casters. Casters beyond it are still drawn when depth clamping is on.
@@ -87,6 +93,14 @@ pub struct CascadeInput {
     /// cascade after the first also covers that band of its predecessor, so blended pixels
     /// find both cascades' data.
     pub blend_width: f32,
+    /// Fewest cells per side of the grid each box starts on (0: no fewest). A box holds
+    /// still, and its map need not be drawn again, while the camera moves within a cell. A
+    /// cell is the whole texels the box's extent, rounded up onto its grid, leaves over what
+    /// it must cover (free: the rounding wastes them anyway; a single texel where it leaves
+    /// none), or `1 / snap_cells` of the box where that is more, the box then one such cell
+    /// wider to pay for it; at most a quarter of the box. The depth range snaps to steps of
+    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself.
+    pub snap_cells: u32,
     /// What an earlier frame's camera saw, for [`CascadeFit::DepthBounds`] (ignored by the
     /// other fits; None fits as Tight). Its world boxes are in this input's world frame.
     pub seen: Option<SeenDepths>,
@@ -125,6 +139,11 @@ pub struct Cascade {
     /// (the box reaches up to the scene's casters). Moment techniques spend their precision
     /// on that span.
     pub receiver_start: f32,
+    /// The grid the box snapped to ([`CascadeInput::snap_cells`]): `x`, `y` the world size
+    /// of a cell, `z` the depth step (zero for clipmap levels). Culling widens its
+    /// receiver-bounded volume to it ([`crate::math::receivers::snap_to_grid`]) so that volume, too, holds
+    /// while the camera moves within a cell.
+    pub hold_grid: Vec3,
 }
 
 /// The cascades of one frame.
@@ -214,6 +233,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
         camera: rot * basis.position,
         caster_top: caster_top(&rot, &input.scene_bounds),
         resolution: f64::from(input.resolution.max(2)),
+        cells: f64::from(input.snap_cells),
     };
 
     let mut cascades = [Cascade::default(); MAX_SUN_VIEWS];
@@ -294,112 +314,6 @@ fn seen_receivers(seen: &SeenDepths, receivers: &Aabb, near: f32, far: f32) -> A
     if cut.is_empty() { *receivers } else { cut }
 }
 
-/// What a cascade box must cover, relative to the camera position in the light frame.
-struct Coverage {
-    /// Smallest light-space offset from the camera to cover.
-    lo: DVec3,
-    /// Largest light-space offset from the camera to cover.
-    hi: DVec3,
-    /// The light-most offset of the whole slice (or sphere), receivers or not: the box's
-    /// light side reaches at least this far, so that only casters rising above it (not
-    /// receivers moving) change the box's depth.
-    top: f64,
-}
-
-/// How far, in texels of a cascade, shadow filters read around a receiver: the widest PCSS
-/// kernel (32 texels) plus the largest PCF radius and the normal offset, rounded up. A box
-/// fitted to its receivers keeps this margin around them laterally, so no filter reads past
-/// its edge.
-pub const FILTER_REACH_TEXELS: f64 = 48.0;
-
-impl Coverage {
-    /// This coverage cut laterally to `[lo, hi]` (the part of it that receives shadows),
-    /// grown by [`FILTER_REACH_TEXELS`] of the box it makes at `resolution` texels but never
-    /// past this coverage; its depth keeps this coverage's far side and top, and its `hi.z`
-    /// becomes the receivers' top (where the receivers start in depth).
-    fn clipped(&self, lo: DVec3, hi: DVec3, resolution: f64) -> Coverage {
-        // NOTE: the margin is a share of the grown box: w' = w + 2·reach·w'/res.
-        let share = (2.0 * FILTER_REACH_TEXELS / resolution.max(2.0 * FILTER_REACH_TEXELS + 1.0)).min(0.5);
-        let grow = (hi - lo) * (0.5 * share / (1.0 - share));
-        let margin = DVec3::new(grow.x, grow.y, 0.0);
-        // NOTE: the far side stays the whole slice's: raised to the receivers' bottom, it
-        // changed the hardware bias's clamp in metres (a share of the box's depth) and with
-        // it which texels PCSS finds at the rim of umbrae.
-        let lo = (lo - margin).max(self.lo);
-        Coverage {
-            lo: DVec3::new(lo.x, lo.y, self.lo.z),
-            hi: (hi + margin).min(self.hi),
-            top: self.top,
-        }
-    }
-}
-
-/// The receivers' box as offsets from the camera position `camera`, if usable.
-fn receivers_from_camera(bounds: &Aabb, camera: DVec3) -> Option<(DVec3, DVec3)> {
-    if bounds.is_empty() || !bounds.is_finite() {
-        return None;
-    }
-    Some((bounds.min.as_dvec3() - camera, bounds.max.as_dvec3() - camera))
-}
-
-/// Tight fit: the light-space bounds of the slice corners, or of the slice's part inside the
-/// receivers' box where they meet, as offsets from the camera.
-fn tight_coverage(
-    basis: &CameraBasis,
-    rot: &DMat3,
-    (near, far): (f64, f64),
-    receivers: Option<(DVec3, DVec3)>,
-    resolution: f64,
-) -> Coverage {
-    // NOTE: the corners are taken relative to the camera *before* rotating, so the extents
-    // do not depend on the camera position at all: translating the camera cannot change
-    // the box size, not even by a rounding error (unless the receivers' box clips it).
-    let corners = basis.slice_offsets(near, far);
-    let offsets = corners.map(|o| *rot * o);
-    let lo = offsets.iter().fold(DVec3::INFINITY, |a, &o| a.min(o));
-    let hi = offsets.iter().fold(DVec3::NEG_INFINITY, |a, &o| a.max(o));
-    let whole = Coverage { lo, hi, top: hi.z };
-    match receivers.and_then(|(min, max)| clipped_bounds(&corners, min, max, rot)) {
-        Some((lo, hi)) => whole.clipped(lo, hi, resolution),
-        None => whole,
-    }
-}
-
-/// Stable fit: a sphere around the camera reaching the slice's farthest corner, cut to the
-/// light-space bounds of the receivers' box where they meet (both are fixed while the camera
-/// turns in place).
-fn stable_coverage(
-    basis: &CameraBasis,
-    rot: &DMat3,
-    far: f64,
-    receivers: Option<(DVec3, DVec3)>,
-    resolution: f64,
-) -> Coverage {
-    // NOTE: the radius is computed from the projection parameters, not from rotated corner
-    // positions, so it is bit-identical for every camera orientation.
-    let radius = far * (1.0 + basis.tan_half_x * basis.tan_half_x + basis.tan_half_y * basis.tan_half_y).sqrt();
-    let (lo, hi) = (DVec3::splat(-radius), DVec3::splat(radius));
-    if let Some((min, max)) = receivers {
-        let corners: [DVec3; 8] = std::array::from_fn(|i| {
-            DVec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            )
-        });
-        let (blo, bhi) = corners
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &c| {
-                (a.min(*rot * c), b.max(*rot * c))
-            });
-        let (clo, chi) = (lo.max(blo), hi.min(bhi));
-        if clo.cmple(chi).all() {
-            return Coverage { lo, hi, top: hi.z }.clipped(clo, chi, resolution);
-        }
-    }
-    Coverage { lo, hi, top: hi.z }
-}
-
 /// The top (towards the light) of the caster bounds in the light frame, if usable.
 fn caster_top(rot: &DMat3, bounds: &Aabb) -> Option<f64> {
     if bounds.is_empty() || !bounds.is_finite() {
@@ -423,6 +337,8 @@ struct Frame {
     caster_top: Option<f64>,
     /// Shadow-map resolution (at least 2).
     resolution: f64,
+    /// Fewest cells per side of the grid boxes start on (0: no fewest).
+    cells: f64,
 }
 
 impl Frame {
@@ -432,17 +348,41 @@ impl Frame {
         let hi = self.camera + cov.hi;
         let spread = cov.hi - cov.lo;
 
-        let x = snap_interval(lo.x, spread.x, self.resolution, MIN_BOX_EXTENT);
-        let y = snap_interval(lo.y, spread.y, self.resolution, MIN_BOX_EXTENT);
+        let min_cell = if self.cells > 0.0 {
+            (self.resolution / self.cells).floor()
+        } else {
+            1.0
+        };
+        let x = snap_interval(lo.x, spread.x, self.resolution, MIN_BOX_EXTENT, min_cell);
+        let y = snap_interval(lo.y, spread.y, self.resolution, MIN_BOX_EXTENT, min_cell);
 
         // Depth: far side at the coverage bottom, near side at the whole slice's top raised
-        // to the casters' top.
+        // to the casters' top, both widened to whole depth steps.
         let slice_top = self.camera.z + cov.top;
         let z_max = match self.caster_top {
             Some(top) => slice_top.max(top.min(slice_top + MAX_CASTER_REACH)),
             None => slice_top,
         };
-        let depth_range = (z_max - lo.z).max(MIN_BOX_EXTENT);
+        // NOTE: a step of the whole depth range (rounded onto the extent grid, so it holds
+        // while the range changes a little), not of the slice's: the near plane usually sits
+        // at the casters' top, far above a near cascade's slice, and a step of the slice's
+        // depth moved the far side every few frames. No longer than a lateral cell: under a
+        // low sun the range is far deeper than the box is wide, and a 64th of it added bias
+        // in metres enough to open leaks at the casters' feet (the hard cases' 0.5° sun).
+        let depth_step =
+            (quantize_extent_up(z_max - lo.z) / HOLD_DEPTH_STEPS).min((x.cell * x.texel).min(y.cell * y.texel));
+        let snapped = snap_outwards(lo.z, z_max, depth_step);
+        // NOTE: a near side at the casters' top does not move with the camera: it keeps its
+        // place, so the range grows by under one step, not two. Near the end of f32's range
+        // a step can carry a bound past it; such a box keeps its exact depth.
+        let top = if z_max > slice_top { z_max } else { snapped.1 };
+        let limit = f64::from(f32::MAX) / 4.0;
+        let (z_far, z_max) = if snapped.0 > -limit && top < limit {
+            (snapped.0, top)
+        } else {
+            (lo.z, z_max)
+        };
+        let depth_range = (z_max - z_far).max(MIN_BOX_EXTENT);
         let z_min = z_max - depth_range;
 
         let pcss = pcss_params_f64(angular_diameter, x.width, y.width, depth_range);
@@ -464,6 +404,11 @@ impl Frame {
             uv_scale_y: pcss.uv_scale_y,
             // NOTE: rounded down, so the span it starts is never shorter than the slice's.
             receiver_start: f32_down(receiver_start).clamp(0.0, 1.0),
+            hold_grid: Vec3::new(
+                f32_sat(x.cell * x.texel),
+                f32_sat(y.cell * y.texel),
+                f32_sat(depth_step),
+            ),
         }
     }
 

@@ -28,6 +28,7 @@ fn input(fit: CascadeFit) -> CascadeInput {
         fit,
         angular_diameter: 0.0093,
         blend_width: 0.0,
+        snap_cells: 0,
         seen: None,
     }
 }
@@ -100,9 +101,12 @@ fn near_plane_reaches_the_scene_casters() {
         ..inp
     });
     for (a, b) in bare.active().iter().zip(set.active()) {
-        assert_eq!(a.receiver_start, 0.0);
+        // The receivers start at its light side, raised by under a depth step.
+        assert!(a.receiver_start * a.depth_range <= a.hold_grid.z, "{a:?}");
         assert!(a.depth_range < b.depth_range);
-        assert_eq!(a.light_min.z, b.light_min.z);
+        // Both far sides are the slice's, each snapped down by less than its depth step.
+        let step = a.hold_grid.z.max(b.hold_grid.z);
+        assert!((a.light_min.z - b.light_min.z).abs() <= step, "{a:?} {b:?}");
     }
 }
 
@@ -186,6 +190,69 @@ fn degenerate_inputs_stay_finite() {
             assert!(c.light_max.is_finite(), "{c:?}");
             assert!(c.texel_world_size > 0.0 && c.depth_range > 0.0, "{c:?}");
             assert!(c.light_max.cmpgt(c.light_min).all(), "{c:?}");
+        }
+    }
+}
+
+/// How many of `frames` steps of `step` metres along the camera's view change each
+/// cascade's matrix, with `snap_cells` cells; each frame's slices are checked to lie inside
+/// their boxes.
+fn walk_changes(fit: CascadeFit, snap_cells: u32, frames: usize, step: f32) -> [usize; MAX_CASCADES] {
+    let mut inp = input(fit);
+    inp.snap_cells = snap_cells;
+    let forward = -inp.camera.world_from_view.z_axis.truncate() * step;
+    let mut last = compute_cascades(&inp);
+    let mut changes = [0; MAX_CASCADES];
+    for _ in 0..frames {
+        inp.camera.world_from_view.w_axis += forward.extend(0.0);
+        let set = compute_cascades(&inp);
+        for (i, c) in set.active().iter().enumerate() {
+            changes[i] += usize::from(c.clip_from_world != last.cascades[i].clip_from_world);
+            for p in slice_corners(&inp.camera, c.near, c.far) {
+                let q = project(c.clip_from_world, p);
+                assert!(q.x.abs() <= 1.0 + 1e-5 && q.y.abs() <= 1.0 + 1e-5, "{i} {q}");
+                assert!(q.z >= -1e-5 && q.z <= 1.0 + 1e-5, "{i} {q}");
+            }
+        }
+        last = set;
+    }
+    changes
+}
+
+#[test]
+fn boxes_hold_while_the_camera_walks_within_a_cell() {
+    for fit in [CascadeFit::Tight, CascadeFit::Stable] {
+        let free = walk_changes(fit, 0, 100, 0.37);
+        let cells = walk_changes(fit, 16, 100, 0.37);
+        println!("{fit:?}: matrices changed in 100 frames, free cells {free:?}, 16 cells {cells:?}");
+        // A box moves once per cell crossed (laterally or in depth), so the widest cascade
+        // moves least; 16 cells (a 16th of a box) move it a few times in 37 m.
+        assert!(free.iter().sum::<usize>() < 300, "{free:?}");
+        assert!(cells[0] < 100 && cells[3] <= 12, "{cells:?}");
+        assert!(cells[3] <= cells[0] && free[3] <= free[0], "{cells:?} {free:?}");
+        assert!(
+            cells.iter().sum::<usize>() < free.iter().sum::<usize>(),
+            "{cells:?} {free:?}"
+        );
+    }
+}
+
+#[test]
+fn a_held_box_reports_its_grid() {
+    let mut inp = input(CascadeFit::Tight);
+    for (cells, fewest) in [(0, 1.0), (16, 128.0)] {
+        inp.snap_cells = cells;
+        for c in compute_cascades(&inp).active() {
+            // A cell is whole texels, at least 2048 / 16 = 128 with 16 cells; the box starts
+            // on one.
+            let texels = c.hold_grid.x / c.texel_world_size;
+            assert!(
+                texels >= fewest - 1e-3 && (texels - texels.round()).abs() < 1e-3,
+                "{texels}"
+            );
+            assert!(c.hold_grid.z > 0.0);
+            let start = c.light_min.x / c.hold_grid.x;
+            assert!((start - start.round()).abs() < 1e-3, "{start}");
         }
     }
 }

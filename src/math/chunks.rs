@@ -424,6 +424,7 @@ mod tests {
             fit: CascadeFit::Tight,
             angular_diameter: 0.01,
             blend_width: 0.0,
+            snap_cells: 0,
             seen: None,
         })
     }

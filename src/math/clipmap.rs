@@ -316,6 +316,7 @@ pub fn clipmap_cascades(set: &ClipmapSet, angular_diameter: f32) -> CascadeSet {
             pcss_scale: pcss.pcss_scale,
             uv_scale_y: pcss.uv_scale_y,
             receiver_start: 0.0,
+            hold_grid: Vec3::ZERO,
         };
     }
     out.splits = [end; MAX_CASCADES + 1];

@@ -11,6 +11,7 @@
 
 pub mod aabb;
 pub mod animation;
+pub mod cascade_coverage;
 pub mod cascades;
 pub mod chunk_groups;
 pub mod chunks;

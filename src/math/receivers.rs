@@ -84,6 +84,22 @@ pub fn shrink_to_receivers(min: Vec3, max: Vec3, receivers: &Aabb, reach: f32) -
     (lo, hi)
 }
 
+/// The cull box `(min, max)` from [`shrink_to_receivers`] widened to whole cells of `grid`
+/// (`x`, `y` cell sizes, `z` the depth step; [`Cascade::hold_grid`]) and cut back to the
+/// cascade's `bounds`, so it changes only when the receivers' bounds cross a cell, not every
+/// time they move. Unchanged where `grid` is zero or the box is empty.
+///
+/// [`Cascade::hold_grid`]: crate::math::cascades::Cascade::hold_grid
+pub fn snap_to_grid((min, max): (Vec3, Vec3), grid: Vec3, bounds: (Vec3, Vec3)) -> (Vec3, Vec3) {
+    if grid.cmple(Vec3::ZERO).any() || !grid.is_finite() || min.cmpgt(max).any() {
+        return (min, max);
+    }
+    let lo = ((min / grid).floor() * grid).max(bounds.0);
+    let hi = ((max / grid).ceil() * grid).min(bounds.1);
+    // NOTE: the side towards the light stays the box's (see shrink_to_receivers).
+    (lo.min(min), Vec3::new(hi.x, hi.y, max.z).max(max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -153,6 +169,30 @@ mod tests {
                 max: Vec3::new(10.0, 0.0, 0.0),
             }
         );
+    }
+
+    #[test]
+    fn the_cull_box_widens_to_the_grid_and_holds_within_a_cell() {
+        let bounds = (Vec3::new(-50.0, -50.0, -100.0), Vec3::new(50.0, 50.0, 100.0));
+        let grid = Vec3::new(4.0, 2.0, 8.0);
+        let a = snap_to_grid((Vec3::new(-5.0, 9.0, -21.0), Vec3::new(6.0, 21.0, 100.0)), grid, bounds);
+        assert_eq!(a, (Vec3::new(-8.0, 8.0, -24.0), Vec3::new(8.0, 22.0, 100.0)));
+        // Moved within the cells: the same box.
+        let b = snap_to_grid((Vec3::new(-7.5, 8.5, -23.0), Vec3::new(7.9, 21.5, 100.0)), grid, bounds);
+        assert_eq!(a, b);
+        // Never past the cascade's box, never smaller than what it widens.
+        let c = snap_to_grid(
+            (Vec3::new(-49.0, 9.0, -99.0), Vec3::new(49.5, 21.0, 100.0)),
+            grid,
+            bounds,
+        );
+        assert_eq!(c.0, Vec3::new(-50.0, 8.0, -100.0));
+        assert_eq!(c.1.x, 50.0);
+        // No grid, or nothing to cull: unchanged.
+        let empty = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        assert_eq!(snap_to_grid(empty, grid, bounds), empty);
+        let d = (Vec3::new(-5.0, 9.0, -21.0), Vec3::new(6.0, 21.0, 100.0));
+        assert_eq!(snap_to_grid(d, Vec3::ZERO, bounds), d);
     }
 
     #[test]

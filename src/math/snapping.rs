@@ -35,6 +35,8 @@ pub struct TexelSnap {
     pub width: f64,
     /// World size of one texel, `width / resolution`.
     pub texel: f64,
+    /// Texels per cell of the grid the start lies on (`first_texel` is a multiple of it).
+    pub cell: f64,
 }
 
 impl TexelSnap {
@@ -50,21 +52,65 @@ impl TexelSnap {
 }
 
 /// Stabilises the interval `[lo, lo + spread]` along one light-space axis for a shadow map
-/// of `resolution` texels (at least 2).
+/// of `resolution` texels (at least 2), its start on a grid of cells of a power-of-two
+/// number of texels.
 ///
-/// The width is `quantize_extent_up(max(spread · res / (res − 1), min_width))` (the extra
-/// texel pays for moving the start down onto the grid) and the start is `lo` rounded down to
-/// a multiple of `width / res`, so the result covers the interval. `spread` should be
-/// computed without the camera position, so that a pure translation leaves the width, and
-/// with it the texel grid, bit-identical.
-pub fn snap_interval(lo: f64, spread: f64, resolution: f64, min_width: f64) -> TexelSnap {
+/// The width is `quantize_extent_up(max(spread · res / (res − min_cell), min_width))` (the
+/// extra `min_cell` texels pay for moving the start down onto the grid; `min_cell` is raised
+/// to a power of two and clamped into `1..=resolution / 4`) and a cell is the largest power of
+/// two of whole texels that the width leaves over the spread (at least `min_cell`, at most a
+/// quarter of the map): the width is rounded up anyway, and the slack that leaves lets the
+/// box hold still while `lo` moves within a cell, at no cost in texels. The start is `lo`
+/// rounded down to a whole cell, so the result covers the interval; with a cell of `2^k`
+/// texels, the map's mip level `k` keeps its texels' world positions as the box moves.
+/// `spread` should be computed without the camera position, so that a pure translation leaves
+/// the width, the cell and the texel grid bit-identical.
+pub fn snap_interval(lo: f64, spread: f64, resolution: f64, min_width: f64, min_cell: f64) -> TexelSnap {
     let res = resolution.max(2.0);
-    let width = quantize_extent_up((spread * res / (res - 1.0)).max(min_width));
+    let most = pow2_floor((res / 4.0).max(1.0));
+    let min_cell = pow2_ceil(min_cell.max(1.0)).min(most);
+    let width = quantize_extent_up((spread * res / (res - min_cell)).max(min_width));
     let texel = width / res;
+    // NOTE: shrunk by a part in a billion so rounding never makes a cell the slack misses.
+    let slack = (width - spread.max(0.0)) / texel * (1.0 - 1e-9);
+    let cell = if slack.is_finite() && slack >= 1.0 {
+        pow2_floor(slack).clamp(min_cell, most)
+    } else {
+        min_cell
+    };
     TexelSnap {
-        first_texel: (lo / texel).floor(),
+        first_texel: (lo / (texel * cell)).floor() * cell,
         width,
         texel,
+        cell,
+    }
+}
+
+/// The largest power of two not above `x` (`x` at least 1 and finite).
+fn pow2_floor(x: f64) -> f64 {
+    let mut p = x.log2().floor().exp2();
+    // NOTE: log2 rounds; step back or on so the result is exact.
+    while p > x {
+        p *= 0.5;
+    }
+    while p * 2.0 <= x {
+        p *= 2.0;
+    }
+    p
+}
+
+/// The smallest power of two not below `x` (`x` at least 1 and finite).
+fn pow2_ceil(x: f64) -> f64 {
+    let p = pow2_floor(x);
+    if p < x { p * 2.0 } else { p }
+}
+
+/// `[lo, hi]` widened to whole multiples of `step` (unchanged where `step` is not positive).
+pub fn snap_outwards(lo: f64, hi: f64, step: f64) -> (f64, f64) {
+    if step > 0.0 && step.is_finite() {
+        ((lo / step).floor() * step, (hi / step).ceil() * step)
+    } else {
+        (lo, hi)
     }
 }
 
@@ -121,25 +167,88 @@ mod tests {
             (-1e6, 0.001, 4096.0),
             (0.0, 1.0, 2.0),
         ] {
-            let s = snap_interval(lo, spread, res, 0.0);
+            let s = snap_interval(lo, spread, res, 0.0, 1.0);
             assert!(s.min() <= lo, "{s:?}");
             assert!(s.max() >= lo + spread, "{s:?}");
-            assert!(s.min() > lo - s.texel * 1.000001, "{s:?}");
+            assert!(s.min() > lo - s.cell * s.texel * 1.000001, "{s:?}");
             assert_eq!(s.first_texel, s.first_texel.round());
+            assert_eq!(s.first_texel % s.cell, 0.0, "{s:?}");
+            // The cell is a power of two of the texels the rounded width leaves spare.
+            assert!(s.cell >= 1.0 && s.cell * s.texel <= s.width - spread, "{s:?}");
+            assert_eq!(s.cell, s.cell.log2().round().exp2(), "{s:?}");
             assert_eq!(s.texel, s.width / res);
         }
     }
 
     #[test]
     fn translation_moves_the_start_by_whole_texels() {
-        let a = snap_interval(10.0, 7.0, 1024.0, 0.0);
-        let b = snap_interval(10.0 + 0.3 * a.texel, 7.0, 1024.0, 0.0);
-        let c = snap_interval(10.0 + 5.7 * a.texel, 7.0, 1024.0, 0.0);
+        let a = snap_interval(10.0, 7.0, 1024.0, 0.0, 1.0);
+        let b = snap_interval(10.0 + 0.3 * a.texel, 7.0, 1024.0, 0.0, 1.0);
+        let c = snap_interval(10.0 + 5.7 * a.texel, 7.0, 1024.0, 0.0, 1.0);
         assert_eq!(a.width, b.width);
         let db = b.first_texel - a.first_texel;
         let dc = c.first_texel - a.first_texel;
-        assert!(db == 0.0 || db == 1.0);
-        assert!(dc == 5.0 || dc == 6.0);
+        assert_eq!((a.cell, b.cell, c.cell), (a.cell, a.cell, a.cell));
+        assert_eq!(db % a.cell, 0.0);
+        assert_eq!(dc % a.cell, 0.0);
+        assert!(db.abs() <= a.cell && dc.abs() <= 6.0 + a.cell, "{db} {dc} {a:?}");
+    }
+
+    #[test]
+    fn a_coarse_grid_covers_and_holds_while_the_start_stays_in_its_cell() {
+        let (spread, res, min_cell) = (7.0, 1024.0, 64.0);
+        let a = snap_interval(10.0, spread, res, 0.0, min_cell);
+        assert!(a.cell >= min_cell && a.first_texel % a.cell == 0.0, "{a:?}");
+        assert!(a.width >= spread * res / (res - min_cell), "{a:?}");
+        // Every start in the cell gives the same box, which covers it.
+        let step = a.cell * a.texel;
+        let cell_start = a.min();
+        for k in 0..32 {
+            let lo = cell_start + step * (f64::from(k) / 32.0);
+            let b = snap_interval(lo, spread, res, 0.0, min_cell);
+            assert_eq!(b, a, "{lo}");
+            assert!(b.min() <= lo && b.max() >= lo + spread, "{lo}: {b:?}");
+        }
+        // The next cell moves the box by one cell.
+        let c = snap_interval(cell_start + step * 1.01, spread, res, 0.0, min_cell);
+        assert_eq!(c.first_texel - a.first_texel, a.cell);
+        // A cell past a quarter of the map is cut to a quarter; one not a power of two is
+        // raised to one.
+        let d = snap_interval(10.0, spread, 16.0, 0.0, 100.0);
+        assert_eq!(d.cell, 4.0);
+        assert_eq!(snap_interval(10.0, spread, 1024.0, 0.0, 100.0).cell, 128.0);
+        assert!(d.min() <= 10.0 && d.max() >= 17.0, "{d:?}");
+    }
+
+    #[test]
+    fn the_slack_of_the_rounded_width_makes_the_cell() {
+        // 7 · 1024 / 1023 rounds up to 2^(23/8) = 7.34: 46.9 texels of slack, cells of 32.
+        let a = snap_interval(10.0, 7.0, 1024.0, 0.0, 1.0);
+        assert_eq!(a.width, quantize_extent_up(7.0 * 1024.0 / 1023.0));
+        assert_eq!(a.cell, 32.0, "{a:?}");
+        // A spread just under a grid value leaves one texel.
+        let w = quantize_extent_up(5.0);
+        let b = snap_interval(0.3, w * 1023.0 / 1024.0, 1024.0, 0.0, 1.0);
+        assert_eq!((b.width, b.cell), (w, 1.0), "{b:?}");
+    }
+
+    #[test]
+    fn powers_of_two() {
+        for (x, lo, hi) in [
+            (1.0, 1.0, 1.0),
+            (3.0, 2.0, 4.0),
+            (64.0, 64.0, 64.0),
+            (100.5, 64.0, 128.0),
+        ] {
+            assert_eq!((pow2_floor(x), pow2_ceil(x)), (lo, hi), "{x}");
+        }
+    }
+
+    #[test]
+    fn outward_snapping() {
+        assert_eq!(snap_outwards(-0.5, 2.5, 2.0), (-2.0, 4.0));
+        assert_eq!(snap_outwards(2.0, 4.0, 2.0), (2.0, 4.0));
+        assert_eq!(snap_outwards(-0.5, 2.5, 0.0), (-0.5, 2.5));
     }
 
     #[test]

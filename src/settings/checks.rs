@@ -5,8 +5,8 @@ use std::fmt;
 
 use crate::math::pages::{MAX_VIRTUAL_RESOLUTION, MIN_VIRTUAL_RESOLUTION, PAGE_SIZES};
 use crate::settings::{
-    MAX_CASCADES, MAX_CLIPMAP_LEVELS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_VSM_BLUR, MIN_RESOLUTION,
-    ShadowSettings, SunLayout,
+    MAX_CASCADES, MAX_CLIPMAP_LEVELS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_RESOLUTION, MAX_SNAP_CELLS, MAX_VSM_BLUR,
+    MIN_RESOLUTION, ShadowSettings, SunLayout,
 };
 
 /// One out-of-range value found in a [`ShadowSettings`].
@@ -232,6 +232,14 @@ impl ShadowSettings {
             0.5,
             d.map.cascades.blend_width,
             "a fraction from 0 to 0.5",
+        );
+        check_u32(
+            &mut p,
+            "cascade_snap_cells",
+            &mut s.map.cascades.snap_cells,
+            0,
+            MAX_SNAP_CELLS,
+            "cells per side from 0 (whole texels) to 64",
         );
         check_f32(
             &mut p,

@@ -49,6 +49,10 @@ pub struct ShadowSettingsFile {
     pub temporal_rotation: bool,
     /// Fraction (0–0.5) of each cascade's depth range blended into the next cascade.
     pub blend_width: f32,
+    /// Fewest cells per side of the grid each cascade box starts on, 0–64 (0: cells of the
+    /// texels its rounded-up extent leaves spare): a moving camera redraws a cascade only when
+    /// its box crosses a cell.
+    pub cascade_snap_cells: u32,
     /// Fraction (0–0.5) of `max_distance` over which shadows fade out at the far end.
     pub distance_fade_width: f32,
     /// Clamp casters in front of the near plane to it instead of clipping them, where the
@@ -118,6 +122,7 @@ impl Default for ShadowSettingsFile {
             receiver_plane_bias: true,
             temporal_rotation: true,
             blend_width: 0.1,
+            cascade_snap_cells: 0,
             distance_fade_width: 0.1,
             depth_clamp: true,
             debug_view: ShadowDebugView::None,
@@ -147,6 +152,7 @@ impl From<ShadowSettingsFile> for ShadowSettings {
                     split_lambda: f.split_lambda,
                     fit: f.fit,
                     blend_width: f.blend_width,
+                    snap_cells: f.cascade_snap_cells,
                 },
                 max_distance: f.max_distance,
                 depth_clamp: f.depth_clamp,
@@ -204,6 +210,7 @@ impl From<ShadowSettings> for ShadowSettingsFile {
             receiver_plane_bias: filter.receiver_plane_bias,
             temporal_rotation: filter.temporal_rotation,
             blend_width: map.cascades.blend_width,
+            cascade_snap_cells: map.cascades.snap_cells,
             distance_fade_width: filter.distance_fade_width,
             depth_clamp: map.depth_clamp,
             debug_view: filter.debug_view,
@@ -239,6 +246,7 @@ mod tests {
             slope_bias: 2.5,
             pcf_radius: 3,
             vsm_blur: 5,
+            cascade_snap_cells: 16,
             moment_min_variance: 2e-4,
             ..Default::default()
         };
@@ -246,6 +254,7 @@ mod tests {
         assert_eq!(nested.map.cascades.count, 3);
         assert_eq!(nested.bias.slope_bias, 2.5);
         assert_eq!(nested.filter.vsm.blur, 5);
+        assert_eq!(nested.map.cascades.snap_cells, 16);
         assert_eq!(ShadowSettingsFile::from(nested), flat);
     }
 

@@ -16,6 +16,9 @@ pub const MIN_RESOLUTION: u32 = MIN_BUDGET_RESOLUTION;
 pub const MAX_RESOLUTION: u32 = 4096;
 /// Largest PCF kernel radius: 5 gives an 11×11 grid.
 pub const MAX_PCF_RADIUS: u32 = 5;
+/// Largest fewest-cells count of the grid cascade boxes snap to
+/// ([`CascadeSettings::snap_cells`]).
+pub const MAX_SNAP_CELLS: u32 = 64;
 /// Largest VSM pre-blur radius, texels.
 pub const MAX_VSM_BLUR: u32 = 8;
 /// Largest blur radius of a sun's moments in any cascade, texels: a `moment_blur` wider than
@@ -210,6 +213,12 @@ pub struct CascadeSettings {
     /// Fraction (0–0.5) of each cascade's depth range blended into the next cascade (the
     /// next one starts that much earlier).
     pub blend_width: f32,
+    /// Fewest cells per side of the grid each cascade box starts on, 0–64. A cascade holds
+    /// still, and its map is not drawn again, while the camera moves within a cell. With 0 a
+    /// cell is the texels the box's rounded-up extent leaves spare (no cost in resolution);
+    /// N makes cells at least `1 / N` of the box, the box then one cell wider to pay for it
+    /// ([`CascadeInput::snap_cells`](crate::math::cascades::CascadeInput::snap_cells)).
+    pub snap_cells: u32,
 }
 
 /// Depth bias: the hardware's, applied when the maps are drawn (a change redraws them), and

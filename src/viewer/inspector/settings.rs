@@ -7,8 +7,8 @@ use egui::{ComboBox, Slider, Ui};
 
 use crate::settings::{
     CascadeFit, ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MAX_CASCADES,
-    MAX_CLIPMAP_LEVELS, MAX_CONTACT_STEPS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_VSM_BLUR, MomentFormat, PcssQuality,
-    ShadowDebugView, ShadowMode, ShadowSettings, SunLayout, max_pool_pages,
+    MAX_CLIPMAP_LEVELS, MAX_CONTACT_STEPS, MAX_EVSM_EXPONENT, MAX_PCF_RADIUS, MAX_SNAP_CELLS, MAX_VSM_BLUR,
+    MomentFormat, PcssQuality, ShadowDebugView, ShadowMode, ShadowSettings, SunLayout, max_pool_pages,
 };
 
 /// The shadow-map resolutions offered (the seed's runtime table, and 256 for point-light faces).
@@ -156,6 +156,8 @@ fn layout_ui(ui: &mut Ui, s: &mut ShadowSettings) {
             ui.selectable_value(&mut s.map.cascades.fit, CascadeFit::DepthBounds, "Depth bounds");
         });
     ui.add(Slider::new(&mut s.map.cascades.split_lambda, 0.0..=1.0).text("split λ"));
+    ui.add(Slider::new(&mut s.map.cascades.snap_cells, 0..=MAX_SNAP_CELLS).text("snap cells"))
+        .on_hover_text("Cascades hold while the camera moves within a cell: 0 cells of the spare texels, N cells of at least 1/N of a box");
     ui.add(
         Slider::new(&mut s.map.max_distance, 1.0..=2000.0)
             .logarithmic(true)
