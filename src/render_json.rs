@@ -6,13 +6,14 @@ use std::path::Path;
 use serde_json::{Value, json};
 
 use penumbra::app::HeadlessFrame;
-use penumbra::render::timer::median_passes;
+use penumbra::render::timer::{frame_spread, median_passes};
 use penumbra::settings::ShadowSettings;
 
 /// The summary of a headless render of `scene` into `out` (`size`: width, height, frames)
 /// with the sun's `settings` (None for a scene without a sun): the commit built from, the adapter, counts, shadow
 /// memory, per-view casters and draws, CPU times of the last frame, and each GPU pass's median
-/// time (with the total; empty without timestamp queries).
+/// time (with their sum) and the whole frames' median, mean and slowest time (empty without
+/// timestamp queries).
 pub fn summary_json(
     scene: &Path,
     out: &Path,
@@ -66,7 +67,13 @@ pub fn summary_json(
             "view_culling": stats.view_culling_cpu.as_secs_f64() * 1e3,
             "shadow_systems_median": result.median_frame_cpu_ms(),
         },
-        "gpu_ms": { "passes": gpu, "total": if medians.is_empty() { None } else { Some(total) } },
+        "gpu_ms": {
+            "passes": gpu,
+            "total": if medians.is_empty() { None } else { Some(total) },
+            "frames": frame_spread(&passes).map(|s| json!({
+                "median": s.median, "mean": s.mean, "max": s.max, "counted": s.frames,
+            })),
+        },
         "warnings": result.warnings,
     })
 }

@@ -1,12 +1,12 @@
 //! `penumbra render`'s text summary (part of the `penumbra` binary): the scene, the adapter,
 //! the shadow account, draw calls, the work the shadow passes did each frame, CPU times and
-//! each GPU pass's median time.
+//! each GPU pass's median time and the whole frames' spread.
 
 use std::path::Path;
 
 use penumbra::app::HeadlessFrame;
 use penumbra::math::light_budget::LightKind;
-use penumbra::render::timer::median_passes;
+use penumbra::render::timer::{frame_spread, median_passes};
 use penumbra::settings::ShadowSettings;
 use penumbra::text::format_bytes;
 
@@ -124,6 +124,12 @@ pub fn print_summary(
             "gpu        {:<17} {:8.3} ms",
             "total",
             medians.iter().map(|m| m.1).sum::<f64>()
+        );
+    }
+    if let Some(s) = frame_spread(&passes) {
+        println!(
+            "gpu        frames: median {:.3} ms, mean {:.3} ms, slowest {:.3} ms ({} frames)",
+            s.median, s.mean, s.max, s.frames
         );
     }
     for w in &result.warnings {

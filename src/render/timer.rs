@@ -330,6 +330,40 @@ pub fn median_passes(frames: &[Vec<PassTiming>]) -> Vec<(String, f64)> {
         .collect()
 }
 
+/// The spread of whole-frame GPU times (each frame's passes summed) over the frames after
+/// the first that have timings: what a frame costs where passes run only some frames (a
+/// shadow map drawn again only when its view moved), which per-pass medians hide.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameSpread {
+    /// Median frame, ms.
+    pub median: f64,
+    /// Mean frame, ms.
+    pub mean: f64,
+    /// Slowest frame, ms.
+    pub max: f64,
+    /// Frames counted.
+    pub frames: usize,
+}
+
+/// The [`FrameSpread`] of `frames` (None where no frame after the first has timings).
+pub fn frame_spread(frames: &[Vec<PassTiming>]) -> Option<FrameSpread> {
+    let steady = if frames.len() > 1 { &frames[1..] } else { frames };
+    let totals: Vec<f64> = steady
+        .iter()
+        .filter(|f| !f.is_empty())
+        .map(|f| f.iter().map(|p| p.ms).sum())
+        .collect();
+    if totals.is_empty() {
+        return None;
+    }
+    Some(FrameSpread {
+        mean: totals.iter().sum::<f64>() / totals.len() as f64,
+        max: totals.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        frames: totals.len(),
+        median: median(totals),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -352,5 +386,21 @@ mod tests {
         let frames = [pass(9.0), pass(1.0), pass(3.0), pass(2.0)];
         assert_eq!(median_passes(&frames), [("shadow".to_string(), 2.0)]);
         assert!(median_passes(&[]).is_empty());
+    }
+
+    #[test]
+    fn frame_spread_sums_each_frame_and_skips_the_first() {
+        let pass = |name: &str, ms| PassTiming { name: name.into(), ms };
+        let frames = [
+            vec![pass("shadow", 50.0)],
+            vec![pass("shadow", 4.0), pass("main", 1.0)],
+            vec![pass("main", 1.0)],
+            vec![],
+            vec![pass("main", 2.0)],
+        ];
+        let s = frame_spread(&frames).unwrap();
+        assert_eq!((s.frames, s.median, s.max), (3, 2.0, 5.0));
+        assert!((s.mean - 8.0 / 3.0).abs() < 1e-12);
+        assert_eq!(frame_spread(&[vec![], vec![]]), None);
     }
 }
