@@ -140,6 +140,10 @@ pub struct RenderArgs {
     /// 16 384 instances or more and scenes of 16 384 casters or more).
     #[arg(long)]
     no_gpu_culling: bool,
+    /// Draw the depth prepass every frame, even where nothing it draws changed since the last
+    /// (by default a still camera over a still scene keeps the last frame's).
+    #[arg(long)]
+    no_prepass_reuse: bool,
     /// Light the prepass's pixels of opaque, untextured materials in one compute pass instead
     /// of drawing them again: auto (on, where the frame allows it: a prepass with normals, no
     /// MSAA, no `--shadow-out`), on or off.
@@ -308,6 +312,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_multi_draw,
         no_occlusion_culling,
         no_gpu_culling,
+        no_prepass_reuse,
         deferred_lighting,
         camera_lod,
         count_fragments,
@@ -418,6 +423,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             multi_draw: !no_multi_draw,
             occlusion_culling: !no_occlusion_culling,
             gpu_culling: !no_gpu_culling,
+            prepass_reuse: !no_prepass_reuse,
             deferred_lighting: match deferred_lighting {
                 Deferred::Auto => DeferredLighting::Auto,
                 Deferred::On => DeferredLighting::On,

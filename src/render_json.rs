@@ -61,6 +61,7 @@ pub fn summary_json(
         "shadow_views_drawn_per_frame": result.frames.iter().map(|f| f.shadow_views_drawn).collect::<Vec<_>>(),
         "occlusion_drawn_per_frame": result.frames.iter().map(|f| f.occlusion_drawn.map(|(e, l)| [e, l])).collect::<Vec<_>>(),
         "skinned_meshes_posed_per_frame": result.frames.iter().map(|f| f.skinned_meshes_posed).collect::<Vec<_>>(),
+        "prepass_kept_per_frame": result.frames.iter().map(|f| f.prepass_kept).collect::<Vec<_>>(),
         "cpu_ms": {
             "cascades": stats.cascades_cpu.as_secs_f64() * 1e3,
             "culling": stats.culling_cpu.as_secs_f64() * 1e3,

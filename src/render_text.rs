@@ -96,6 +96,13 @@ pub fn print_summary(
             .collect();
         println!("skinned meshes posed per frame [{}]", posed.join(", "));
     }
+    let kept = result.frames.iter().filter(|f| f.prepass_kept).count();
+    if kept > 0 {
+        println!(
+            "depth prepass kept from the frame before in {kept} of {} frames",
+            result.frames.len()
+        );
+    }
     if result.frames.iter().any(|f| f.shadow_views_scrolled > 0) {
         let texels: Vec<String> = (result.frames.iter())
             .map(|f| format!("{} ({} scrolled)", f.shadow_drawn_texels, f.shadow_views_scrolled))

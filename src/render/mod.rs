@@ -22,6 +22,7 @@ mod occlusion_kernels;
 pub mod options;
 pub mod plugin;
 pub mod prepass;
+pub mod prepass_keep;
 pub mod probe;
 pub mod readback;
 pub mod renderer;

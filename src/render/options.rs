@@ -176,6 +176,11 @@ pub struct RenderOptions {
     /// normals and each pixel's instance) in one full-screen pass, and draw only the other
     /// materials again in the lighting pass (default [`DeferredLighting::Auto`]).
     pub deferred_lighting: DeferredLighting,
+    /// Keep the depth prepass's depth, normals and shading ids from the last frame when
+    /// nothing it draws changed (the camera, the target, the instances, the view's lists,
+    /// meshes, materials, these options; no skinned mesh posed), one sample per pixel:
+    /// the frame then draws no prepass (default on; see [`crate::render::prepass_keep`]).
+    pub prepass_reuse: bool,
 }
 
 impl Default for RenderOptions {
@@ -190,6 +195,7 @@ impl Default for RenderOptions {
             occlusion_culling: true,
             gpu_culling: true,
             deferred_lighting: DeferredLighting::Auto,
+            prepass_reuse: true,
         }
     }
 }

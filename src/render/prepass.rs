@@ -86,6 +86,8 @@ pub struct DepthPrepass {
     depth: Option<TextureId>,
     normals: Option<TextureId>,
     ids: Option<TextureId>,
+    /// The textures already hold this frame's prepass ([`FrameResources::prepass_kept`]).
+    kept: bool,
 }
 
 /// What selects a prepass pipeline.
@@ -220,13 +222,19 @@ impl RenderNode for DepthPrepass {
     }
 
     /// Creates the camera depth and writes it (nothing when off); when the frame resolves
-    /// visibility, also the normals the resolve reads.
+    /// visibility, also the normals the resolve reads. Where the renderer imported them (a
+    /// kept prepass), writes those instead.
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, _: &FrameInputs<'_>) {
         self.depth = None;
         self.normals = None;
         self.ids = None;
+        self.kept = frame.prepass_kept;
         self.frame_samples = frame.samples;
-        if frame.depth_prepass && frame.depth.is_none() {
+        if let (true, Some(depth)) = (frame.depth_prepass, frame.depth) {
+            self.depth = Some(pass.write(depth));
+            self.normals = frame.normals.map(|n| pass.write(n));
+            self.ids = frame.shading_ids.map(|i| pass.write(i));
+        } else if frame.depth_prepass {
             let depth = pass.create_texture(camera_depth(frame.size, frame.samples));
             frame.depth = Some(depth);
             self.depth = Some(depth);
@@ -251,9 +259,14 @@ impl RenderNode for DepthPrepass {
 
     /// Draws the view's depth (and normals); with GPU culling, the early phase's list (culled
     /// at the frame's start), and with occlusion culling then the pyramid and the late test,
-    /// then the late list over it.
+    /// then the late list over it. Draws nothing where the kept textures already hold the
+    /// frame's prepass (no pyramid or late test either: the early list holds every instance
+    /// seen).
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         let Some(depth) = self.depth else { return };
+        if self.kept {
+            return;
+        }
         if !ctx.occlusion.active() {
             self.draw(ctx, resources, encoder, None);
             return;

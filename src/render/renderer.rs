@@ -20,6 +20,7 @@ use crate::render::limits::UploadProblems;
 use crate::render::occlusion::{OcclusionGpu, occlusion_wanted};
 use crate::render::options::Msaa;
 use crate::render::prepass::{DepthPrepass, NORMAL_FORMAT, prepass_runs, visible_triangles};
+use crate::render::prepass_keep::PrepassKeep;
 use crate::render::probe::ProbePass;
 use crate::render::report::FrameReport;
 use crate::render::resolve::VisibilityResolve;
@@ -68,6 +69,8 @@ pub struct Renderer {
     shadow_cull: ShadowCullGpu,
     /// The scrolling views the last frame drew whole from an earlier window's casters.
     scroll_resync: Vec<(bevy_ecs::entity::Entity, u32)>,
+    /// The depth prepass kept between frames.
+    prepass_keep: PrepassKeep,
     /// The last frame's GPU report.
     pub last_report: FrameReport,
 }
@@ -151,6 +154,7 @@ impl Renderer {
             occlusion: OcclusionGpu::default(),
             shadow_cull: ShadowCullGpu::default(),
             scroll_resync: Vec::new(),
+            prepass_keep: PrepassKeep::default(),
             last_report: FrameReport::default(),
         }
     }
@@ -433,7 +437,8 @@ impl Renderer {
             shadow_cull: &mut self.shadow_cull,
             scroll_resync: &mut self.scroll_resync,
         };
-        if input.view.camera.is_some() && drawable {
+        let drawn = input.view.camera.is_some() && drawable;
+        if drawn {
             self.graph.execute(&mut ctx, &mut encoder);
         }
         let (draw_calls, shadow_views_drawn, shadow_draw_calls, shadow_cleared_texels) = (
@@ -470,6 +475,8 @@ impl Renderer {
         report.shadow_views_resynced = self.scroll_resync.len() as u32;
         report.shadow_drawn_texels = shadow_drawn_texels;
         report.skinned_meshes_posed = skinned_meshes_posed;
+        report.prepass_kept = self.prepass_keep.reused();
+        self.prepass_keep.end(drawn && self.pipeline_error.is_none());
         report.shadow_memory = self.shadows.memory_bytes();
         report.resolved_memory = self.shadows.resolved_memory_bytes();
         report.forward_fragments = self.fragments.as_ref().and_then(|c| c.read(&self.gpu.device));

@@ -5,6 +5,7 @@ use crate::layout::ShadowStorage;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphError};
 use crate::render::options::Msaa;
+use crate::render::prepass_keep::PrepassKey;
 use crate::render::renderer::{Renderer, UploadProblems};
 use crate::render::target::{DEPTH_FORMAT, TargetViews};
 
@@ -83,7 +84,33 @@ impl Renderer {
                 .map(|r| graph.import_texture("resolved visibility", &r.target.view)),
             deferred_lighting,
             shading_ids: None,
+            prepass_kept: false,
         };
+        // NOTE: the kept prepass's textures are imported as the graph's camera depth, normals
+        // and ids, made for the targets the prepass node would create.
+        let targets = (frame.visibility.is_some(), deferred_lighting);
+        match input
+            .options
+            .prepass_reuse
+            .then(|| PrepassKey::of(input, frame.size, targets))
+            .flatten()
+            .filter(|_| depth_prepass && samples == 1 && target.analysis.is_none())
+        {
+            Some(key) => {
+                let (kept, held) = self.prepass_keep.begin(&self.gpu.device, key);
+                frame.depth = Some(graph.import_texture("kept camera depth", &kept.depth));
+                frame.normals = kept
+                    .normals
+                    .as_ref()
+                    .map(|v| graph.import_texture("kept camera normals", v));
+                frame.shading_ids = kept
+                    .ids
+                    .as_ref()
+                    .map(|v| graph.import_texture("kept camera shading ids", v));
+                frame.prepass_kept = held;
+            }
+            None => self.prepass_keep.release(),
+        }
         graph.build(&self.gpu.device, &mut frame, input)
     }
 }

@@ -38,6 +38,9 @@ pub struct FrameReport {
     pub shadow_drawn_texels: u64,
     /// Skinned meshes posed on the GPU this frame (those whose pose changed).
     pub skinned_meshes_posed: u32,
+    /// The depth prepass drew nothing: its textures held what it would draw, kept from an
+    /// earlier frame ([`crate::render::prepass_keep`]).
+    pub prepass_kept: bool,
     /// Bytes of shadow-map memory.
     pub shadow_memory: u64,
     /// What a paged sun's pages did, where the frame was read back for it (headless renders

@@ -97,6 +97,10 @@ pub struct FrameResources {
     /// [`SHADING_ID_NONE`](crate::shader::contract::SHADING_ID_NONE)), written by the prepass
     /// when the frame lights it so.
     pub shading_ids: Option<TextureId>,
+    /// The prepass's depth, normals and shading ids (imported: the renderer keeps them) already
+    /// hold what this frame's prepass would draw ([`crate::render::prepass_keep`]): it draws
+    /// nothing.
+    pub prepass_kept: bool,
 }
 
 impl FrameResources {

@@ -52,6 +52,9 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
     ui.checkbox(&mut edited.gpu_culling, "GPU culling").on_hover_text(
         "cull the camera view's instances and the cascades' casters on the GPU (the CPU tests culling chunks only); off: on the CPU",
     );
+    ui.checkbox(&mut edited.prepass_reuse, "keep a still prepass").on_hover_text(
+        "draw no depth prepass where the camera, the instances and these options are as last frame (keep its depth, normals and ids)",
+    );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
     radio_row(
