@@ -1,5 +1,6 @@
 //! The render graph as a user meets it: built each frame, the shadow node culled when no light
-//! casts a shadow, the camera's depth buffer a pooled transient created once, and a custom
+//! casts a shadow, the camera's depth buffer a pooled transient created once (or, where the
+//! prepass is kept from frame to frame, the renderer's own texture), and a custom
 //! node that declares its reads and writes runs after the passes whose output it reads, while
 //! a node whose output nothing reads is never recorded. The depth prepass changes no pixel.
 
@@ -17,9 +18,15 @@ use penumbra::render::graph::{FrameResources, GraphResources, PassBuilder, Rende
 use penumbra::render::{DepthPrepass, Msaa, RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 
-/// The default scene at 320×180: more pixels than triangles, so `Auto` runs the prepass.
+/// The default scene at 320×180: more pixels than triangles, so `Auto` runs the prepass;
+/// drawn every frame (not kept: its targets are then the graph's pooled transients).
 fn app() -> App {
-    app_sized(320, 180)
+    let mut app = app_sized(320, 180);
+    app.insert_resource(RenderOptions {
+        prepass_reuse: false,
+        ..RenderOptions::default()
+    });
+    app
 }
 
 fn app_sized(width: u32, height: u32) -> App {
@@ -245,6 +252,22 @@ fn the_depth_prepass_changes_no_pixel() {
             "{scene}: {differing} of {drawn} drawn pixels differ with the prepass"
         );
     }
+}
+
+#[test]
+fn a_kept_prepass_draws_into_no_transient() {
+    let mut app = app_sized(320, 180);
+    for _ in 0..3 {
+        app.update();
+    }
+    let r = renderer(&app);
+    assert_eq!(
+        r.graph_order(),
+        ["shadow", "depth prepass", "visibility resolve", "forward"]
+    );
+    assert!(r.last_report.prepass_kept, "a still frame kept the prepass");
+    // The camera depth, normals and ids are the renderer's kept textures, imported.
+    assert_eq!(r.counters().transient_resources, 0, "{:?}", r.counters());
 }
 
 #[test]

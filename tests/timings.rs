@@ -20,10 +20,11 @@ fn every_frame_is_timed_or_counted_and_numbered() {
         "this test needs timestamp queries (lavapipe has them)"
     );
     let mut app = headless_app(renderer);
-    // Every view drawn every frame, so every frame has the same passes.
+    // Every view and the prepass drawn every frame, so every frame has the same passes.
     app.insert_resource(RenderOptions {
         depth_prepass: DepthPrepass::On,
         shadow_cache: false,
+        prepass_reuse: false,
         ..RenderOptions::default()
     });
     spawn_scene(app.world_mut(), &default_scene()).expect("default scene spawns");
