@@ -31,13 +31,14 @@ fn time_scene(
 ) -> Result<Vec<Timing>, BenchError> {
     let mut session = SceneSession::new(desc, config.width, config.height)?;
     session.pages = config.pages;
-    // NOTE: every shadow map is drawn every frame, as when the camera or the casters move;
-    // a still frame's cost is measured apart (`penumbra render`). One sample per pixel: the
+    // NOTE: every shadow map and the prepass are drawn every frame, as when the camera or the
+    // casters move; a still frame's cost is measured apart (`penumbra render`). One sample per pixel: the
     // bench compares shadow techniques, and its figures stay comparable with those before
     // MSAA (which adds the same cost to every preset).
     session.app.insert_resource(RenderOptions {
         shadow_cache: false,
         msaa: Msaa::Off,
+        prepass_reuse: false,
         ..RenderOptions::default()
     });
     let mut renderer = Renderer::headless(config.width, config.height)?;

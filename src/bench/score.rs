@@ -16,6 +16,7 @@ use crate::bench::focus::FocusKind;
 use crate::bench::gallery::SceneShots;
 use crate::bench::progress::Progress;
 use crate::bench::session::SceneSession;
+use crate::ecs::CameraLod;
 use crate::reference::{ReferencePoint, near_casters};
 use crate::render::Renderer;
 use crate::render::frame_inputs::FrameInputs;
@@ -145,6 +146,11 @@ pub(crate) fn score_scene(
     let (w, h) = (config.analysis_width, config.analysis_height);
     let mut session = SceneSession::new(desc, w, h)?;
     session.pages = config.pages;
+    // NOTE: the reference traces the full meshes from the analysis pixels' positions, and a
+    // coarser mesh level's surface lies inside its mesh (a sphere's facets are chords): its
+    // pixels would be scored as shadowed by their own mesh. The analysis frames, smaller than
+    // the timed ones (whose camera keeps its LOD), draw every mesh whole for the camera.
+    session.app.insert_resource(CameraLod { max_error_pixels: 0.0 });
     let mut renderer = Renderer::headless_with_analysis(w, h)?;
     let focus = session.focus().ok_or_else(|| BenchError::NoLight(name.clone()))?;
     renderer.set_focus_light(session.focus_light_index());
