@@ -179,7 +179,7 @@ pub(crate) fn cull_views(
             end_cull(entry);
         }
         if single_pass {
-            list.build(&instances.casters, &scratch.masks, &instances.keys);
+            list.build(&instances.casters, &scratch.masks, &instances.keys, table);
             *owner = Some(sun.entity);
         } else {
             *owner = None;
