@@ -1,6 +1,7 @@
 //! The glTF loader on broken files: every kind gives an error that names the file and the
 //! problem, without panicking (missing or truncated files, malformed JSON, broken rules,
-//! data outside its storage, bad indices, positions and images, node cycles, damaged GLB
+//! data outside its storage, bad indices, positions and images (and images without a
+//! source), node cycles, damaged GLB
 //! containers, and mutated bytes).
 
 use std::fs;
@@ -133,6 +134,18 @@ fn missing_image_file() {
     let path = scratch.write(None, None, Some(&[]));
     let png = scratch.path(SAMPLE_PNG).display().to_string();
     load_err(&path, &["image 0 (`fern_leaf.png`): no file at ", &png]);
+}
+
+#[test]
+fn image_without_a_source() {
+    let scratch = Scratch::new("no-image-source");
+    let path = scratch.write_edited(|root| root.images[0].uri = None);
+    load_err(&path, &["image 0: has neither a `uri` nor a `bufferView`"]);
+    let path = scratch.write_edited(|root| {
+        root.images[0].uri = None;
+        root.images[0].buffer_view = Some(json::Index::new(0));
+    });
+    load_err(&path, &["image 0: is in a `bufferView` but has no `mimeType`"]);
 }
 
 #[test]

@@ -42,6 +42,18 @@ fn renderer(app: &App) -> &Renderer {
     app.world().resource::<Renderer>()
 }
 
+/// Renders three frames of `app`; asserts the last ran the shadow, prepass, resolve and
+/// lighting nodes.
+fn three_shadowed_frames(app: &mut App) {
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(
+        renderer(app).graph_order(),
+        ["shadow", "depth prepass", "visibility resolve", "forward"]
+    );
+}
+
 fn renderer_mut(app: &mut App) -> bevy_ecs::world::Mut<'_, Renderer> {
     app.world_mut().resource_mut::<Renderer>()
 }
@@ -49,14 +61,8 @@ fn renderer_mut(app: &mut App) -> bevy_ecs::world::Mut<'_, Renderer> {
 #[test]
 fn shadow_node_runs_only_when_a_light_casts_and_the_depth_buffer_is_pooled() {
     let mut app = app();
-    for _ in 0..3 {
-        app.update();
-    }
+    three_shadowed_frames(&mut app);
     let r = renderer(&app);
-    assert_eq!(
-        r.graph_order(),
-        ["shadow", "depth prepass", "visibility resolve", "forward"]
-    );
     // No light filters moments and no sun fits to the depths seen: the moments nodes and the
     // depth-bounds reduction are culled.
     assert_eq!(
@@ -257,14 +263,8 @@ fn the_depth_prepass_changes_no_pixel() {
 #[test]
 fn a_kept_prepass_draws_into_no_transient() {
     let mut app = app_sized(320, 180);
-    for _ in 0..3 {
-        app.update();
-    }
+    three_shadowed_frames(&mut app);
     let r = renderer(&app);
-    assert_eq!(
-        r.graph_order(),
-        ["shadow", "depth prepass", "visibility resolve", "forward"]
-    );
     assert!(r.last_report.prepass_kept, "a still frame kept the prepass");
     // The camera depth, normals and ids are the renderer's kept textures, imported.
     assert_eq!(r.counters().transient_resources, 0, "{:?}", r.counters());

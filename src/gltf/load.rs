@@ -202,10 +202,19 @@ fn json_text(bytes: &[u8]) -> Option<&str> {
     std::str::from_utf8(&bytes[..end]).ok()
 }
 
-/// Checks the crate's validation relies on without checking: every primitive has a
-/// `POSITION` attribute that names an existing accessor (its validation hook indexes the
-/// accessor list with it).
+/// Checks the crate relies on without checking: every primitive has a `POSITION` attribute
+/// that names an existing accessor (its validation hook indexes the accessor list with it),
+/// and every image has a `uri` or a `bufferView`, the latter with a `mimeType` (its image
+/// source unwraps them).
 fn precheck(cx: &Cx, root: &json::Root) -> Result<(), GltfError> {
+    for (i, image) in root.images.iter().enumerate() {
+        let problem = match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (None, None, _) => "has neither a `uri` nor a `bufferView`",
+            (_, Some(_), None) => "is in a `bufferView` but has no `mimeType`",
+            _ => continue,
+        };
+        return Err(cx.data(format!("image {i}"), problem));
+    }
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             let position = json::validation::Checked::Valid(json::mesh::Semantic::Positions);
