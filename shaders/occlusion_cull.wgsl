@@ -42,7 +42,7 @@ struct Run {
     batch: u32,
     listed: u32,
     levels: u32,
-    errors: array<f32, 3>,
+    errors: array<f32, 4>,
 }
 
 // The batch for sphere `b` of `run`: its coarsest level whose error, relative to the sphere's

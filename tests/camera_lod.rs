@@ -52,10 +52,12 @@ fn far_spheres_draw_coarser_levels_and_the_image_barely_changes() {
         .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 8))
         .count();
     // NOTE: a level may move a silhouette by a quarter pixel: pixels whose centre a tiny
-    // far sphere's edge crosses flip (measured 123 of 57 600 at 0.25 px).
+    // far sphere's edge crosses flip. How many depends on how many spheres draw a coarser
+    // level within that bound, not only on the bound: measured 123 of 57 600 with two coarser
+    // sphere levels, 171 with three, 252 with four (24 × 12 added, same 0.25 px bound).
     eprintln!("{differing} of {pixels} pixels differ by more than 8/255");
     assert!(
-        differing * 250 < pixels,
+        differing * 200 < pixels,
         "{differing} of {pixels} pixels differ by more than 8/255"
     );
 }

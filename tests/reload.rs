@@ -79,8 +79,8 @@ fn a_good_scene_edit_replaces_the_scene() {
     app.update();
     let world = app.world_mut();
     assert_eq!(mesh_entities(world), 3, "old entities were not replaced");
-    // Three shapes, and the sphere's three coarser levels.
-    assert_eq!(world.resource::<Meshes>().len(), 6, "old meshes were not dropped");
+    // Three shapes, and the sphere's four coarser levels.
+    assert_eq!(world.resource::<Meshes>().len(), 7, "old meshes were not dropped");
     assert_eq!(world.query::<&DirectionalLight>().iter(world).count(), 1);
     assert_eq!(reload.current().objects.len(), 3);
 

@@ -1,4 +1,4 @@
-//! Shadow LODs: a spawned sphere comes with three coarser meshes; a far cascade, whose texels
+//! Shadow LODs: a spawned sphere comes with four coarser meshes; a far cascade, whose texels
 //! are wide, draws the spheres with one of them while the near cascades (and the camera, its
 //! own levels off) draw the full mesh; and the image barely changes against drawing full
 //! meshes everywhere (the triangles each cascade draws are printed).
@@ -66,7 +66,7 @@ fn far_cascades_draw_spheres_coarser_and_the_image_barely_changes() {
         .find(|&m| !lods.get(m).is_empty())
         .expect("the camera sees the balls, which have shadow LODs");
     let coarse: Vec<MeshHandle> = lods.get(ball).iter().map(|l| l.mesh).collect();
-    assert_eq!(coarse.len(), 3);
+    assert_eq!(coarse.len(), 4);
     assert!(
         camera.iter().all(|m| !coarse.contains(m)),
         "the camera draws full meshes"

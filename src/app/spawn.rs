@@ -327,13 +327,13 @@ impl PreparedScene {
         Ok(self.images.len() - 1)
     }
 
-    /// A sphere (32 × 16 quads) with three coarser levels (16 × 8, 12 × 6 and 8 × 4), for the
-    /// shadow views and the camera.
+    /// A sphere (32 × 16 quads) with four coarser levels (24 × 12, 16 × 8, 12 × 6 and 8 × 4),
+    /// for the shadow views and the camera.
     fn build_sphere(&mut self, radius: f32) -> Vec<MeshPart> {
         self.meshes.push(sphere(radius, 32, 16));
         let full = self.meshes.len() - 1;
         let mut levels = Vec::new();
-        for (segments, rings) in [(16, 8), (12, 6), (8, 4)] {
+        for (segments, rings) in [(24, 12), (16, 8), (12, 6), (8, 4)] {
             self.meshes.push(sphere(radius, segments, rings));
             // NOTE: a level's error is relative to an instance's bounding radius, the sphere
             // around its world box: at least √3 times the sphere's radius (times its scale).

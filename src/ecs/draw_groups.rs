@@ -94,7 +94,7 @@ pub fn push_run(group: &mut DrawGroup, indices: &mut Vec<u32>, key: DrawKey, run
 }
 
 /// Most coarser mesh levels the GPU chooses among per instance (a mesh's finest ones).
-pub const GPU_LOD_LEVELS: usize = 3;
+pub const GPU_LOD_LEVELS: usize = 4;
 
 /// Instances `first..first + count` of the instance list, drawn by batch `batch` of a view
 /// (numbered opaque first, then masked) once the GPU has culled them one by one; with
