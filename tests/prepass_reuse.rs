@@ -57,6 +57,14 @@ fn move_cameras(apps: [&mut App; 2], f: impl Fn(&mut Transform)) {
     }
 }
 
+/// Moves both apps' cameras by `step` and renders two frames: the first draws the prepass
+/// again, the second keeps it (both checked against the app that redraws it).
+fn step_then_stand([kept, drawn]: [&mut App; 2], step: Vec3) {
+    move_cameras([kept, drawn], |t| t.translation += step);
+    assert!(!frame(kept, drawn, "camera moved"), "a moved camera draws the prepass");
+    assert!(frame(kept, drawn, "still after the camera"), "kept again once still");
+}
+
 /// The default scene with a movable box in both apps; returns the boxes.
 fn with_box(apps: [&mut App; 2]) -> [Entity; 2] {
     apps.map(|app| {
@@ -92,7 +100,7 @@ fn still_frames_keep_the_prepass_and_draw_the_same_image() {
     eprintln!("{changed} pixels changed by the move");
     // Measured: 1 133 (as in the instance patch test's move).
     assert!(
-        changed > 300,
+        changed > 370,
         "the move changed only {changed} pixels: nothing was judged"
     );
     assert!(
@@ -100,15 +108,7 @@ fn still_frames_keep_the_prepass_and_draw_the_same_image() {
         "kept again once still"
     );
 
-    move_cameras([&mut kept, &mut drawn], |t| t.translation += Vec3::new(0.2, 0.0, -0.3));
-    assert!(
-        !frame(&mut kept, &mut drawn, "camera moved"),
-        "a moved camera draws the prepass"
-    );
-    assert!(
-        frame(&mut kept, &mut drawn, "still after the camera"),
-        "kept again once still"
-    );
+    step_then_stand([&mut kept, &mut drawn], Vec3::new(0.2, 0.0, -0.3));
 }
 
 #[test]
@@ -122,18 +122,10 @@ fn the_field_keeps_its_occluded_prepass() {
     eprintln!("kept frame: {early} + {late} instances listed; redrawn: {redrawn:?}");
     assert_eq!(late, 0, "a kept frame runs no late phase");
     assert_eq!(early, redrawn.0 + redrawn.1, "the early list holds every instance seen");
-    // Measured: about 20 000 instances listed at 160×90.
-    assert!(early > 5_000, "only {early} instances were listed: little was judged");
+    // Measured: 67 285 instances listed at 160×90.
+    assert!(early > 22_000, "only {early} instances were listed: little was judged");
 
-    move_cameras([&mut kept, &mut drawn], |t| t.translation += Vec3::new(0.0, 0.0, -0.37));
-    assert!(
-        !frame(&mut kept, &mut drawn, "field moved"),
-        "a moved camera draws the prepass"
-    );
-    assert!(
-        frame(&mut kept, &mut drawn, "field still again"),
-        "kept again once still"
-    );
+    step_then_stand([&mut kept, &mut drawn], Vec3::new(0.0, 0.0, -0.37));
 }
 
 #[test]
@@ -151,8 +143,10 @@ fn posed_skinned_meshes_never_keep_the_prepass() {
             );
         }
     }
+    eprintln!("{posed} skinned meshes posed over four frames");
+    // Measured: 48 (12 meshes a frame).
     assert!(
-        posed >= 3,
+        posed >= 16,
         "only {posed} meshes were posed over four frames: nothing was judged"
     );
 

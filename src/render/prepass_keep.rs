@@ -15,7 +15,7 @@ use crate::math::frustum::CameraView;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::options::RenderOptions;
 use crate::render::prepass::{NORMAL_FORMAT, SHADING_ID_FORMAT};
-use crate::render::target::{DEPTH_FORMAT, texture_2d_multisampled};
+use crate::render::target::{DEPTH_FORMAT, texture_2d};
 
 /// Everything a prepass's output depends on: two frames of equal keys draw the same prepass.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,7 +87,7 @@ impl KeptTextures {
     fn new(device: &wgpu::Device, (width, height): (u32, u32), (normals, ids): (bool, bool)) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let make = |label, format| {
-            texture_2d_multisampled(device, label, (width, height, 1), format, usage, 1)
+            texture_2d(device, label, (width, height, 1), format, usage)
                 .create_view(&wgpu::TextureViewDescriptor::default())
         };
         Self {
@@ -108,8 +108,6 @@ pub struct PrepassKeep {
     held: Option<PrepassKey>,
     /// This frame's key, until [`end`](Self::end).
     frame: Option<PrepassKey>,
-    /// This frame's prepass is the one held (set by [`begin`](Self::begin)).
-    reused: bool,
 }
 
 impl PrepassKeep {
@@ -123,7 +121,6 @@ impl PrepassKeep {
         }
         let held = self.held == Some(key);
         self.frame = Some(key);
-        self.reused = held;
         let textures = self.textures.as_ref().expect("made above");
         (textures, held)
     }
@@ -132,12 +129,11 @@ impl PrepassKeep {
     /// textures hold its key; otherwise they hold nothing known.
     pub fn end(&mut self, drawn: bool) {
         self.held = self.frame.take().filter(|_| drawn);
-        self.reused = false;
     }
 
     /// Whether this frame reads the prepass held from an earlier one (until [`end`](Self::end)).
     pub fn reused(&self) -> bool {
-        self.reused
+        self.frame.is_some() && self.frame == self.held
     }
 
     /// Frees the textures (a frame whose prepass is not kept).

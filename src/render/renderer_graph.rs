@@ -89,13 +89,8 @@ impl Renderer {
         // NOTE: the kept prepass's textures are imported as the graph's camera depth, normals
         // and ids, made for the targets the prepass node would create.
         let targets = (frame.visibility.is_some(), deferred_lighting);
-        match input
-            .options
-            .prepass_reuse
-            .then(|| PrepassKey::of(input, frame.size, targets))
-            .flatten()
-            .filter(|_| depth_prepass && samples == 1 && target.analysis.is_none())
-        {
+        let kept = input.options.prepass_reuse && depth_prepass && samples == 1 && target.analysis.is_none();
+        match kept.then(|| PrepassKey::of(input, frame.size, targets)).flatten() {
             Some(key) => {
                 let (kept, held) = self.prepass_keep.begin(&self.gpu.device, key);
                 frame.depth = Some(graph.import_texture("kept camera depth", &kept.depth));
