@@ -144,6 +144,11 @@ pub struct RenderArgs {
     /// (by default a still camera over a still scene keeps the last frame's).
     #[arg(long)]
     no_prepass_reuse: bool,
+    /// Draw opaque shadow casters from each mesh's own indices instead of its position-only
+    /// list (by default corners at the same position are shaded once: a box's 8 vertices,
+    /// not 24).
+    #[arg(long)]
+    no_position_indices: bool,
     /// Light the prepass's pixels of opaque, untextured materials in one compute pass instead
     /// of drawing them again: auto (on, where the frame allows it: a prepass with normals, no
     /// MSAA, no `--shadow-out`), on or off.
@@ -313,6 +318,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         no_occlusion_culling,
         no_gpu_culling,
         no_prepass_reuse,
+        no_position_indices,
         deferred_lighting,
         camera_lod,
         count_fragments,
@@ -424,6 +430,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             occlusion_culling: !no_occlusion_culling,
             gpu_culling: !no_gpu_culling,
             prepass_reuse: !no_prepass_reuse,
+            position_indices: !no_position_indices,
             deferred_lighting: match deferred_lighting {
                 Deferred::Auto => DeferredLighting::Auto,
                 Deferred::On => DeferredLighting::On,

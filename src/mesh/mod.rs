@@ -2,8 +2,10 @@
 //! shapes scene files use. Pure data; the renderer uploads it.
 
 mod primitives;
+mod weld;
 
 pub use primitives::{cuboid, plane, sphere};
+pub use weld::position_indices;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;

@@ -67,8 +67,14 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> MeshData {
         let theta = v * std::f32::consts::PI;
         for s in 0..=segments {
             let u = s as f32 / segments as f32;
-            let phi = u * std::f32::consts::TAU;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            // NOTE: the seam's two columns and each pole's copies lie at exactly the same
+            // positions, so position-only index lists draw them as one vertex.
+            let phi = if s == segments { 0.0 } else { u * std::f32::consts::TAU };
+            let n = if r == 0 || r == rings {
+                Vec3::new(0.0, if r == 0 { 1.0 } else { -1.0 }, 0.0)
+            } else {
+                Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin())
+            };
             mesh.vertices.push(vertex(n * radius, n, Vec2::new(u, v)));
         }
     }

@@ -5,7 +5,7 @@
 use crate::ecs::draw_groups::{DrawBatch, DrawGroup};
 use crate::mesh::Vertex;
 use crate::render::draw_args::{DrawArgs, IndexedArgs};
-use crate::render::scene_gpu::SceneGpu;
+use crate::render::scene_gpu::{IndexList, SceneGpu};
 
 /// Vertex layout of the mesh buffers: position (0), normal (1), uv (2).
 pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
@@ -81,13 +81,13 @@ pub fn skipped(skipped: &[bool], batch: &DrawBatch) -> bool {
     skipped.get(batch.material.0 as usize).copied().unwrap_or(false)
 }
 
-/// Draws `batches` (instanced, indexed), binding each batch's material (group 2) when
-/// `bind_material`: the batches between two material changes are one multi-draw where `args`
-/// allows it ([`DrawArgs`]). Batches of the materials `skip` marks are left out. Returns the
-/// draw commands recorded.
+/// Draws `batches` (instanced, indexed, from each mesh's index list `list`), binding each
+/// batch's material (group 2) when `bind_material`: the batches between two material changes
+/// are one multi-draw where `args` allows it ([`DrawArgs`]). Batches of the materials `skip`
+/// marks are left out. Returns the draw commands recorded.
 pub fn draw_batches(
     pass: &mut wgpu::RenderPass<'_>,
-    scene: &SceneGpu,
+    (scene, list): (&SceneGpu, IndexList),
     batches: &[DrawBatch],
     (bind_material, skip): (bool, &[bool]),
     args: &mut DrawArgs,
@@ -112,7 +112,7 @@ pub fn draw_batches(
         args.push(IndexedArgs {
             index_count: range.index_count,
             instance_count: batch.count,
-            first_index: range.first_index,
+            first_index: range.first_of(list),
             base_vertex: range.base_vertex,
             first_instance: batch.first,
         });

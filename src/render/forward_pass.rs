@@ -19,6 +19,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::layouts::Layouts;
 use crate::render::occlusion::Phase;
 use crate::render::prepass::camera_depth;
+use crate::render::scene_gpu::IndexList;
 use crate::render::target::{ANALYSIS_FORMAT, DEPTH_FORMAT};
 use crate::render::variant::forward_variant;
 use crate::shader::{ForwardVariant, ShaderLibrary};
@@ -418,7 +419,7 @@ impl RenderNode for ForwardPass {
                 pass.set_pipeline(pipeline);
                 calls += match culled {
                     Some(c) => draw_culled(pass, scene, part, (true, skip), (c.args, first), args),
-                    None => draw_batches(pass, scene, part, (true, skip), args),
+                    None => draw_batches(pass, (scene, IndexList::Shaded), part, (true, skip), args),
                 };
             }
             calls

@@ -23,6 +23,7 @@ use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNo
 use crate::render::layouts::Layouts;
 use crate::render::occlusion::occlusion_wanted;
 use crate::render::options::DepthPrepass as PrepassMode;
+use crate::render::scene_gpu::IndexList;
 use crate::render::target::DEPTH_FORMAT;
 use crate::shader::ShaderLibrary;
 
@@ -359,7 +360,13 @@ impl DepthPrepass {
                     (c.args, first),
                     ctx.draw_args,
                 ),
-                None => draw_batches(&mut pass, ctx.scene, part, (masked, &[]), ctx.draw_args),
+                None => draw_batches(
+                    &mut pass,
+                    (ctx.scene, IndexList::Shaded),
+                    part,
+                    (masked, &[]),
+                    ctx.draw_args,
+                ),
             };
         }
     }

@@ -78,6 +78,16 @@ impl Renderer {
         self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
     }
 
+    /// How many meshes the last frame's opaque shadow casters drew from a position-only
+    /// index list ([`MeshRange::position_first_index`](crate::render::scene_gpu::MeshRange::position_first_index)).
+    pub fn position_listed_meshes(&self) -> usize {
+        self.scene
+            .mesh_ranges
+            .iter()
+            .filter(|r| r.position_first_index != r.first_index)
+            .count()
+    }
+
     /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
     /// `side`² reverse-Z depths, row by row (None past the last layer or before any shadow map
     /// of that storage exists). A clipmap level whose layer wraps holds its window turned round

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
 use crate::ecs::assets::{ImageData, Material, MeshHandle, Meshes};
-use crate::mesh::Vertex;
+use crate::mesh::{Vertex, position_indices};
 use crate::render::context::GpuContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::gpu_types::{FrameUniformsGpu, InstanceGpu};
@@ -32,6 +32,31 @@ pub struct MeshRange {
     pub index_count: u32,
     /// Added to every index.
     pub base_vertex: i32,
+    /// First index of the mesh's position-only list ([`crate::mesh::position_indices`]:
+    /// the same triangles, each corner the first vertex at its position), as many indices;
+    /// `first_index` where the mesh has none, is skinned (its vertices move apart) or
+    /// [`RenderOptions::position_indices`](crate::render::RenderOptions::position_indices)
+    /// is off.
+    pub position_first_index: u32,
+}
+
+/// Which of a mesh's index lists a draw reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IndexList {
+    /// The mesh's own: for stages that read normals or texture coordinates.
+    Shaded,
+    /// Its position-only list: for depth-only stages (opaque shadow casters).
+    Positions,
+}
+
+impl MeshRange {
+    /// The first index of `list`.
+    pub fn first_of(&self, list: IndexList) -> u32 {
+        match list {
+            IndexList::Shaded => self.first_index,
+            IndexList::Positions => self.position_first_index,
+        }
+    }
 }
 
 /// Everything of the scene that lives on the GPU.
@@ -40,6 +65,8 @@ pub struct SceneGpu {
     index_buffer: Option<wgpu::Buffer>,
     /// Per mesh handle.
     pub mesh_ranges: Vec<MeshRange>,
+    /// The meshes with a position-only list: handle and that list's first index.
+    position_lists: Vec<(usize, u32)>,
     /// Bind group per material handle (group 2).
     pub material_groups: Vec<wgpu::BindGroup>,
     instances: GrowBuffer,
@@ -116,6 +143,7 @@ impl SceneGpu {
             vertex_buffer: None,
             index_buffer: None,
             mesh_ranges: Vec::new(),
+            position_lists: Vec::new(),
             material_groups: Vec::new(),
             shadow_instances_group: instances_group(
                 device,
@@ -173,6 +201,7 @@ impl SceneGpu {
         if uploaded {
             self.upload_meshes(gpu, input.meshes, skinned.is_some())?;
         }
+        self.choose_position_lists(input);
         // NOTE: an upload wrote the bind poses back: every skinned mesh is posed again.
         if let (Some(frame), Some(sources), Some(vertices)) = (skinned, input.skin_sources, &self.vertex_buffer) {
             let ranges = &self.mesh_ranges;
@@ -227,6 +256,22 @@ impl SceneGpu {
         Ok(())
     }
 
+    /// Points each mesh's [`MeshRange::position_first_index`] at its position-only list, or
+    /// at its own indices where it has none, the option is off or a skinning job poses it.
+    fn choose_position_lists(&mut self, input: &FrameInputs<'_>) {
+        let on = input.options.position_indices;
+        for &(m, first) in &self.position_lists {
+            let range = &mut self.mesh_ranges[m];
+            range.position_first_index = if on { first } else { range.first_index };
+        }
+        let jobs = input.skinning.map_or(&[][..], |f| &f.jobs[..]);
+        for job in jobs {
+            if let Some(range) = self.mesh_ranges.get_mut(job.mesh.0 as usize) {
+                range.position_first_index = range.first_index;
+            }
+        }
+    }
+
     /// Packs every mesh into one vertex and one index buffer, after checking that both fit;
     /// with `skinned`, the vertex buffer is also bound as storage, which the compute
     /// skinning writes the posed vertices into.
@@ -253,15 +298,25 @@ impl SceneGpu {
         let mut vertices: Vec<Vertex> = Vec::with_capacity(vertex_count as usize + 1);
         let mut indices: Vec<u32> = Vec::with_capacity(index_count as usize + 3);
         self.mesh_ranges.clear();
-        for mesh in meshes.as_slice() {
+        self.position_lists.clear();
+        for (m, mesh) in meshes.as_slice().iter().enumerate() {
+            let first_index = indices.len() as u32;
             self.mesh_ranges.push(MeshRange {
-                first_index: indices.len() as u32,
+                first_index,
                 index_count: mesh.indices.len() as u32,
                 base_vertex: vertices.len() as i32,
+                position_first_index: first_index,
             });
             vertices.extend_from_slice(&mesh.vertices);
             indices.extend_from_slice(&mesh.indices);
+            // NOTE: a position-only list only while the index buffer has room for it.
+            let room = u64::from(u32::MAX) - indices.len() as u64;
+            if let Some(welded) = position_indices(mesh).filter(|w| (w.len() as u64) < room) {
+                self.position_lists.push((m, indices.len() as u32));
+                indices.extend_from_slice(&welded);
+            }
         }
+        limits.check_buffer("mesh index", indices.len() as u64 * 4, false)?;
         // Never create an empty buffer: pad with one degenerate vertex/index.
         if vertices.is_empty() {
             vertices.push(Vertex::default());

@@ -22,7 +22,7 @@ use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::{Layouts, main_compute_pipeline};
 use crate::render::limits::LimitError;
 use crate::render::readback::read_indirect_lists;
-use crate::render::scene_gpu::{SceneGpu, instances_group, uniform_buffer};
+use crate::render::scene_gpu::{IndexList, SceneGpu, instances_group, uniform_buffer};
 use crate::render::shadows::jobs::{buffer_group, storage_entry, uniform_entry};
 use crate::render::timer::GpuTimer;
 use crate::shader::ShaderLibrary;
@@ -240,12 +240,14 @@ impl ShadowCullGpu {
                 continue;
             }
             self.bases.push(Some(self.template.len() as u32));
-            self.template.extend(group.opaque.iter().chain(&group.masked).map(|b| {
+            let opaque = group.opaque.iter().map(|b| (b, IndexList::Positions));
+            let masked = group.masked.iter().map(|b| (b, IndexList::Shaded));
+            self.template.extend(opaque.chain(masked).map(|(b, list)| {
                 let range = scene.mesh_ranges.get(b.mesh.0 as usize).copied().unwrap_or_default();
                 IndexedArgs {
                     index_count: range.index_count,
                     instance_count: 0,
-                    first_index: range.first_index,
+                    first_index: range.first_of(list),
                     base_vertex: range.base_vertex,
                     first_instance: room + b.first,
                 }

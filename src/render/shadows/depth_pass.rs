@@ -33,6 +33,7 @@ use crate::render::draw::{draw_batches, draw_culled};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
+use crate::render::scene_gpu::IndexList;
 use crate::render::shadows::casters::{CasterKey, CasterPipelines};
 use crate::render::shadows::clear::ClearPipelines;
 use crate::render::shadows::gpu::CasterViewGpu;
@@ -383,7 +384,14 @@ impl DepthPass {
                 (args, base + first_arg),
                 ctx.draw_args,
             ),
-            None => draw_batches(pass, ctx.scene, batches, (masked, &[]), ctx.draw_args),
+            None => {
+                let list = if masked {
+                    IndexList::Shaded
+                } else {
+                    IndexList::Positions
+                };
+                draw_batches(pass, (ctx.scene, list), batches, (masked, &[]), ctx.draw_args)
+            }
         };
         let mut calls = draw(&mut pass, &group.opaque, false, 0);
         if let Some(masked) = &masked {

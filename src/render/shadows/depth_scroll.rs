@@ -15,6 +15,7 @@ use crate::math::clipmap::wrapped_parts;
 use crate::math::footprint::TexelRect;
 use crate::render::draw::draw_batches;
 use crate::render::frame::FrameContext;
+use crate::render::scene_gpu::IndexList;
 use crate::render::shadows::casters::CasterKey;
 use crate::render::shadows::gpu::{CasterViewGpu, wrap_origin};
 use crate::render::shadows::shift::ShiftTarget;
@@ -222,10 +223,12 @@ impl DepthPass {
                 pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
                 pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
                 pass.set_pipeline(&opaque);
-                calls += draw_batches(&mut pass, ctx.scene, &group.opaque, (false, &[]), ctx.draw_args);
+                let opaque = (ctx.scene, IndexList::Positions);
+                calls += draw_batches(&mut pass, opaque, &group.opaque, (false, &[]), ctx.draw_args);
                 if let Some(masked) = &masked {
                     pass.set_pipeline(masked);
-                    calls += draw_batches(&mut pass, ctx.scene, &group.masked, (true, &[]), ctx.draw_args);
+                    let masked = (ctx.scene, IndexList::Shaded);
+                    calls += draw_batches(&mut pass, masked, &group.masked, (true, &[]), ctx.draw_args);
                 }
             }
         }

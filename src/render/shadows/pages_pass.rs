@@ -19,6 +19,7 @@ use crate::math::pages::{MarkRule, PagedLevel, pixel_per_depth};
 use crate::render::frame::FrameContext;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::graph::{FrameResources, GraphResources, PassBuilder, RenderNode, TextureId};
+use crate::render::scene_gpu::IndexList;
 use crate::render::shadows::page_allocate::MAX_PAGED_LEVELS;
 use crate::render::shadows::page_changes::{PagedFrame, TrackedCaster, invalidation};
 use crate::render::shadows::page_mark::{MarkInput, PageMark};
@@ -248,10 +249,17 @@ impl RenderNode for PagesPass {
             let Some(range) = ctx.scene.mesh_ranges.get(mesh.0 as usize) else {
                 continue;
             };
+            // NOTE: an opaque caster is drawn with no fragment stage: positions only.
+            let list = if masked.is_some() {
+                IndexList::Shaded
+            } else {
+                IndexList::Positions
+            };
+            let first = range.first_of(list);
             self.casters.push(PageCaster {
                 world_from_local: caster.world_from_local,
                 sphere: caster.sphere,
-                indices: (range.first_index, range.index_count, range.base_vertex),
+                indices: (first, range.index_count, range.base_vertex),
                 masked: masked.map(|(material, m)| (material.0 as usize, m)),
             });
         }

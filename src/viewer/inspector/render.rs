@@ -55,6 +55,10 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
     ui.checkbox(&mut edited.prepass_reuse, "keep a still prepass").on_hover_text(
         "draw no depth prepass where the camera, the instances and these options are as last frame (keep its depth, normals and ids)",
     );
+    ui.checkbox(&mut edited.position_indices, "position-only caster indices")
+        .on_hover_text(
+            "draw opaque shadow casters from index lists that shade each corner once (a box's 8 vertices, not 24)",
+        );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
     radio_row(
