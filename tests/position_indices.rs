@@ -48,7 +48,12 @@ fn same_maps(scene: &str, frames: usize) -> (usize, usize) {
     let unlisted = off.world().resource::<Renderer>().position_listed_meshes();
     assert_eq!(unlisted, 0, "{scene}: {unlisted} meshes listed with the option off");
     let (a, b) = (cascades(&on), cascades(&off));
-    assert!(!a.is_empty() && a.len() == b.len(), "{scene}: {} and {} layers", a.len(), b.len());
+    assert!(
+        !a.is_empty() && a.len() == b.len(),
+        "{scene}: {} and {} layers",
+        a.len(),
+        b.len()
+    );
     let mut covered = 0;
     for (layer, (a, b)) in a.iter().zip(&b).enumerate() {
         let differ = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits()).count();
@@ -67,7 +72,10 @@ fn cpu_listed_casters_draw_the_same_depth() {
     let (listed, covered) = same_maps("assets/scenes/default.ron", 2);
     println!("default: {listed} meshes drawn from position-only lists");
     // Measured: 335 533 texels.
-    assert!(listed >= 8, "{listed} meshes drawn from position-only lists (measured 23)");
+    assert!(
+        listed >= 8,
+        "{listed} meshes drawn from position-only lists (measured 23)"
+    );
     assert!(covered > 110_000, "{covered} caster texels judged");
 }
 
@@ -76,7 +84,10 @@ fn gpu_culled_casters_draw_the_same_depth() {
     let (listed, covered) = same_maps("assets/scenes/field.ron", 2);
     println!("field: {listed} meshes drawn from position-only lists");
     // Measured: 1 565 658 texels.
-    assert!(listed >= 3, "{listed} meshes drawn from position-only lists (measured 7)");
+    assert!(
+        listed >= 3,
+        "{listed} meshes drawn from position-only lists (measured 7)"
+    );
     assert!(covered > 520_000, "{covered} caster texels judged");
 }
 
