@@ -83,22 +83,8 @@ fn follow(scene: &str, storage: ShadowStorage, steps: &[State]) -> (u64, u64) {
         };
         let (fresh, _) = app(scene, fresh_state);
         let (a, b) = (maps(&kept, storage), maps(&fresh, storage));
-        assert!(
-            !a.is_empty() && a.len() == b.len(),
-            "{scene}: {} and {} layers",
-            a.len(),
-            b.len()
-        );
-        let mut covered = 0;
-        for (layer, (a, b)) in a.iter().zip(&b).enumerate() {
-            let differing = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits()).count();
-            assert_eq!(
-                differing, 0,
-                "{scene} step {i}: layer {layer}: {differing} texels differ"
-            );
-            covered += a.iter().filter(|&&d| d > 0.0).count();
-            layer_texels += a.len() as u64;
-        }
+        let covered: usize = common::equal_layers(&format!("{scene} step {i}"), &a, &b).iter().sum();
+        layer_texels += a.iter().map(|l| l.len() as u64).sum::<u64>();
         assert!(
             covered >= 1000,
             "{scene} step {i}: only {covered} covered texels to judge"

@@ -47,21 +47,9 @@ fn same_maps(scene: &str, frames: usize) -> (usize, usize) {
     let listed = on.world().resource::<Renderer>().position_listed_meshes();
     let unlisted = off.world().resource::<Renderer>().position_listed_meshes();
     assert_eq!(unlisted, 0, "{scene}: {unlisted} meshes listed with the option off");
-    let (a, b) = (cascades(&on), cascades(&off));
-    assert!(
-        !a.is_empty() && a.len() == b.len(),
-        "{scene}: {} and {} layers",
-        a.len(),
-        b.len()
-    );
-    let mut covered = 0;
-    for (layer, (a, b)) in a.iter().zip(&b).enumerate() {
-        let differ = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits()).count();
-        let here = a.iter().filter(|&&d| d > 0.0).count();
-        println!("{scene}: cascade {layer}: {here} caster texels, {differ} differ");
-        assert_eq!(differ, 0, "{scene}: cascade {layer}: {differ} texels differ");
-        covered += here;
-    }
+    let covered = common::equal_layers(scene, &cascades(&on), &cascades(&off));
+    println!("{scene}: caster texels per cascade {covered:?}");
+    let covered = covered.iter().sum();
     let image = |app: &App| app.world().resource::<Renderer>().read_image();
     assert!(image(&on) == image(&off), "{scene}: the images differ");
     (listed, covered)

@@ -149,3 +149,23 @@ pub fn plane_colour(image: &RgbaImage, positions: &[Vec3], x: f32, shadowed: boo
     }
     (sum.map(|s| s / n.max(1) as f32), n)
 }
+
+/// Checks that two renderers' layers of one storage are as many (at least one) and equal bit
+/// for bit, naming `what` in the failure; returns each layer's caster texels (depth > 0).
+pub fn equal_layers(what: &str, a: &[Vec<f32>], b: &[Vec<f32>]) -> Vec<usize> {
+    assert!(
+        !a.is_empty() && a.len() == b.len(),
+        "{what}: {} and {} layers",
+        a.len(),
+        b.len()
+    );
+    a.iter()
+        .zip(b)
+        .enumerate()
+        .map(|(layer, (a, b))| {
+            let differ = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits()).count();
+            assert_eq!(differ, 0, "{what}: layer {layer}: {differ} texels differ");
+            a.iter().filter(|&&d| d > 0.0).count()
+        })
+        .collect()
+}
