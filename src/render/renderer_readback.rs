@@ -4,6 +4,7 @@
 use glam::Vec3;
 use image::RgbaImage;
 
+use crate::ecs::assets::MeshHandle;
 use crate::layout::ShadowStorage;
 use crate::math::seen_depths::SeenDepths;
 use crate::render::frame_inputs::FrameInputs;
@@ -78,14 +79,14 @@ impl Renderer {
         self.target.as_ref()?.read_analysis(&self.gpu.device, &self.gpu.queue)
     }
 
-    /// How many meshes the last frame's opaque shadow casters drew from a position-only
-    /// index list ([`MeshRange::position_first_index`](crate::render::scene_gpu::MeshRange::position_first_index)).
-    pub fn position_listed_meshes(&self) -> usize {
-        self.scene
-            .mesh_ranges
-            .iter()
-            .filter(|r| r.position_first_index != r.first_index)
-            .count()
+    /// The meshes whose opaque shadow casters the last frame drew from a position-only index
+    /// list ([`MeshRange::position_first_index`](crate::render::scene_gpu::MeshRange::position_first_index)).
+    pub fn position_listed_meshes(&self) -> Vec<MeshHandle> {
+        let ranges = self.scene.mesh_ranges.iter().enumerate();
+        ranges
+            .filter(|(_, r)| r.position_first_index != r.first_index)
+            .map(|(m, _)| MeshHandle(m as u32))
+            .collect()
     }
 
     /// Reads layer `layer` of a shadow storage back (for point lights, layer `6·cube + face`):
