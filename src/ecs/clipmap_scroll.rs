@@ -24,7 +24,6 @@ use crate::ecs::view_cache::CachedView;
 use crate::ecs::view_list::{Scroll, ShadowView};
 use crate::math::aabb::Aabb;
 use crate::math::cascades::{CascadeSet, MAX_SUN_VIEWS};
-use crate::math::chunks::visit_casters_chunked;
 use crate::math::clipmap::{ClipmapLevel, GridRect, exposed_strips, window};
 use crate::math::footprint::TexelRect;
 
@@ -81,6 +80,8 @@ pub(crate) struct ScrollScratch {
     rects: Vec<GridRect>,
     /// The mesh each mesh draws in the level being planned (its shadow LOD).
     lods: Vec<[MeshHandle; MAX_SUN_VIEWS]>,
+    /// (caster, region bits) of the regions being culled, in draw order.
+    hits: Vec<(u32, u8)>,
     /// The renderer keeps layers between frames ([`ShadowCulling::cached`]): a layer that
     /// wraps keeps its origin; otherwise each frame draws it whole at origin `[0, 0]`.
     ///
@@ -188,28 +189,21 @@ pub(crate) fn plan_scrolls(
                 region.list.clear();
             }
             let level_index = view.kind.index as usize;
-            let (regions, table, base) = (&mut scratch.regions, &scratch.lods, scratch.count);
-            let casters = &instances.casters;
-            visit_casters_chunked(
-                &set,
-                &instances.caster_centers,
-                &instances.caster_radii,
-                &instances.caster_chunks,
-                |start, masks| {
-                    for (&instance, &mask) in casters[start..].iter().zip(masks) {
-                        let mut bits = mask;
-                        if bits == 0 {
-                            continue;
-                        }
-                        let key = lod_key(table, instances.keys[instance as usize], level_index);
-                        while bits != 0 {
-                            let region = &mut regions[base + bits.trailing_zeros() as usize];
-                            push_instance(&mut region.group, &mut region.list, key, instance);
-                            bits &= bits - 1;
-                        }
-                    }
-                },
-            );
+            // NOTE: culled over the casters in space order (a strip's few casters are found
+            // without visiting a chunk per mesh), the hits sorted back into draw order.
+            scratch.hits.clear();
+            instances.caster_space.cull_sorted(&set, &mut scratch.hits);
+            let regions = &mut scratch.regions[scratch.count..];
+            for &(caster, mask) in &scratch.hits {
+                let instance = instances.casters[caster as usize];
+                let key = lod_key(&scratch.lods, instances.keys[instance as usize], level_index);
+                let mut bits = mask;
+                while bits != 0 {
+                    let region = &mut regions[bits.trailing_zeros() as usize];
+                    push_instance(&mut region.group, &mut region.list, key, instance);
+                    bits &= bits - 1;
+                }
+            }
             scratch.count += batch;
             done += batch;
         }

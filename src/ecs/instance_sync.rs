@@ -198,6 +198,7 @@ fn apply(
         out.chunks.rebuild_from(first, &out.centers, &out.radii);
         out.caster_chunks
             .rebuild_from(first_caster, &out.caster_centers, &out.caster_radii);
+        out.caster_space.extend(&out.caster_centers, &out.caster_radii);
         index_runs(out, first, first_caster);
     }
     out.updated.sort_unstable();
@@ -265,6 +266,11 @@ pub(crate) fn update_in_place(
             last = c as usize / CHUNK;
         }
     }
+    let moved = rows
+        .iter()
+        .map(|(slot, _)| out.caster_index[*slot as usize])
+        .filter(|&c| c != NOT_A_CASTER);
+    out.caster_space.refit(moved, &out.caster_centers, &out.caster_radii);
     if !receivers.is_empty() && out.receiver_bounds.union(receivers) != out.receiver_bounds {
         out.receiver_bounds = out.receiver_bounds.union(receivers).snapped_out(RECEIVER_GRID);
     }

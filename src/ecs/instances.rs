@@ -14,6 +14,7 @@ pub use crate::ecs::draw_groups::DrawKey;
 use crate::ecs::instance_rows::{InstanceQueryItem, NOT_A_CASTER, Row, Skip};
 use crate::math::aabb::Aabb;
 use crate::math::chunks::{CHUNK, SphereChunks};
+use crate::math::space_order::{SpaceOrder, morton_code};
 use crate::shader::instance::InstanceGpu;
 
 /// Cells per side of the grid the receivers' bounds given to the cascades are grown onto
@@ -49,6 +50,9 @@ pub struct RenderInstances {
     pub opaque_casters: usize,
     /// Chunk spheres of the casters (for chunked cascade culling).
     pub caster_chunks: SphereChunks,
+    /// The casters' spheres in space order, whatever their draw keys (for culling small
+    /// boxes: a clipmap level's strips).
+    pub caster_space: SpaceOrder,
     /// Chunk spheres of all instances (for chunked camera culling).
     pub chunks: SphereChunks,
     /// World bounds of all casters.
@@ -179,6 +183,7 @@ pub(crate) fn rebuild<'a>(
     out.appended = 0;
     out.receiver_bounds = out.receiver_bounds.snapped_out(RECEIVER_GRID);
     out.caster_chunks = SphereChunks::build(&out.caster_centers, &out.caster_radii);
+    out.caster_space = SpaceOrder::build(&out.caster_centers, &out.caster_radii);
     out.chunks = SphereChunks::build(&out.centers, &out.radii);
     out.origin = origin;
     out.skipped = skipped;
@@ -270,40 +275,4 @@ fn index_key_runs(
         }
     }
     chunk_runs.push(starts.len() as u32);
-}
-
-/// Position of `p` along a 3D Morton (Z-order) curve over the cube around `bounds` (its
-/// largest side on every axis), 10 bits per axis. A cube, not the box: in a flat scene (a
-/// 2 km field 40 m high) the box's scale would spend a third of the bits on the thin axis,
-/// and runs of consecutive instances would spread hundreds of metres across.
-fn morton_code(bounds: &Aabb, p: Vec3) -> u32 {
-    let size = Vec3::splat((bounds.max - bounds.min).max_element().max(1e-6));
-    let q = ((p - bounds.min) / size * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
-    let spread = |v: f32| {
-        let mut x = v as u32 & 0x3ff;
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
-    };
-    spread(q.x) | (spread(q.y) << 1) | (spread(q.z) << 2)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn morton_codes_interleave_axes_and_stay_in_range() {
-        let b = Aabb::new(Vec3::ZERO, Vec3::splat(1023.0));
-        assert_eq!(morton_code(&b, Vec3::ZERO), 0);
-        assert_eq!(morton_code(&b, Vec3::new(1.0, 0.0, 0.0)), 0b001);
-        assert_eq!(morton_code(&b, Vec3::new(0.0, 1.0, 0.0)), 0b010);
-        assert_eq!(morton_code(&b, Vec3::new(0.0, 0.0, 1.0)), 0b100);
-        assert_eq!(morton_code(&b, Vec3::splat(1023.0)), (1 << 30) - 1);
-        // Outside the bounds clamps; a degenerate box does not divide by zero.
-        assert_eq!(morton_code(&b, Vec3::splat(-5.0)), 0);
-        let flat = Aabb::new(Vec3::ZERO, Vec3::new(10.0, 0.0, 10.0));
-        assert!(morton_code(&flat, Vec3::new(5.0, 0.0, 5.0)) > 0);
-    }
 }

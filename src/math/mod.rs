@@ -39,6 +39,7 @@ pub mod seen_depths;
 pub mod shadow_memory;
 pub mod skinning;
 pub mod snapping;
+pub mod space_order;
 pub mod splits;
 pub mod spot;
 
