@@ -33,17 +33,18 @@ const FOOTPRINT_STEP: usize = 8;
 /// compute dispatch and the conservative footprints of whole chunks).
 pub const GPU_SHADOW_MIN_CASTERS: usize = 16_384;
 
-/// Lists in `entries` (one per cascade of `set`, emptied by the caller) the runs of the caster
-/// chunks that meet each cascade's box, with a batch per run of the cascade's mesh level
-/// (`table`, from [`lod_table`](crate::ecs::lod_table::lod_table)), and each cascade's
-/// footprint from those chunks; marks an entry `partial` when a chunk only straddles its box
-/// (its members are then not all drawn).
+/// Lists in the entries of `want` (bits of `entries`, one per cascade of `set`; those emptied
+/// by the caller) the runs of the caster chunks that meet each cascade's box, with a batch per
+/// run of the cascade's mesh level (`table`, from
+/// [`lod_table`](crate::ecs::lod_table::lod_table)), and each cascade's footprint from those
+/// chunks; marks an entry `partial` when a chunk only straddles its box (its members are then
+/// not all drawn). The other entries are left as they are.
 pub(crate) fn cull_sun_runs(
     set: &CascadeSet,
     instances: &RenderInstances,
     table: &[[MeshHandle; MAX_SUN_VIEWS]],
     views: &[ShadowView],
-    entries: &mut [CachedView],
+    (entries, want): (&mut [CachedView], u8),
 ) {
     let mut projectors = [ClipProjector::new(&glam::Mat4::IDENTITY); MAX_SUN_VIEWS];
     for (projector, view) in projectors.iter_mut().zip(views) {
@@ -52,7 +53,7 @@ pub(crate) fn cull_sun_runs(
     let n = instances.casters.len();
     let cascades = entries.len().min(MAX_SUN_VIEWS);
     visit_cascade_chunks(set, &instances.caster_chunks, n, |k, overlap, inside| {
-        let mut bits = overlap;
+        let mut bits = overlap & want;
         while bits != 0 {
             let c = bits.trailing_zeros() as usize;
             bits &= bits - 1;
@@ -63,7 +64,9 @@ pub(crate) fn cull_sun_runs(
         }
     });
     for (c, entry) in entries.iter_mut().enumerate().take(cascades) {
-        number_batches(entry, instances, |key| lod_key(table, key, c));
+        if want & 1 << c != 0 {
+            number_batches(entry, instances, |key| lod_key(table, key, c));
+        }
     }
 }
 

@@ -108,24 +108,33 @@ pub(crate) fn cull_views(
         }
         debug_assert!(set.count <= MAX_SUN_VIEWS);
         culled = true;
-        for entry in &mut entries[range.clone()] {
-            start_cull(entry);
-        }
         lod_table(lods, instances, sun.cascades.active(), &mut scratch.lods);
         let table = &scratch.lods;
         if gpu_shadows && !single_pass && !set.clipmap {
+            // NOTE: each cascade's runs stand alone: only the cascades that moved are listed
+            // again (a moving camera redraws the near ones most frames, the far ones seldom).
+            let mut want = 0u8;
+            for (c, entry) in entries[range.clone()].iter_mut().enumerate() {
+                if entry.cull {
+                    want |= 1 << c;
+                    start_cull(entry);
+                }
+            }
             cull_sun_runs(
                 set,
                 instances,
                 table,
                 &views[range.clone()],
-                &mut entries[range.clone()],
+                (&mut entries[range.clone()], want),
             );
-            for entry in &mut entries[range.clone()] {
+            for entry in entries[range.clone()].iter_mut().filter(|e| e.cull) {
                 end_cull(entry);
             }
             *owner = None;
             continue;
+        }
+        for entry in &mut entries[range.clone()] {
+            start_cull(entry);
         }
         scratch.masks.clear();
         scratch.masks.resize(instances.casters.len(), 0);
