@@ -217,7 +217,7 @@ fn collect_receivers(
             let range = k * CHUNK..((k + 1) * CHUNK).min(instances.centers.len());
             // NOTE: a large chunk is split only when one member dominates it (a ground plane
             // among small casters); a chunk of small casters spread wide is taken whole.
-            let dominated = || instances.radii[range.clone()].iter().any(|&r| r > 0.5 * radius);
+            let dominated = || chunks.max_radii.get(k).is_none_or(|&r| r > 0.5 * radius);
             if radius.is_finite() && (radius <= expand || !dominated()) {
                 members.push((center, radius, CHUNK_BIT | k));
                 continue;
