@@ -7,7 +7,6 @@ mod common;
 
 use bevy_app::App;
 use glam::Vec3;
-use penumbra::ecs::{Camera3d, Transform};
 use penumbra::layout::ShadowStorage;
 use penumbra::render::Renderer;
 use penumbra::settings::ShadowSettings;
@@ -26,22 +25,13 @@ fn field(cells: u32) -> App {
     app
 }
 
-/// Applies `f` to the camera's transform.
-fn move_camera(app: &mut App, f: impl Fn(&mut Transform)) {
-    let world = app.world_mut();
-    let mut cameras = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
-    for mut t in cameras.iter_mut(world) {
-        f(&mut t);
-    }
-}
-
 /// Walks `app` 24 frames of 0.37 m towards −z (after its first frame); returns the shadow
 /// views drawn each frame.
 fn walk(app: &mut App) -> Vec<u32> {
     app.update();
     (0..24)
         .map(|_| {
-            move_camera(app, |t| t.translation += Vec3::new(0.05, 0.0, -0.37));
+            common::move_camera(app, |t| t.translation += Vec3::new(0.05, 0.0, -0.37));
             app.update();
             app.world().resource::<Renderer>().last_report.shadow_views_drawn
         })
@@ -51,13 +41,9 @@ fn walk(app: &mut App) -> Vec<u32> {
 /// The largest channel difference between two renderers' images and the caster texels of
 /// their cascades, after checking every cascade's map is equal texel for texel.
 fn compare_with_fresh(walked: &mut App, cells: u32) -> (u8, usize) {
-    let at = {
-        let world = walked.world_mut();
-        let mut cameras = world.query_filtered::<&Transform, bevy_ecs::query::With<Camera3d>>();
-        *cameras.single(world).expect("one camera")
-    };
+    let at = common::camera_transform(walked);
     let mut fresh = field(cells);
-    move_camera(&mut fresh, |t| *t = at);
+    common::move_camera(&mut fresh, |t| *t = at);
     fresh.update();
     let (a, b) = (
         walked.world().resource::<Renderer>(),

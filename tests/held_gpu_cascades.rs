@@ -7,36 +7,21 @@ mod common;
 
 use bevy_app::App;
 use glam::Vec3;
-use penumbra::ecs::{Camera3d, ShadowViews, Transform};
+use penumbra::ecs::ShadowViews;
 use penumbra::layout::ShadowStorage;
-use penumbra::render::{RenderOptions, Renderer};
+use penumbra::render::Renderer;
 use penumbra::settings::ShadowSettings;
 
-/// The field (`assets/scenes/field.ron`, 101 636 casters) with 512² cascades, drawn with the
+/// The field (`assets/scenes/field.ron`, 101 736 casters) with 512² cascades, drawn with the
 /// shadow cache or without.
 fn field(cache: bool) -> App {
-    let renderer = Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = common::still_scene(renderer, "assets/scenes/field.ron");
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
+    let mut app = common::cached_scene("assets/scenes/field.ron", cache);
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
         s.map.resolution = 512;
     }
     app
-}
-
-/// Applies `f` to the camera's transform.
-fn move_camera(app: &mut App, f: impl Fn(&mut Transform)) {
-    let world = app.world_mut();
-    let mut cameras = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
-    for mut t in cameras.iter_mut(world) {
-        f(&mut t);
-    }
 }
 
 /// The cascades' maps of `app`'s renderer.
@@ -64,7 +49,7 @@ fn gpu_culled_cascades_that_held_keep_runs_that_draw_the_fresh_maps() {
         for _ in 0..8 {
             let before = walked.world().resource::<ShadowViews>().run_ranges.clone();
             let runs_before = walked.world().resource::<ShadowViews>().runs.clone();
-            move_camera(&mut walked, |t| t.translation += Vec3::new(0.05, 0.0, -0.37));
+            common::move_camera(&mut walked, |t| t.translation += Vec3::new(0.05, 0.0, -0.37));
             walked.update();
             let views = walked.world().resource::<ShadowViews>();
             assert!(
@@ -89,13 +74,9 @@ fn gpu_culled_cascades_that_held_keep_runs_that_draw_the_fresh_maps() {
             mixed > 0,
             "cache {cache}: no frame changed some cascades' runs and not others"
         );
-        let at = {
-            let world = walked.world_mut();
-            let mut cameras = world.query_filtered::<&Transform, bevy_ecs::query::With<Camera3d>>();
-            *cameras.single(world).expect("one camera")
-        };
+        let at = common::camera_transform(&mut walked);
         let mut fresh = field(cache);
-        move_camera(&mut fresh, |t| *t = at);
+        common::move_camera(&mut fresh, |t| *t = at);
         fresh.update();
         let what = format!("cache {cache}: the walked cascades against fresh ones");
         let covered = common::equal_layers(&what, &maps(&walked), &maps(&fresh));

@@ -13,18 +13,12 @@ use glam::{Vec3, Vec4};
 use penumbra::ecs::{FrameLights, ShadowDiagnostics, ShadowLightBudget, ShadowStorage, ShadowViews, Transform};
 use penumbra::math::aabb::Aabb;
 use penumbra::math::point::face_frustum;
-use penumbra::render::{RenderOptions, Renderer};
+use penumbra::render::Renderer;
 
 const NIGHT: &str = "assets/scenes/night.ron";
 
 fn app(cache: bool) -> (App, Entity) {
-    let renderer = Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = still_scene(renderer, NIGHT);
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
+    let mut app = common::cached_scene(NIGHT, cache);
     let cube = spawn_box(
         app.world_mut(),
         Vec3::splat(0.3),

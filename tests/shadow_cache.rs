@@ -8,11 +8,11 @@ mod common;
 use bevy_app::App;
 use bevy_ecs::entity::Entity;
 use bevy_ecs::world::World;
-use common::{spawn_box, still_scene};
+use common::spawn_box;
 use glam::{Quat, Vec3, Vec4};
 use image::RgbaImage;
 use penumbra::ecs::{Camera3d, DirectionalLight, ShadowViewKind, ShadowViews, SpotLight, Transform};
-use penumbra::render::{RenderOptions, Renderer};
+use penumbra::render::Renderer;
 use penumbra::settings::{CascadeFit, ShadowSettings};
 
 /// The same scene in two renderers: with the cache, and drawing every map every frame.
@@ -23,13 +23,7 @@ struct Pair {
 }
 
 fn app(scene: &str, cache: bool) -> (App, Entity) {
-    let renderer = Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = still_scene(renderer, scene);
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
+    let mut app = common::cached_scene(scene, cache);
     let world = app.world_mut();
     let cube = spawn_box(
         world,

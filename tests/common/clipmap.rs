@@ -19,15 +19,8 @@ pub fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> Ap
 
 /// [`long_field_filtered`] before its first frame.
 pub fn long_field_unrendered(resolution: u32, cache: bool, mode: ShadowMode) -> App {
-    use penumbra::render::RenderOptions;
     use penumbra::settings::{ShadowSettings, SunLayout};
-    let renderer = penumbra::render::Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = super::still_scene(renderer, "assets/bench/long_field.ron");
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
+    let mut app = super::cached_scene("assets/bench/long_field.ron", cache);
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {

@@ -14,7 +14,7 @@ use bevy_ecs::world::World;
 use glam::{Vec3, Vec4};
 use image::RgbaImage;
 use penumbra::app::{HeadlessFrame, RenderRequest, headless_app, render_scene_with, spawn_scene};
-use penumbra::ecs::{Material, Materials, Mesh3d, MeshMaterial3d, Meshes, Transform};
+use penumbra::ecs::{Camera3d, Material, Materials, Mesh3d, MeshMaterial3d, Meshes, Transform};
 use penumbra::mesh::cuboid;
 use penumbra::render::{RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
@@ -32,6 +32,35 @@ pub fn still_scene(renderer: Renderer, scene: &str) -> App {
         s.filter.temporal_rotation = false;
     }
     app
+}
+
+/// `scene` in a 160×90 headless app (as [`still_scene`]) drawing with the shadow cache or
+/// without it; no frame rendered yet.
+pub fn cached_scene(scene: &str, cache: bool) -> App {
+    let renderer = Renderer::headless(160, 90)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = still_scene(renderer, scene);
+    app.insert_resource(RenderOptions {
+        shadow_cache: cache,
+        ..RenderOptions::default()
+    });
+    app
+}
+
+/// Applies `f` to the transform of every 3D camera of `app`.
+pub fn move_camera(app: &mut App, f: impl Fn(&mut Transform)) {
+    let world = app.world_mut();
+    let mut cameras = world.query_filtered::<&mut Transform, bevy_ecs::query::With<Camera3d>>();
+    for mut t in cameras.iter_mut(world) {
+        f(&mut t);
+    }
+}
+
+/// The transform of `app`'s one 3D camera.
+pub fn camera_transform(app: &mut App) -> Transform {
+    let world = app.world_mut();
+    let mut cameras = world.query_filtered::<&Transform, bevy_ecs::query::With<Camera3d>>();
+    *cameras.single(world).expect("one camera")
 }
 
 /// A bench run small enough for software Vulkan: one shipped scene (a path under `assets/`),
