@@ -30,7 +30,7 @@ pub fn morton_code(bounds: &Aabb, p: Vec3) -> u32 {
 }
 
 /// The casters' spheres reordered along a Morton curve, with their chunks.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct SpaceOrder {
     /// Caster indices (into the arrays this was built from), in space order.
     order: Vec<u32>,

@@ -61,8 +61,9 @@ fn strips(rects: &[(f32, f32, f32, f32)]) -> CascadeSet {
     set
 }
 
-/// Checks that the hits of `space` over `set` are sorted by caster, hold every bit the exact
-/// test gives each sphere, and only spheres some box reaches; returns how many spheres the
+/// Checks that the hits of `space` over `set` are sorted by caster and give each sphere
+/// exactly the bits the exact test gives it (the chunked decisions may add a bit within their
+/// padding of a box; none of these spheres lies that close); returns how many spheres the
 /// exact test found.
 fn check(space: &SpaceOrder, set: &CascadeSet, centers: &[Vec3], radii: &[f32]) -> usize {
     let mut exact = vec![0u8; centers.len()];
@@ -75,16 +76,7 @@ fn check(space: &SpaceOrder, set: &CascadeSet, centers: &[Vec3], radii: &[f32]) 
         found[i as usize] = bits;
     }
     for (i, (&e, &f)) in exact.iter().zip(&found).enumerate() {
-        assert_eq!(e & f, e, "sphere {i} misses bits: exact {e:#b}, space order {f:#b}");
-        // NOTE: a chunk accepted whole may add a bit within its padding of a box, never far.
-        if f != 0 && e == 0 {
-            let p = set.light_rotation * centers[i];
-            let near = set.active().iter().any(|c| {
-                let d = (c.light_min.truncate() - p.truncate()).max(p.truncate() - c.light_max.truncate());
-                d.max_element() <= radii[i] + 1.0
-            });
-            assert!(near, "sphere {i} at {p} hit far from every box");
-        }
+        assert_eq!(e, f, "sphere {i}: exact {e:#b}, space order {f:#b}");
     }
     exact.iter().filter(|&&e| e != 0).count()
 }
@@ -100,11 +92,12 @@ fn strips_find_every_sphere_the_exact_test_finds_in_draw_order() {
         (-200.0, -200.0, 200.0, 200.0),
     ]);
     let found = check(&space, &set, &centers, &radii);
-    assert!(found > 19_000, "the whole-scene box found {found} spheres");
+    assert_eq!(found, 20_000, "the whole-scene box found {found} spheres");
     let narrow = strips(&[(-60.0, -20.0, -55.0, 40.0)]);
     let found = check(&space, &narrow, &centers, &radii);
+    // Measured: 49.
     assert!(
-        (20..1_000).contains(&found),
+        (17..=150).contains(&found),
         "a 5 m × 60 m strip found {found} of 20 000 spheres"
     );
 }

@@ -240,8 +240,8 @@ impl ShadowCullGpu {
                 continue;
             }
             self.bases.push(Some(self.template.len() as u32));
-            let opaque = group.opaque.iter().map(|b| (b, IndexList::Positions));
-            let masked = group.masked.iter().map(|b| (b, IndexList::Shaded));
+            let opaque = group.opaque.iter().map(|b| (b, IndexList::for_caster(false, false)));
+            let masked = group.masked.iter().map(|b| (b, IndexList::for_caster(true, false)));
             self.template.extend(opaque.chain(masked).map(|(b, list)| {
                 let range = scene.mesh_ranges.get(b.mesh.0 as usize).copied().unwrap_or_default();
                 IndexedArgs {

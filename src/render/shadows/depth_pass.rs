@@ -385,15 +385,7 @@ impl DepthPass {
                 ctx.draw_args,
             ),
             None => {
-                // NOTE: a multiview pass reads the meshes' own indices: from position-only
-                // lists lavapipe's multiview pass wrote 436 texels of the default scene's
-                // cascade 0 unlike one pass per cascade (tests/single_pass.rs); not checked
-                // on other GPUs.
-                let list = if masked || count > 1 {
-                    IndexList::Shaded
-                } else {
-                    IndexList::Positions
-                };
+                let list = IndexList::for_caster(masked, count > 1);
                 draw_batches(pass, (ctx.scene, list), batches, (masked, &[]), ctx.draw_args)
             }
         };

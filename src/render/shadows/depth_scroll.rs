@@ -223,11 +223,11 @@ impl DepthPass {
                 pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
                 pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
                 pass.set_pipeline(&opaque);
-                let opaque = (ctx.scene, IndexList::Positions);
+                let opaque = (ctx.scene, IndexList::for_caster(false, false));
                 calls += draw_batches(&mut pass, opaque, &group.opaque, (false, &[]), ctx.draw_args);
                 if let Some(masked) = &masked {
                     pass.set_pipeline(masked);
-                    let masked = (ctx.scene, IndexList::Shaded);
+                    let masked = (ctx.scene, IndexList::for_caster(true, false));
                     calls += draw_batches(&mut pass, masked, &group.masked, (true, &[]), ctx.draw_args);
                 }
             }

@@ -249,13 +249,7 @@ impl RenderNode for PagesPass {
             let Some(range) = ctx.scene.mesh_ranges.get(mesh.0 as usize) else {
                 continue;
             };
-            // NOTE: an opaque caster is drawn with no fragment stage: positions only.
-            let list = if masked.is_some() {
-                IndexList::Shaded
-            } else {
-                IndexList::Positions
-            };
-            let first = range.first_of(list);
+            let first = range.first_of(IndexList::for_caster(masked.is_some(), false));
             self.casters.push(PageCaster {
                 world_from_local: caster.world_from_local,
                 sphere: caster.sphere,
