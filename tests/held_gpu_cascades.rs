@@ -81,8 +81,9 @@ fn gpu_culled_cascades_that_held_keep_runs_that_draw_the_fresh_maps() {
         let what = format!("cache {cache}: the walked cascades against fresh ones");
         let covered = common::equal_layers(&what, &maps(&walked), &maps(&fresh));
         println!("cache {cache}: {mixed} of 8 frames changed some cascades' runs only; caster texels {covered:?}");
+        // Measured: 83 510 to 111 446 per cascade.
         assert!(
-            covered.iter().all(|&c| c > 1_000),
+            covered.iter().all(|&c| c > 27_000),
             "cache {cache}: a cascade holds few caster texels: {covered:?}"
         );
     }

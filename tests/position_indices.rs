@@ -14,13 +14,11 @@ use penumbra::settings::ShadowSettings;
 
 /// `scene` with 1024² maps and position-only lists `on` or off, after `frames` frames.
 fn rendered(scene: &str, on: bool, frames: usize) -> App {
-    let renderer = Renderer::headless(160, 90)
-        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
-    let mut app = common::still_scene(renderer, scene);
-    app.insert_resource(RenderOptions {
+    let options = RenderOptions {
         position_indices: on,
         ..RenderOptions::default()
-    });
+    };
+    let mut app = common::scene_with(scene, options);
     let world = app.world_mut();
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {

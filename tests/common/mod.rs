@@ -34,17 +34,25 @@ pub fn still_scene(renderer: Renderer, scene: &str) -> App {
     app
 }
 
-/// `scene` in a 160×90 headless app (as [`still_scene`]) drawing with the shadow cache or
-/// without it; no frame rendered yet.
-pub fn cached_scene(scene: &str, cache: bool) -> App {
+/// `scene` in a 160×90 headless app (as [`still_scene`]) rendering with `options`; no frame
+/// rendered yet.
+pub fn scene_with(scene: &str, options: RenderOptions) -> App {
     let renderer = Renderer::headless(160, 90)
         .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
     let mut app = still_scene(renderer, scene);
-    app.insert_resource(RenderOptions {
-        shadow_cache: cache,
-        ..RenderOptions::default()
-    });
+    app.insert_resource(options);
     app
+}
+
+/// [`scene_with`] the shadow cache on or off.
+pub fn cached_scene(scene: &str, cache: bool) -> App {
+    scene_with(
+        scene,
+        RenderOptions {
+            shadow_cache: cache,
+            ..RenderOptions::default()
+        },
+    )
 }
 
 /// Applies `f` to the transform of every 3D camera of `app`.
