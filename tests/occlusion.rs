@@ -145,6 +145,48 @@ fn culling_changes_no_pixel_along_a_camera_path() {
 }
 
 #[test]
+fn a_slow_walk_keeps_its_chunk_runs_and_every_pixel() {
+    let (mut culled, mut full) = (app(true), app(false));
+    let (mut kept, mut judged) = (0, 0);
+    let mut last = None;
+    for step in 0..10 {
+        for app in [&mut culled, &mut full] {
+            let world = app.world_mut();
+            let mut q = world.query_filtered::<&mut Transform, With<Camera3d>>();
+            for mut t in q.iter_mut(world) {
+                // 0.37 m forward and 0.1 m sideways a frame: the field's held frustum reaches
+                // 3 m (half a percent of its 600 m) past the camera's.
+                if step > 0 {
+                    let step = t.rotation * Vec3::new(0.1, 0.0, -0.37);
+                    t.translation += step;
+                }
+            }
+            app.update();
+        }
+        let (a, b) = (renderer(&culled).read_image(), renderer(&full).read_image());
+        let differing = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
+        assert_eq!(differing, 0, "step {step}: {differing} pixels differ");
+        let views = culled.world().resource::<ViewDrawGroups>();
+        kept += usize::from(last == Some(views.generation));
+        last = Some(views.generation);
+        // Every instance the CPU finds in the frustum is in a listed run.
+        let mut listed = vec![false; culled.world().resource::<RenderInstances>().centers.len()];
+        for run in &views.runs {
+            listed[run.first as usize..(run.first + run.count) as usize].fill(true);
+        }
+        let visible = &full.world().resource::<ViewDrawGroups>().indices;
+        let missing = visible.iter().filter(|&&i| !listed[i as usize]).count();
+        assert_eq!(missing, 0, "step {step}: {missing} visible instances in no run");
+        judged += visible.len();
+    }
+    eprintln!("runs kept on {kept} of 9 moving frames; {judged} visible instances judged");
+    // Measured: kept on 8 of 9 frames (relisted once, after about 3 m).
+    assert!(kept >= 6, "runs kept on only {kept} of 9 frames");
+    assert!(kept < 9, "the runs were never listed again");
+    assert!(judged > 200_000, "only {judged} visible instances judged");
+}
+
+#[test]
 fn the_gpu_frustum_lists_hold_the_cpu_lists_and_what_the_mirror_keeps() {
     // Occlusion off: the GPU tests the frustum only, as the CPU does instance by instance.
     let mut apps = [true, false].map(|gpu| {

@@ -3,7 +3,11 @@
 //! a chunk drawn with the coarsest mesh level its size on screen allows
 //! ([`crate::ecs::view_lod`]); or, for a renderer that culls on the GPU, by chunk only
 //! ([`crate::ecs::camera_runs`]). A frame whose camera matrix, viewport height, LOD setting,
-//! culling and instance list are those of the last frame keeps its groups.
+//! culling and instance list are those of the last frame keeps its groups. Chunks culled for
+//! the GPU are culled against the frustum grown by a margin ([`HELD_MARGIN`] of its depth),
+//! and kept while the camera's frustum stays inside that (the GPU tests each instance against
+//! the camera's own frustum every frame): a camera moving a little each frame lists its chunks
+//! again only when it has moved about the margin.
 //! (Shadow casters are culled per shadow view by
 //! [`update_shadow_views`](crate::ecs::shadow_views::update_shadow_views).)
 
@@ -24,7 +28,12 @@ use crate::ecs::view::ActiveView;
 use crate::ecs::view_lod::{CameraLod, ViewLod};
 use crate::ecs::view_order::{Run, front_to_back};
 use crate::math::chunks::{CHUNK, cull_spheres_frustum_chunked};
-use crate::math::frustum::Frustum;
+use crate::math::frustum::{Frustum, slice_corners};
+
+/// How far out, as a fraction of the camera's far distance, the frustum that chunks are
+/// culled against for the GPU reaches past the camera's (they are kept while the camera's
+/// frustum stays inside it). Larger keeps them longer and has the GPU test more instances.
+pub const HELD_MARGIN: f32 = 0.005;
 
 /// Reused buffers of [`cull_view`].
 #[derive(Default)]
@@ -32,6 +41,9 @@ pub struct ViewScratch {
     visible: Vec<u32>,
     scratch: Vec<u32>,
     runs: Vec<Run>,
+    /// The grown frustum the GPU's chunks were culled against, and what else they were made
+    /// for (the instance list's generation, the viewport height, the LOD setting).
+    held: Option<(Frustum, (u64, u32, CameraLod))>,
 }
 
 /// What the camera view's groups were made for: the camera matrix, the instance list's
@@ -69,6 +81,28 @@ pub fn cull_view(
         return;
     }
     *last = key;
+    let held_for = (instances.generation, viewport.height, lod);
+    if let (true, Some((camera, _)), Some((grown, made_for))) = (gpu, &view.camera, &visible.held)
+        && *made_for == held_for
+        && grown.contains_points(&slice_corners(camera, camera.near, camera.far))
+    {
+        // NOTE: the runs stand; only the LOD's error scale follows the camera.
+        groups.lod_error_per_depth = lods
+            .as_deref()
+            .and_then(|lods| {
+                ViewLod::new(
+                    lods,
+                    lod,
+                    (camera.position(), camera.forward()),
+                    camera.fov_y,
+                    viewport.height,
+                )
+            })
+            .map_or(0.0, |v| v.error_per_depth());
+        stats.view_culling_cpu = start.elapsed();
+        return;
+    }
+    visible.held = None;
     let groups = &mut *groups;
     groups.group.clear();
     groups.indices.clear();
@@ -77,12 +111,19 @@ pub fn cull_view(
     groups.generation += 1;
     if let Some((camera, _)) = &view.camera {
         let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-        let ViewScratch { visible, scratch, runs } = &mut *visible;
+        let ViewScratch {
+            visible,
+            scratch,
+            runs,
+            held,
+        } = &mut *visible;
         let eye = camera.position();
         let view_lod = lods
             .as_deref()
             .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
-        if gpu && cull_chunk_runs(&frustum, view_lod.as_ref(), &instances, groups) {
+        let grown = frustum.dilated(HELD_MARGIN * camera.far);
+        if gpu && cull_chunk_runs(&grown, view_lod.as_ref(), &instances, groups) {
+            *held = Some((grown, held_for));
             stats.visible_instances = groups.candidate_count() as u32;
             stats.view_culling_cpu = start.elapsed();
             return;

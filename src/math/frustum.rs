@@ -235,6 +235,25 @@ impl Frustum {
         self.planes.iter().all(|pl| pl.distance(p) >= 0.0)
     }
 
+    /// This frustum with every plane moved `margin` outwards (a degenerate plane is left
+    /// as it is). Whatever meets a frustum whose corners all lie in it
+    /// ([`contains_points`](Self::contains_points)) meets it too.
+    pub fn dilated(&self, margin: f32) -> Frustum {
+        Frustum {
+            planes: self.planes.map(|p| match p.normal == Vec3::ZERO {
+                true => p,
+                false => Plane { d: p.d + margin, ..p },
+            }),
+        }
+    }
+
+    /// True when every point of `points` is inside (or on) every plane: for the eight
+    /// corners of a bounded frustum, that the whole frustum is inside this one (both are
+    /// convex).
+    pub fn contains_points(&self, points: &[Vec3]) -> bool {
+        points.iter().all(|&p| p.is_finite() && self.contains_point(p))
+    }
+
     /// Conservative sphere test: false only when the sphere is entirely outside some plane.
     /// A non-finite centre or radius gives false; a negative radius counts as zero.
     pub fn intersects_sphere(&self, center: Vec3, radius: f32) -> bool {
@@ -290,6 +309,38 @@ mod tests {
                 .truncate()
                 .abs_diff_eq(glam::Vec2::ZERO, 1e-5)
         );
+    }
+
+    #[test]
+    fn a_dilated_frustum_holds_the_frustum_moved_less_than_its_margin() {
+        let cam = camera();
+        let frustum = Frustum::from_clip_from_world(cam.clip_from_world());
+        let held = frustum.dilated(0.5);
+        let corners = |c: &CameraView| slice_corners(c, c.near, c.far);
+        assert!(held.contains_points(&corners(&cam)));
+        assert!(!frustum.dilated(-0.01).contains_points(&corners(&cam)));
+        let moved_by = |step: Vec3| {
+            let mut moved = cam;
+            moved.world_from_view.w_axis += step.extend(0.0);
+            moved
+        };
+        // Moved 0.4 m along any axis: each plane's distance changes by at most 0.4.
+        for step in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Z, Vec3::ONE.normalize()] {
+            assert!(held.contains_points(&corners(&moved_by(step * 0.4))), "moved by {step}");
+        }
+        // 0.6 m forwards the far corners leave, 0.6 m back the near ones.
+        for step in [cam.forward(), -cam.forward()] {
+            assert!(
+                !held.contains_points(&corners(&moved_by(step * 0.6))),
+                "moved by {step}"
+            );
+        }
+        // Turned 1°: the far corners (about 140 m away) move about 2.4 m, past the margin.
+        let mut turned = cam;
+        turned.world_from_view *= Mat4::from_rotation_y(1f32.to_radians());
+        assert!(!held.contains_points(&corners(&turned)));
+        assert!(frustum.dilated(3.0).contains_points(&corners(&turned)));
+        assert!(!held.contains_points(&[Vec3::NAN]));
     }
 
     #[test]
