@@ -1,0 +1,78 @@
+//! Per-frame CPU cost of the shadow systems on the bench scenes as `penumbra render` loads
+//! them (`assets/scenes/field.ron`: 100k casters, `assets/bench/many_boxes.ron`: 101 760
+//! boxes of 2 120 meshes, `assets/bench/million.ron`: 1M), without a GPU: `ShadowPlugin`
+//! alone, culling as for a renderer that culls on the GPU (camera and cascades by chunk), the
+//! camera walking 0.37 m a frame back and forth along its scene's axis (30 frames each way,
+//! so it stays over the scene) — `scene_frame_moving/<scene>` — or standing still
+//! (`scene_frame_still/<scene>`). Run with `cargo bench --bench scene_frames`. The caches
+//! are warm here; in `penumbra render` the GPU's work between frames evicts them.
+
+use bevy_app::App;
+use bevy_ecs::query::With;
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use penumbra::app::PreparedScene;
+use penumbra::ecs::components::ViewportSize;
+use penumbra::ecs::receiver_culling::ShadowCulling;
+use penumbra::ecs::{Camera3d, ShadowPlugin, Transform};
+use penumbra::scene::SceneDesc;
+
+/// The scenes measured.
+const SCENES: [&str; 3] = [
+    "assets/scenes/field.ron",
+    "assets/bench/many_boxes.ron",
+    "assets/bench/million.ron",
+];
+
+/// `scene` spawned into an app of `ShadowPlugin` at 1920×1080, culled by chunk for the GPU,
+/// after its first frame.
+fn scene_app(scene: &str) -> App {
+    let desc = SceneDesc::load(scene).expect("the bench scene loads");
+    let mut app = App::new();
+    app.add_plugins(ShadowPlugin);
+    app.insert_resource(ViewportSize {
+        width: 1920,
+        height: 1080,
+    });
+    let mut culling = app.world_mut().resource_mut::<ShadowCulling>();
+    (culling.gpu_camera, culling.gpu_shadows) = (true, true);
+    PreparedScene::new(&desc)
+        .expect("the bench scene spawns")
+        .spawn(app.world_mut());
+    app.update();
+    app
+}
+
+/// Moves the app's camera 0.37 m along −Z (frames 0–29 of every 60) or +Z (30–59).
+fn walk(app: &mut App, frame: &mut u32) {
+    let step = if (*frame / 30).is_multiple_of(2) { -0.37 } else { 0.37 };
+    let world = app.world_mut();
+    let mut cameras = world.query_filtered::<&mut Transform, With<Camera3d>>();
+    for mut t in cameras.iter_mut(world) {
+        t.translation.z += step;
+    }
+    *frame += 1;
+}
+
+fn scene_frames(c: &mut Criterion) {
+    for (name, moving) in [("scene_frame_moving", true), ("scene_frame_still", false)] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(30);
+        for scene in SCENES {
+            let mut app = scene_app(scene);
+            let mut frame = 0;
+            let id = scene.rsplit('/').next().unwrap_or(scene).trim_end_matches(".ron");
+            group.bench_with_input(BenchmarkId::from_parameter(id), &id, |b, _| {
+                b.iter(|| {
+                    if moving {
+                        walk(&mut app, &mut frame);
+                    }
+                    app.update()
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, scene_frames);
+criterion_main!(benches);
