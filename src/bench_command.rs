@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use penumbra::export::{OutputKind, prepare_output};
+use penumbra::render::SunDepth;
 use penumbra::settings::ContactShadows;
 
 use super::cli_values::Fit;
@@ -73,6 +74,10 @@ pub struct BenchArgs {
     /// 0-64.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
     snap_cells: Option<u32>,
+    /// Bits of depth of the suns' cascade and clipmap layers, timed and scored: 32 (float) or
+    /// 16 (unorm).
+    #[arg(long, default_value = "32")]
+    sun_depth: SunDepth,
     /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
     #[arg(long, value_parser = sun_degrees, conflicts_with = "sun_diameters")]
     sun_diameter: Option<f32>,
@@ -146,6 +151,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
                 pool_pages: args.pool_pages,
             },
         ),
+        sun_depth: args.sun_depth,
     };
     let overrides = penumbra::bench::SettingsOverrides {
         normal_offset: args.normal_offset,

@@ -14,7 +14,7 @@ use penumbra::ecs::shadow_memory::MIB;
 use penumbra::ecs::view_lod::CameraLod;
 use penumbra::export::{OutputKind, prepare_output, write_color_image, write_scalar_image};
 use penumbra::render::limits::MAX_TEXTURE_SIDE;
-use penumbra::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
+use penumbra::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions, SunDepth};
 use penumbra::scene::{DEFAULT_MAX_INSTANCES, SceneDesc, SceneLimits};
 use penumbra::settings::{
     ContactShadows, DEFAULT_PAGE_SIZE, DEFAULT_POOL_PAGES, DEFAULT_VIRTUAL_RESOLUTION, MomentFormat, PcssQuality,
@@ -183,6 +183,10 @@ pub struct RenderArgs {
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
     #[arg(long, default_value = "1")]
     msaa: Msaa,
+    /// Bits of depth of the suns' cascade and clipmap layers: 32 (float) or 16 (unorm: half
+    /// the memory and bandwidth; a depth rounds to 1/65 536 of the view's depth range).
+    #[arg(long, default_value = "32")]
+    sun_depth: SunDepth,
     /// Most MiB of the scene's decoded images together, with their mip chains: an image that
     /// would pass it is downscaled to fit, with a warning.
     #[arg(long, value_parser = mebibytes(), default_value = "256")]
@@ -326,6 +330,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         camera_turn,
         animation_speed,
         msaa,
+        sun_depth,
         texture_budget,
         shadow_budget,
         json,
@@ -431,6 +436,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
             gpu_culling: !no_gpu_culling,
             prepass_reuse: !no_prepass_reuse,
             position_indices: !no_position_indices,
+            sun_depth,
             deferred_lighting: match deferred_lighting {
                 Deferred::Auto => DeferredLighting::Auto,
                 Deferred::On => DeferredLighting::On,

@@ -10,7 +10,7 @@ use penumbra::mesh::{MeshData, cuboid, plane, sphere};
 use penumbra::render::GpuContext;
 use penumbra::render::layouts::Layouts;
 use penumbra::render::shadows::page_allocate::PageAllocator;
-use penumbra::render::shadows::storage::{DepthArray, read_depth_layer};
+use penumbra::render::shadows::storage::{DepthArray, SHADOW_FORMAT, read_depth_layer};
 use penumbra::shader::ShaderLibrary;
 
 /// A 60 m ground with boxes and a sphere on it.
@@ -106,7 +106,7 @@ fn drawn_pages_hold_what_the_whole_level_holds_there() {
     // NOTE: both sides draw with the default slope-scaled bias.
     let settings = ShadowSettings::default();
     let side = atlas_tiles(100) * 128;
-    let atlas = DepthArray::new(device, "page atlas", side, 1, false);
+    let atlas = DepthArray::new(device, "page atlas", (side, 1), false, SHADOW_FORMAT);
     let layouts = Layouts::new(device);
     let mut pages = PageRenderer::new(
         (device, queue, false),

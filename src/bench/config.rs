@@ -7,7 +7,7 @@ use thiserror::Error;
 use crate::app::SpawnError;
 use crate::bench::presets::Preset;
 use crate::reference::ReferenceSettings;
-use crate::render::GpuError;
+use crate::render::{GpuError, SunDepth};
 use crate::scene::SceneError;
 
 /// Anything that stops a benchmark.
@@ -58,6 +58,8 @@ pub struct BenchConfig {
     /// The virtual clipmap's levels and pool in the presets that page the sun (None: the
     /// presets' own).
     pub pages: Option<PagesOverride>,
+    /// The depth format of the suns' cascade and clipmap layers, timed and scored.
+    pub sun_depth: SunDepth,
 }
 
 /// What the paged presets' virtual clipmap is given instead of its defaults.

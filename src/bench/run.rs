@@ -39,6 +39,7 @@ fn time_scene(
         shadow_cache: false,
         msaa: Msaa::Off,
         prepass_reuse: false,
+        sun_depth: config.sun_depth,
         ..RenderOptions::default()
     });
     let mut renderer = Renderer::headless(config.width, config.height)?;

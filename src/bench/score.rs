@@ -18,7 +18,7 @@ use crate::bench::progress::Progress;
 use crate::bench::session::SceneSession;
 use crate::ecs::CameraLod;
 use crate::reference::{ReferencePoint, near_casters};
-use crate::render::Renderer;
+use crate::render::{RenderOptions, Renderer};
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
 use crate::render::target::AnalysisImage;
@@ -151,6 +151,10 @@ pub(crate) fn score_scene(
     // pixels would be scored as shadowed by their own mesh. The analysis frames, smaller than
     // the timed ones (whose camera keeps its LOD), draw every mesh whole for the camera.
     session.app.insert_resource(CameraLod { max_error_pixels: 0.0 });
+    session.app.insert_resource(RenderOptions {
+        sun_depth: config.sun_depth,
+        ..RenderOptions::default()
+    });
     let mut renderer = Renderer::headless_with_analysis(w, h)?;
     let focus = session.focus().ok_or_else(|| BenchError::NoLight(name.clone()))?;
     renderer.set_focus_light(session.focus_light_index());

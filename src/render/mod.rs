@@ -41,7 +41,7 @@ pub mod variant;
 pub use context::{GpuContext, GpuError};
 pub use counters::RenderCounters;
 pub use limits::{DeviceLimits, LimitError};
-pub use options::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
+pub use options::{DeferredLighting, DepthPrepass, Msaa, RenderOptions, SunDepth};
 pub use plugin::RenderPlugin;
 pub use renderer::Renderer;
 pub use report::{FrameReport, PageStats};

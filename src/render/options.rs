@@ -186,6 +186,55 @@ pub struct RenderOptions {
     /// [`crate::mesh::position_indices`]): the same depth, from fewer vertices shaded (a
     /// box's 8 instead of 24). Off, they read the mesh's own indices.
     pub position_indices: bool,
+    /// The depth format of the suns' cascade and clipmap layers (default
+    /// [`SunDepth::Float32`]). Spot and point lights, whose perspective depth needs the
+    /// float's precision near the light, and paged suns always draw 32-bit floats.
+    pub sun_depth: SunDepth,
+}
+
+/// The depth format of a sun's cascade and clipmap layers ([`RenderOptions::sun_depth`]).
+/// Their depth is linear in the distance along the light (an orthographic view), so 16 bits
+/// step evenly through the view's depth range.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SunDepth {
+    /// `Depth32Float`.
+    #[default]
+    Float32,
+    /// `Depth16Unorm`: half the memory and the bandwidth of a layer's clear and its casters'
+    /// depth writes; a depth rounds to one of 65 536 steps of the view's depth range, and the
+    /// casters are pushed two steps further from the light
+    /// ([`UNORM16_BIAS_STEPS`](crate::render::shadows::casters::UNORM16_BIAS_STEPS)).
+    Unorm16,
+}
+
+impl SunDepth {
+    /// Its texture format.
+    pub fn format(self) -> wgpu::TextureFormat {
+        match self {
+            Self::Float32 => wgpu::TextureFormat::Depth32Float,
+            Self::Unorm16 => wgpu::TextureFormat::Depth16Unorm,
+        }
+    }
+
+    /// Bits per texel.
+    pub fn bits(self) -> u32 {
+        match self {
+            Self::Float32 => 32,
+            Self::Unorm16 => 16,
+        }
+    }
+}
+
+impl std::str::FromStr for SunDepth {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text.trim() {
+            "32" => Ok(Self::Float32),
+            "16" => Ok(Self::Unorm16),
+            _ => Err(format!("expected 16 or 32 bits of sun shadow depth, found `{text}`")),
+        }
+    }
 }
 
 impl Default for RenderOptions {
@@ -202,6 +251,7 @@ impl Default for RenderOptions {
             deferred_lighting: DeferredLighting::Auto,
             prepass_reuse: true,
             position_indices: true,
+            sun_depth: SunDepth::Float32,
         }
     }
 }
@@ -258,6 +308,15 @@ mod tests {
         assert_eq!(Msaa::from_samples(3), None);
         assert_eq!(Msaa::from_samples(8), None);
         assert_eq!(RenderOptions::default().msaa, Msaa::Off);
+    }
+
+    #[test]
+    fn sun_depth_parses_its_bits() {
+        for depth in [SunDepth::Float32, SunDepth::Unorm16] {
+            assert_eq!(depth.bits().to_string().parse::<SunDepth>(), Ok(depth));
+        }
+        assert_eq!(SunDepth::Unorm16.format(), wgpu::TextureFormat::Depth16Unorm);
+        assert!("24".parse::<SunDepth>().unwrap_err().contains("`24`"));
     }
 
     #[test]

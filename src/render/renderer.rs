@@ -333,6 +333,7 @@ impl Renderer {
             size,
             prepass && self.gpu.supports_samples(NORMAL_FORMAT, samples),
         );
+        self.shadows.cascade_format = input.options.sun_depth.format();
         let prepared = self
             .scene
             .prepare(&self.gpu, &self.layouts, input, &frame, &mut problems)

@@ -1,6 +1,6 @@
 //! The shadow-caster pipelines, cached by everything that changes one: whether the material
-//! is alpha-masked, the slope-scaled depth bias and its clamp, unclipped depth, and the views
-//! of a single-pass (multiview) pass. Views of several lights with different biases each get
+//! is alpha-masked, the slope-scaled depth bias and its clamp, unclipped depth, the views of a
+//! single-pass (multiview) pass, and the depth format drawn into. Views of several lights with different biases each get
 //! theirs; a key seen before reuses its pipeline.
 
 use std::borrow::Cow;
@@ -25,6 +25,8 @@ pub struct CasterKey {
     pub unclipped: bool,
     /// Views of the multiview pass it draws in (0: one view per pass).
     pub views: u32,
+    /// The depth format of the layers it draws into.
+    pub format: wgpu::TextureFormat,
 }
 
 impl CasterKey {
@@ -37,12 +39,18 @@ impl CasterKey {
             bias_clamp: settings.bias.bias_clamp.to_bits(),
             unclipped: settings.map.depth_clamp && unclipped_supported,
             views: 0,
+            format: SHADOW_FORMAT,
         }
     }
 
     /// This key for a multiview pass of `views` views.
     pub fn with_views(self, views: u32) -> Self {
         Self { views, ..self }
+    }
+
+    /// This key for layers of depth format `format`.
+    pub fn with_format(self, format: wgpu::TextureFormat) -> Self {
+        Self { format, ..self }
     }
 }
 
@@ -82,16 +90,26 @@ impl CasterPipelines {
 }
 
 /// The hardware depth bias of a caster pipeline with slope-scaled bias `slope` clamped at
-/// `clamp`. Reverse-Z stores larger depth nearer the light, so the bias is negative: it
-/// pushes casters away from the light. The clamp is negative too (Vulkan takes
-/// max(bias, clamp)).
-pub fn caster_bias(slope: f32, clamp: f32) -> wgpu::DepthBiasState {
+/// `clamp`, drawing into `format`. Reverse-Z stores larger depth nearer the light, so the
+/// bias is negative: it pushes casters away from the light. The clamp is negative too
+/// (Vulkan takes max(bias, clamp)). A `Depth16Unorm` layer rounds each depth to the nearest
+/// of 65 536 steps, up to half a step towards the light: two steps more keep a lit surface
+/// from shadowing itself whichever way its own depth rounds.
+pub fn caster_bias(slope: f32, clamp: f32, format: wgpu::TextureFormat) -> wgpu::DepthBiasState {
+    let constant = match format {
+        wgpu::TextureFormat::Depth16Unorm => -UNORM16_BIAS_STEPS,
+        _ => 0,
+    };
     wgpu::DepthBiasState {
-        constant: 0,
+        constant,
         slope_scale: -slope,
         clamp: -clamp,
     }
 }
+
+/// Depth steps a caster drawn into a `Depth16Unorm` layer is pushed away from the light
+/// ([`caster_bias`]).
+pub const UNORM16_BIAS_STEPS: i32 = 2;
 
 fn create_pipeline(
     device: &wgpu::Device,
@@ -118,11 +136,11 @@ fn create_pipeline(
         })
     };
     let depth_stencil = wgpu::DepthStencilState {
-        format: SHADOW_FORMAT,
+        format: key.format,
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Greater),
         stencil: wgpu::StencilState::default(),
-        bias: caster_bias(f32::from_bits(key.slope_bias), f32::from_bits(key.bias_clamp)),
+        bias: caster_bias(f32::from_bits(key.slope_bias), f32::from_bits(key.bias_clamp), key.format),
     };
     let primitive = wgpu::PrimitiveState {
         // Two-sided: single-sided casters (planes, cards) must cast from both sides.

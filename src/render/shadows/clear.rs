@@ -8,14 +8,13 @@ use std::borrow::Cow;
 use std::collections::HashMap;
 use std::num::NonZeroU32;
 
-use crate::render::shadows::storage::SHADOW_FORMAT;
 use crate::shader::ShaderLibrary;
 
 /// The depth state of a pass that writes every texel it covers whatever it held (a clear, a
-/// clipmap level's shift): depth test `Always`, writes on, no bias.
-pub fn overwrite_depth() -> wgpu::DepthStencilState {
+/// clipmap level's shift) into `format`: depth test `Always`, writes on, no bias.
+pub fn overwrite_depth(format: wgpu::TextureFormat) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
-        format: SHADOW_FORMAT,
+        format,
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Always),
         stencil: wgpu::StencilState::default(),
@@ -25,13 +24,14 @@ pub fn overwrite_depth() -> wgpu::DepthStencilState {
 
 /// A pipeline that writes depth whatever the target held ([`overwrite_depth`]): vertex
 /// stage `vertex` of `shader` with no vertex buffers, fragment stage `fragment` when given
-/// (none: the rasterised depth is written), over `views` multiview views (0: not multiview).
+/// (none: the rasterised depth is written), over `views` multiview views (0: not multiview),
+/// into `format`.
 pub fn overwrite_pipeline(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::PipelineLayout,
     (shader, vertex, fragment): (&wgpu::ShaderModule, &str, Option<&str>),
-    views: u32,
+    (views, format): (u32, wgpu::TextureFormat),
 ) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
@@ -43,7 +43,7 @@ pub fn overwrite_pipeline(
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(overwrite_depth()),
+        depth_stencil: Some(overwrite_depth(format)),
         multisample: wgpu::MultisampleState::default(),
         fragment: fragment.map(|entry| wgpu::FragmentState {
             module: shader,
@@ -56,19 +56,24 @@ pub fn overwrite_pipeline(
     })
 }
 
-/// Built clear pipelines, by multiview view count.
+/// Built clear pipelines, by multiview view count and depth format.
 #[derive(Default)]
 pub struct ClearPipelines {
     shader: Option<wgpu::ShaderModule>,
     layout: Option<wgpu::PipelineLayout>,
-    pipelines: HashMap<u32, wgpu::RenderPipeline>,
+    pipelines: HashMap<(u32, wgpu::TextureFormat), wgpu::RenderPipeline>,
 }
 
 impl ClearPipelines {
-    /// The pipeline for passes of `views` multiview views (0: not multiview), built on first
-    /// use (it depends on nothing a scene changes, so it is not counted in
+    /// The pipeline for passes of `views` multiview views (0: not multiview) into `format`,
+    /// built on first use (it depends on nothing a scene changes, so it is not counted in
     /// [`RenderCounters`](crate::render::RenderCounters)).
-    pub fn get(&mut self, device: &wgpu::Device, library: &mut ShaderLibrary, views: u32) -> &wgpu::RenderPipeline {
+    pub fn get(
+        &mut self,
+        device: &wgpu::Device,
+        library: &mut ShaderLibrary,
+        (views, format): (u32, wgpu::TextureFormat),
+    ) -> &wgpu::RenderPipeline {
         let shader = self.shader.get_or_insert_with(|| {
             let module = library
                 .shadow_clear()
@@ -85,8 +90,8 @@ impl ClearPipelines {
                 immediate_size: 0,
             })
         });
-        self.pipelines
-            .entry(views)
-            .or_insert_with(|| overwrite_pipeline(device, "shadow clear", layout, (shader, "vs_main", None), views))
+        self.pipelines.entry((views, format)).or_insert_with(|| {
+            overwrite_pipeline(device, "shadow clear", layout, (shader, "vs_main", None), (views, format))
+        })
     }
 }

@@ -296,15 +296,18 @@ impl DepthPass {
         }
         let views = if count > 1 { count as u32 } else { 0 };
         let unclipped = ctx.gpu.unclipped_depth;
+        let format = self.storage(view.kind).format();
         let mut built = 0;
         if let Some(tiles) = clear {
             tiles.texel_runs(view.resolution, &mut self.runs);
         }
         let clear_pipeline = clear
             .filter(|c| !c.is_empty())
-            .map(|_| self.clears.get(&ctx.gpu.device, ctx.library, views).clone());
+            .map(|_| self.clears.get(&ctx.gpu.device, ctx.library, (views, format)).clone());
         let mut pipeline = |masked| {
-            let key = CasterKey::new(settings, masked, unclipped).with_views(views);
+            let key = (CasterKey::new(settings, masked, unclipped))
+                .with_views(views)
+                .with_format(format);
             self.pipelines
                 .get(&ctx.gpu.device, ctx.layouts, ctx.library, key, &mut built)
                 .clone()

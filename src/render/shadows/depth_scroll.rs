@@ -173,9 +173,10 @@ impl DepthPass {
             return;
         }
         let unclipped = ctx.gpu.unclipped_depth;
+        let format = self.storage(view.kind).format();
         let mut built = 0;
         let mut pipeline = |masked| {
-            let key = CasterKey::new(settings, masked, unclipped);
+            let key = CasterKey::new(settings, masked, unclipped).with_format(format);
             self.pipelines
                 .get(&ctx.gpu.device, ctx.layouts, ctx.library, key, &mut built)
                 .clone()
@@ -183,7 +184,7 @@ impl DepthPass {
         let opaque = pipeline(false);
         let masked = rects().any(|(_, g)| !g.masked.is_empty()).then(|| pipeline(true));
         ctx.counters.caster_pipelines += built;
-        let clear = self.clears.get(&ctx.gpu.device, ctx.library, 0).clone();
+        let clear = self.clears.get(&ctx.gpu.device, ctx.library, (0, format)).clone();
         let storage = self.storage(view.kind);
         let name = &mut self.names[v];
         super::view_name(ctx.lights, view, name);

@@ -51,7 +51,7 @@ use crate::render::shadows::moment_storage::MomentArray;
 use crate::render::shadows::page_allocate::EntryGpu;
 use crate::render::shadows::page_pool::{PagePool, PoolKey};
 use crate::render::shadows::shift::ShiftScratch;
-use crate::render::shadows::storage::DepthArray;
+use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
 use crate::render::shadows::sun_moments::sun_moment_need;
 use crate::render::shadows::visibility::{ResolvePlan, VisibilityTarget};
 use crate::settings::ShadowMode;
@@ -65,6 +65,10 @@ pub struct ShadowResources {
     /// EVSM or MSM (in [`cascade_moment_format`]) for the cascades; a stand-in while none of
     /// the storage's lights filters moments.
     moments: [Arc<MomentArray>; ShadowStorage::COUNT],
+    /// The depth format of the cascades' storage (the renderer sets it from
+    /// [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth) before
+    /// [`prepare`](Self::prepare)); every other storage is [`SHADOW_FORMAT`].
+    pub cascade_format: wgpu::TextureFormat,
     /// The depth layer scrolling views move their layers through
     /// ([`crate::render::shadows::shift`]), of their storage's side, while a view scrolls.
     pub shift_scratch: Option<ShiftScratch>,
@@ -190,6 +194,7 @@ impl ShadowResources {
             no_visibility,
             maps,
             moments,
+            cascade_format: SHADOW_FORMAT,
             shift_scratch: None,
             pages: None,
             page_pixel: 0.0,
@@ -281,10 +286,14 @@ impl ShadowResources {
                 (true, Some(key)) => (key.atlas_side(), 1),
                 (true, None) => (0, 0),
             };
+            let format = match kind {
+                ShadowStorage::Cascades => self.cascade_format,
+                _ => SHADOW_FORMAT,
+            };
             let storage = &mut self.maps[kind.index()];
-            if storage.needs(side, layers) {
+            if storage.needs(side, layers, format) {
                 gpu.limits.check_target(side, side)?;
-                *storage = Arc::new(DepthArray::new(device, desc.label, side, layers, desc.cube));
+                *storage = Arc::new(DepthArray::new(device, desc.label, (side, layers), desc.cube, format));
                 counters.shadow_maps += 1;
                 rebuild = true;
             }
@@ -297,8 +306,8 @@ impl ShadowResources {
         let side = scrolling.map_or(0, |v| self.storage(v.kind).side);
         if scrolling.is_none() {
             self.shift_scratch = None;
-        } else if self.shift_scratch.as_ref().is_none_or(|s| s.side != side) {
-            self.shift_scratch = Some(ShiftScratch::new(device, side));
+        } else if (self.shift_scratch.as_ref()).is_none_or(|s| s.side != side || s.format() != self.cascade_format) {
+            self.shift_scratch = Some(ShiftScratch::new(device, side, self.cascade_format));
         }
         for kind in ShadowStorage::with_moments(StorageMoments::Vsm) {
             let (uses_vsm, blur) = vsm_use(lights, views, kind);

@@ -260,7 +260,8 @@ impl PageRenderer {
             })
         };
         let clear_layout = pipeline_layout(&[Some(&draw_layout)]);
-        let clear = overwrite_pipeline(device, "page clear", &clear_layout, (&shader, "clear_vs", None), 0);
+        let stages = (&shader, "clear_vs", None);
+        let clear = overwrite_pipeline(device, "page clear", &clear_layout, stages, (0, SHADOW_FORMAT));
         let opaque_layout = pipeline_layout(&[Some(&draw_layout), Some(&id_layout)]);
         let masked_layout = pipeline_layout(&[Some(&draw_layout), Some(&id_layout), Some(material)]);
         let caster = |masked: bool| {
@@ -293,7 +294,7 @@ impl PageRenderer {
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: wgpu::StencilState::default(),
-                    bias: caster_bias(bias.slope_bias, bias.bias_clamp),
+                    bias: caster_bias(bias.slope_bias, bias.bias_clamp, SHADOW_FORMAT),
                 }),
                 multisample: wgpu::MultisampleState::default(),
                 fragment,

@@ -12,7 +12,7 @@ use glam::IVec2;
 
 use crate::render::layouts::entry;
 use crate::render::shadows::clear::overwrite_pipeline;
-use crate::render::shadows::storage::{DepthArray, SHADOW_FORMAT};
+use crate::render::shadows::storage::{DepthArray, depth_texel_bytes};
 use crate::render::target::texture_2d;
 use crate::shader::ShaderLibrary;
 
@@ -40,22 +40,27 @@ pub struct ShiftScratch {
 }
 
 impl ShiftScratch {
-    /// A `side`² depth layer.
-    pub fn new(device: &wgpu::Device, side: u32) -> Self {
+    /// A `side`² depth layer of `format` (its storage's).
+    pub fn new(device: &wgpu::Device, side: u32, format: wgpu::TextureFormat) -> Self {
         let texture = texture_2d(
             device,
             "clipmap shift scratch",
             (side, side, 1),
-            SHADOW_FORMAT,
+            format,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         Self { side, texture, view }
     }
 
+    /// Its depth format.
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.texture.format()
+    }
+
     /// Bytes of GPU memory it takes.
     pub fn memory_bytes(&self) -> u64 {
-        u64::from(self.side).pow(2) * 4
+        u64::from(self.side).pow(2) * u64::from(depth_texel_bytes(self.format()))
     }
 }
 
@@ -76,7 +81,7 @@ pub struct ShiftTarget<'a> {
 /// The shift pipeline and its uniforms, made on first use.
 #[derive(Default)]
 pub struct LevelShift {
-    pipeline: Option<(wgpu::BindGroupLayout, wgpu::RenderPipeline, wgpu::Buffer)>,
+    pipeline: Option<(wgpu::BindGroupLayout, Built, wgpu::Buffer)>,
     /// The bind groups over a storage's layers (its allocation id; one per layer, made on a
     /// layer's first shift), kept while it lives.
     groups: Option<(u64, Vec<Option<wgpu::BindGroup>>)>,
@@ -111,13 +116,19 @@ impl LevelShift {
             layer,
             resolution,
         } = target;
-        if self.used >= MAX_SHIFTS_PER_FRAME || scratch.side != storage.side {
+        if self.used >= MAX_SHIFTS_PER_FRAME || scratch.side != storage.side || scratch.format() != storage.format() {
             return false;
         }
         let Some(view) = storage.layer_views.get(layer as usize) else {
             return false;
         };
-        let (layout, pipeline, uniforms) = self.pipeline.get_or_insert_with(|| create(device, library));
+        if self.pipeline.as_ref().is_some_and(|p| p.1.format != storage.format()) {
+            (self.pipeline, self.groups) = (None, None);
+        }
+        let (layout, built, uniforms) = self
+            .pipeline
+            .get_or_insert_with(|| create(device, library, storage.format()));
+        let pipeline = &built.pipeline;
         let at = self.used as u64 * STRIDE;
         self.used += 1;
         let data = ShiftGpu {
@@ -197,11 +208,18 @@ impl LevelShift {
     }
 }
 
-/// The shift's bind group layout, pipeline and uniform buffer.
+/// A shift pipeline and the depth format it writes.
+struct Built {
+    pipeline: wgpu::RenderPipeline,
+    format: wgpu::TextureFormat,
+}
+
+/// The shift's bind group layout, pipeline (writing `format`) and uniform buffer.
 fn create(
     device: &wgpu::Device,
     library: &mut ShaderLibrary,
-) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline, wgpu::Buffer) {
+    format: wgpu::TextureFormat,
+) -> (wgpu::BindGroupLayout, Built, wgpu::Buffer) {
     let module = library
         .shadow_shift()
         .expect("the shipped shift shader composes (checked by tests)");
@@ -238,12 +256,12 @@ fn create(
         immediate_size: 0,
     });
     let stages = (&shader, "vs_main", Some("fs_main"));
-    let pipeline = overwrite_pipeline(device, "clipmap shift", &pipeline_layout, stages, 0);
+    let pipeline = overwrite_pipeline(device, "clipmap shift", &pipeline_layout, stages, (0, format));
     let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("clipmap shift"),
         size: STRIDE * MAX_SHIFTS_PER_FRAME as u64,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    (layout, pipeline, uniforms)
+    (layout, Built { pipeline, format }, uniforms)
 }

@@ -1,4 +1,6 @@
-//! Shadow storage: a `Depth32Float` 2D array with one layer per shadow view of one kind (the
+//! Shadow storage: a depth 2D array (`Depth32Float`, or `Depth16Unorm` for a sun's cascades
+//! where [`SunDepth::Unorm16`](crate::render::SunDepth) asks for it) with one layer per shadow
+//! view of one kind (the
 //! cascades of every shadowed sun; every shadowed spot light; the six faces of every shadowed
 //! point light). A view smaller than the layer is drawn in its top-left corner and sampled
 //! through its UV rectangle, so each light keeps its own resolution — except point lights,
@@ -13,8 +15,16 @@ use crate::render::target::{read_texture_layer, texture_2d};
 /// Numbers every array ever created, so a pass can tell its layers were replaced.
 static CREATED: AtomicU64 = AtomicU64::new(1);
 
-/// Depth format of every shadow map.
+/// Depth format of every shadow map but a sun's cascades drawn with 16 bits.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Bytes of one texel of a shadow depth format (4 but for `Depth16Unorm`).
+pub fn depth_texel_bytes(format: wgpu::TextureFormat) -> u32 {
+    match format {
+        wgpu::TextureFormat::Depth16Unorm => 2,
+        _ => 4,
+    }
+}
 
 /// One kind's depth array and its views.
 pub struct DepthArray {
@@ -36,15 +46,21 @@ pub struct DepthArray {
 }
 
 impl DepthArray {
-    /// Allocates `layers` layers of `side`² texels; with `cube`, sampled as a cube array
-    /// (the layers rounded up to whole cubes).
-    pub fn new(device: &wgpu::Device, label: &str, side: u32, layers: u32, cube: bool) -> Self {
+    /// Allocates `layers` layers of `side`² texels of `format`; with `cube`, sampled as a cube
+    /// array (the layers rounded up to whole cubes).
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        (side, layers): (u32, u32),
+        cube: bool,
+        format: wgpu::TextureFormat,
+    ) -> Self {
         let layers = if cube {
             layers.max(1).div_ceil(6) * 6
         } else {
             layers.max(1)
         };
-        let texture = texture_2d(device, label, (side, side, layers), SHADOW_FORMAT, DEPTH_USAGE);
+        let texture = texture_2d(device, label, (side, side, layers), format, DEPTH_USAGE);
         let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(label),
             dimension: Some(if cube {
@@ -89,7 +105,7 @@ impl DepthArray {
     pub fn placeholder(device: &wgpu::Device, label: &str, cube: bool) -> Self {
         Self {
             placeholder: true,
-            ..Self::new(device, label, 1, 1, cube)
+            ..Self::new(device, label, (1, 1), cube, SHADOW_FORMAT)
         }
     }
 
@@ -98,10 +114,17 @@ impl DepthArray {
         self.layer_views.len() as u32
     }
 
-    /// True when views of `side` texels in `layers` layers need a new array: the side differs
-    /// or there are too few layers. A kind with no views keeps what it has.
-    pub fn needs(&self, side: u32, layers: u32) -> bool {
-        layers > 0 && (self.placeholder || self.side != side || self.layers() < layers)
+    /// True when views of `side` texels in `layers` layers of `format` need a new array: the
+    /// side or the format differs or there are too few layers. A kind with no views keeps what
+    /// it has.
+    pub fn needs(&self, side: u32, layers: u32, format: wgpu::TextureFormat) -> bool {
+        layers > 0
+            && (self.placeholder || self.side != side || self.layers() < layers || self.format() != format)
+    }
+
+    /// Its depth format.
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.texture.format()
     }
 
     /// Copies layer `layer` to the CPU (row by row, `side`² reverse-Z depths; None past the
@@ -115,7 +138,8 @@ impl DepthArray {
         if self.placeholder {
             return 0;
         }
-        u64::from(self.side) * u64::from(self.side) * 4 * u64::from(self.layers())
+        let texel = u64::from(depth_texel_bytes(self.format()));
+        u64::from(self.side) * u64::from(self.side) * texel * u64::from(self.layers())
     }
 }
 
@@ -125,8 +149,9 @@ pub(crate) const DEPTH_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_
     .union(wgpu::TextureUsages::TEXTURE_BINDING)
     .union(wgpu::TextureUsages::COPY_SRC);
 
-/// Copies layer `layer` of a `Depth32Float` texture to the CPU (row by row; None past the
-/// last layer). For tests, tools and debugging: it waits for the GPU.
+/// Copies layer `layer` of a `Depth32Float` or `Depth16Unorm` texture to the CPU as depths
+/// in 0–1 (row by row; None past the last layer). For tests, tools and debugging: it waits
+/// for the GPU.
 pub fn read_depth_layer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -142,6 +167,11 @@ pub fn read_depth_layer(
         origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
         aspect: wgpu::TextureAspect::DepthOnly,
     };
+    if texture.format() == wgpu::TextureFormat::Depth16Unorm {
+        let bytes = read_texture_layer(device, queue, source, 2);
+        let unorm = |b: &[u8]| f32::from(u16::from_le_bytes([b[0], b[1]])) / f32::from(u16::MAX);
+        return Some(bytes.chunks_exact(2).map(unorm).collect());
+    }
     let bytes = read_texture_layer(device, queue, source, 4);
     Some(
         bytes

@@ -5,7 +5,7 @@
 use egui::Ui;
 
 use crate::ecs::view_lod::CameraLod;
-use crate::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions};
+use crate::render::{DeferredLighting, DepthPrepass, Msaa, RenderOptions, SunDepth};
 
 /// A labelled row of radio buttons (`label` with its hover text) choosing `value` among
 /// `choices`.
@@ -59,6 +59,15 @@ pub fn render_options_ui(ui: &mut Ui, options: &mut RenderOptions) -> bool {
         .on_hover_text(
             "draw opaque shadow casters from index lists that shade each corner once (a box's 8 vertices, not 24)",
         );
+    radio_row(
+        ui,
+        (
+            "sun depth",
+            "bits of the suns' cascade and clipmap depth: 16 halves their memory and the bandwidth of drawing them; a depth rounds to 1/65 536 of the view's range",
+        ),
+        &mut edited.sun_depth,
+        [(SunDepth::Float32, "32-bit float"), (SunDepth::Unorm16, "16-bit")],
+    );
     ui.checkbox(&mut edited.occlusion_culling, "occlusion culling")
         .on_hover_text("skip instances hidden behind others (two phases around the depth prepass)");
     radio_row(
