@@ -1,5 +1,6 @@
 //! The shadow-memory budget: the account the shadow systems fit before allocating is what
-//! the renderer then allocates (on a real wgpu device: lavapipe in CI), the lights smallest on
+//! the renderer then allocates, with 32- or 16-bit sun depth (on a real wgpu device: lavapipe
+//! in CI), the lights smallest on
 //! screen are lowered first with one warning naming them, and a budget that cannot hold a
 //! light is an error naming it and its bytes. The scenes of the hostile-input report (two
 //! point lights with 4096² VSM; a sun with four 4096² MSM cascades and eight 4096² VSM spot
@@ -11,7 +12,7 @@ mod common;
 use common::INSTALL;
 use penumbra::app::{PreparedScene, RenderError, RenderRequest, render_scene_with, shadow_memory_of};
 use penumbra::ecs::shadow_memory::{MIB, SOFTWARE_BUDGET, ShadowMemory, ShadowMemoryBudget};
-use penumbra::render::RenderOptions;
+use penumbra::render::{RenderOptions, SunDepth};
 use penumbra::scene::SceneDesc;
 
 /// A sun with `sun` shadows, then `lights` (RON entries), over a 40 m ground with a box.
@@ -116,6 +117,15 @@ fn a_budget_too_small_for_a_light_at_256_is_an_error_naming_it_and_its_bytes() {
 
 /// Renders `desc` for one 64×36 frame under `budget` bytes.
 fn render(desc: &SceneDesc, budget: Option<u64>) -> Result<penumbra::app::HeadlessFrame, RenderError> {
+    render_with(desc, budget, SunDepth::default())
+}
+
+/// [`render`] with the suns' layers in `depth`.
+fn render_with(
+    desc: &SceneDesc,
+    budget: Option<u64>,
+    depth: SunDepth,
+) -> Result<penumbra::app::HeadlessFrame, RenderError> {
     render_scene_with(
         desc,
         &RenderRequest {
@@ -124,7 +134,10 @@ fn render(desc: &SceneDesc, budget: Option<u64>) -> Result<penumbra::app::Headle
             frames: 1,
             tweak: None,
             analysis: false,
-            options: RenderOptions::default(),
+            options: RenderOptions {
+                sun_depth: depth,
+                ..RenderOptions::default()
+            },
             shadow_budget: budget,
             count_fragments: false,
             camera_lod: None,
@@ -149,13 +162,16 @@ fn the_renderer_allocates_what_the_account_says() {
         "mode: Pcss, resolution: 1024, layout: Clipmap(levels: 5, level0_extent: 8)",
     ] {
         let desc = scene(sun, &spots);
-        for budget in [None, Some(64 * MIB), Some(40 * MIB)] {
-            let frame = render(&desc, budget).expect(INSTALL);
+        let runs = [None, Some(64 * MIB), Some(40 * MIB)]
+            .into_iter()
+            .flat_map(|b| [SunDepth::Float32, SunDepth::Unorm16].map(|d| (b, d)));
+        for (budget, depth) in runs {
+            let frame = render_with(&desc, budget, depth).expect(INSTALL);
             let memory = &frame.memory;
             assert_eq!(
                 frame.report.shadow_memory,
                 memory.total(),
-                "{sun}, budget {budget:?}: allocated {} bytes, the account says {:?}",
+                "{sun}, budget {budget:?}, {depth:?}: allocated {} bytes, the account says {:?}",
                 frame.report.shadow_memory,
                 memory.lines()
             );
@@ -172,7 +188,7 @@ fn the_renderer_allocates_what_the_account_says() {
             judged += 1;
         }
     }
-    assert_eq!(judged, 12);
+    assert_eq!(judged, 24);
 }
 
 #[test]

@@ -18,10 +18,10 @@ use crate::bench::progress::Progress;
 use crate::bench::session::SceneSession;
 use crate::ecs::CameraLod;
 use crate::reference::{ReferencePoint, near_casters};
-use crate::render::{RenderOptions, Renderer};
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::probe::ProbeGpu;
 use crate::render::target::AnalysisImage;
+use crate::render::{RenderOptions, Renderer};
 use crate::scene::SceneDesc;
 
 /// Renders one analysis frame of the session with the given renderer. When the frame brought

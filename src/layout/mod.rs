@@ -48,6 +48,10 @@ pub struct StorageDesc {
     /// Its views are virtual (a page table maps their pages into one atlas layer), drawn by
     /// the page passes; the storage also binds its page table ([`group::Slot::PageTable`]).
     pub paged: bool,
+    /// Its views are a sun's (orthographic: depth linear along the light), so its depth
+    /// array takes the format [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth)
+    /// asks for; the others are always 32-bit floats.
+    pub sun_depth: bool,
 }
 
 /// How a storage's moments are made from its depth.
@@ -109,6 +113,7 @@ const CASCADES: StorageDesc = StorageDesc {
     single_pass: true,
     moments: StorageMoments::Baked,
     paged: false,
+    sun_depth: true,
 };
 
 const SPOTS: StorageDesc = StorageDesc {
@@ -122,6 +127,7 @@ const SPOTS: StorageDesc = StorageDesc {
     single_pass: false,
     moments: StorageMoments::Vsm,
     paged: false,
+    sun_depth: false,
 };
 
 const POINTS: StorageDesc = StorageDesc {
@@ -135,6 +141,7 @@ const POINTS: StorageDesc = StorageDesc {
     single_pass: false,
     moments: StorageMoments::Vsm,
     paged: false,
+    sun_depth: false,
 };
 
 const PAGES: StorageDesc = StorageDesc {
@@ -148,6 +155,7 @@ const PAGES: StorageDesc = StorageDesc {
     single_pass: false,
     moments: StorageMoments::Paged,
     paged: true,
+    sun_depth: false,
 };
 
 #[cfg(test)]

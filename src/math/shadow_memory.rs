@@ -17,7 +17,8 @@
 
 use crate::math::light_budget::LightKind;
 
-/// Bytes of one depth texel (`Depth32Float`).
+/// Bytes of one depth texel of a spot or point light (`Depth32Float`); a sun's are
+/// [`MemoryCosts::sun_depth_texel`].
 pub const DEPTH_TEXEL_BYTES: u64 = 4;
 
 /// Mip levels of a sun's moments under contact hardening: the last averages 64² texels, the
@@ -129,11 +130,15 @@ pub struct LightRequest {
     pub wraps: bool,
 }
 
-/// The device's moment formats, which set the bytes of a moment texel.
+/// The device's moment formats, which set the bytes of a moment texel, and the suns' depth
+/// format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MemoryCosts {
     /// Bytes of a spot or point light's VSM moment texel (16 in 32-bit floats, 8 in 16-bit).
     pub vsm_texel: u64,
+    /// Bytes of a sun's depth texel: 4 (`Depth32Float`) or 2 (`Depth16Unorm`, see
+    /// [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth)).
+    pub sun_depth_texel: u64,
     /// What the suns' moments can be stored in.
     pub support: MomentSupport,
 }
@@ -232,8 +237,13 @@ pub fn storage_bytes(requests: &[LightRequest], resolutions: &[u32], costs: &Mem
     }
     for (i, s) in out.iter_mut().enumerate() {
         let layer = u64::from(s.side).pow(2);
-        s.depth = layer * u64::from(s.layers) * DEPTH_TEXEL_BYTES;
-        s.shift = if scrolls[i] { layer * DEPTH_TEXEL_BYTES } else { 0 };
+        let texel = if i == 0 {
+            costs.sun_depth_texel
+        } else {
+            DEPTH_TEXEL_BYTES
+        };
+        s.depth = layer * u64::from(s.layers) * texel;
+        s.shift = if scrolls[i] { layer * texel } else { 0 };
         if let Some((texel, mips)) = moments[i] {
             s.moments = mip_texels(s.side, mips) * u64::from(s.layers) * texel;
             let scratch_layers = if i == 2 { 6 } else { 1 };

@@ -9,6 +9,7 @@ const MIB: u64 = 1 << 20;
 fn costs() -> MemoryCosts {
     MemoryCosts {
         vsm_texel: 16,
+        sun_depth_texel: 4,
         support: MomentSupport {
             fp32_filterable: true,
             unorm16: true,
@@ -96,6 +97,7 @@ fn moments_cover_every_layer_of_their_array_and_mips_follow_contact_hardening() 
     // Without 32-bit filtering, 32 bits asked for are stored in 16.
     let half = MemoryCosts {
         vsm_texel: 8,
+        sun_depth_texel: 4,
         support: MomentSupport::default(),
     };
     let [c, _, _] = storage_bytes(&[sun(1024, 3, evsm)], &[1024], &half);
@@ -258,6 +260,7 @@ proptest! {
 fn a_scrolling_sun_adds_one_depth_layer_to_move_through() {
     let costs = MemoryCosts {
         vsm_texel: 16,
+        sun_depth_texel: 4,
         support: MomentSupport::default(),
     };
     let plain = sun(1024, 6, MomentUse::None);
@@ -276,4 +279,26 @@ fn a_scrolling_sun_adds_one_depth_layer_to_move_through() {
     let larger = sun(2048, 4, MomentUse::None);
     let [d, ..] = storage_bytes(&[wrapping, larger], &[1024, 2048], &costs);
     assert_eq!(d.shift, 2048 * 2048 * 4);
+}
+
+#[test]
+fn sixteen_bit_sun_depth_halves_the_suns_depth_and_nothing_else() {
+    let float = costs();
+    let unorm = MemoryCosts {
+        sun_depth_texel: 2,
+        ..float
+    };
+    let requests = [
+        sun(2048, 4, MomentUse::None),
+        LightRequest {
+            scrolls: true,
+            ..sun(1024, 6, MomentUse::None)
+        },
+        spot(1024, 0.5),
+    ];
+    let [a, b, ..] = storage_bytes(&requests, &[2048, 1024, 1024], &float);
+    let [c, d, ..] = storage_bytes(&requests, &[2048, 1024, 1024], &unorm);
+    assert_eq!((a.depth, a.shift), (2048 * 2048 * 10 * 4, 2048 * 2048 * 4));
+    assert_eq!((c.depth, c.shift), (a.depth / 2, a.shift / 2));
+    assert_eq!(d, b, "the spot light's array keeps 32-bit depth");
 }

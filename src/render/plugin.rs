@@ -12,9 +12,10 @@ use crate::ecs::clipmap_scroll::ScrollResync;
 use crate::ecs::components::ViewportSize;
 use crate::ecs::plugin::ShadowSystems;
 use crate::ecs::receiver_culling::ShadowCulling;
+use crate::ecs::shadow_memory::ShadowMemoryBudget;
 use crate::ecs::view::SeenByCamera;
 use crate::render::frame_inputs::FrameInputs;
-use crate::render::options::RenderOptions;
+use crate::render::options::{RenderOptions, SunDepth};
 use crate::render::renderer::Renderer;
 
 /// Adds the render system. Requires [`ShadowPlugin`](crate::ecs::ShadowPlugin) and a
@@ -26,6 +27,7 @@ impl Plugin for RenderPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<RenderOptions>();
         app.add_systems(PostUpdate, sync_culling.before(ShadowSystems::Cull));
+        app.add_systems(PostUpdate, sync_memory_costs.before(ShadowSystems::ComputeCascades));
         app.add_systems(Last, render_frame);
     }
 }
@@ -60,6 +62,19 @@ pub fn sync_culling(
         culling.cached = cached;
         culling.gpu_camera = gpu_camera;
         culling.gpu_shadows = gpu_camera;
+    }
+}
+
+/// Hands the shadow-memory budget the bytes of a sun's depth texel
+/// ([`RenderOptions::sun_depth`]) before this frame's storages are fitted to it.
+pub fn sync_memory_costs(options: Option<Res<RenderOptions>>, budget: Option<ResMut<ShadowMemoryBudget>>) {
+    let Some(mut budget) = budget else {
+        return;
+    };
+    let depth = options.as_deref().map_or_else(SunDepth::default, |o| o.sun_depth);
+    let bytes = u64::from(depth.bits() / 8);
+    if budget.costs.sun_depth_texel != bytes {
+        budget.costs.sun_depth_texel = bytes;
     }
 }
 

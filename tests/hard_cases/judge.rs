@@ -14,9 +14,9 @@ use penumbra::bench::session::SceneSession;
 use penumbra::ecs::RenderOrigin;
 use penumbra::export::write_scalar_image;
 use penumbra::reference::{ReferenceSettings, sun_visibility};
-use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::target::AnalysisImage;
+use penumbra::render::{RenderOptions, Renderer};
 use penumbra::scene::SceneDesc;
 use penumbra::settings::ShadowMode;
 
@@ -106,12 +106,18 @@ enum Surface {
 /// checks the frames are sane (finite cascades, shadow factors in [0, 1], the same pixels
 /// evaluated by both filters) and scores them against the reference.
 pub fn judge(name: &str, desc: &SceneDesc, width: u32, height: u32) -> Judged {
+    judge_with(name, desc, (width, height), RenderOptions::default())
+}
+
+/// [`judge`] rendering with `options`.
+pub fn judge_with(name: &str, desc: &SceneDesc, (width, height): (u32, u32), options: RenderOptions) -> Judged {
     let mut frames = Vec::new();
     let mut session = None;
     for mode in [ShadowMode::Pcf, ShadowMode::Pcss] {
         let mut desc = desc.clone();
         desc.shadows.filter.mode = mode;
         let mut s = SceneSession::new(&desc, width, height).unwrap_or_else(|e| panic!("{name}: {e}"));
+        s.app.insert_resource(options);
         let mut renderer = Renderer::headless_with_analysis(width, height).unwrap_or_else(|e| panic!("{e}"));
         s.update();
         renderer.render(&FrameInputs::from_world(s.app.world(), 0));

@@ -15,12 +15,12 @@ use penumbra::bench::session::SceneSession;
 use penumbra::ecs::{
     FrameLights, Mesh3d, RenderInstances, ShadowDiagnostics, ShadowPlugin, ShadowStats, Transform, ViewportSize,
 };
-use penumbra::render::Renderer;
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
+use penumbra::render::{RenderOptions, Renderer, SunDepth};
 use penumbra::settings::ShadowSettings;
 
-use judge::{Floors, Limits, TARGET, judge, sun_at_elevation};
+use judge::{Floors, Limits, TARGET, judge, judge_with, sun_at_elevation};
 use scenes::{Case, SUN, load};
 
 /// How much worse (mean absolute error) a scene far from the origin may score than the same
@@ -60,6 +60,43 @@ fn sun_two_degrees_above_the_horizon() {
         ground_lit: 5000,
         caster_lit: 500,
         umbra: 300,
+    });
+}
+
+#[test]
+fn sixteen_bit_sun_depth_meets_the_same_limits() {
+    // Straight down, 2° above the horizon, and 100 km from the origin: the same floors and
+    // limits as with 32-bit depth (the tests above), with the layers in `Depth16Unorm`.
+    let options = RenderOptions {
+        sun_depth: SunDepth::Unorm16,
+        ..RenderOptions::default()
+    };
+    let down = Case::sun(Vec3::NEG_Y).desc();
+    judge_with("16-bit: sun straight down", &down, (96, 64), options).assert_judged(&Floors {
+        judged: 3000,
+        ground_lit: 2000,
+        caster_lit: 250,
+        umbra: 350,
+    });
+    let low = Case::sun(sun_at_elevation(2.0)).desc();
+    judge_with("16-bit: sun 2° above the horizon", &low, (128, 96), options).assert_judged(&Floors {
+        judged: 6000,
+        ground_lit: 5000,
+        caster_lit: 500,
+        umbra: 300,
+    });
+    let shift = Vec3::new(1.0e5, 0.0, 1.0e5);
+    let mut far = Case::default().desc();
+    far.camera.position += shift;
+    far.camera.target += shift;
+    for object in &mut far.objects {
+        object.translation += shift;
+    }
+    judge_with("16-bit: 100 km from the origin", &far, (96, 64), options).assert_judged(&Floors {
+        judged: 3000,
+        ground_lit: 2400,
+        caster_lit: 300,
+        umbra: 250,
     });
 }
 

@@ -93,11 +93,11 @@ impl CasterPipelines {
 /// `clamp`, drawing into `format`. Reverse-Z stores larger depth nearer the light, so the
 /// bias is negative: it pushes casters away from the light. The clamp is negative too
 /// (Vulkan takes max(bias, clamp)). A `Depth16Unorm` layer rounds each depth to the nearest
-/// of 65 536 steps, up to half a step towards the light: two steps more keep a lit surface
-/// from shadowing itself whichever way its own depth rounds.
+/// of 65 536 steps, up to half a step towards the light: [`UNORM16_BIAS_UNITS`] of constant
+/// bias more keep a lit surface from shadowing itself whichever way its own depth rounds.
 pub fn caster_bias(slope: f32, clamp: f32, format: wgpu::TextureFormat) -> wgpu::DepthBiasState {
     let constant = match format {
-        wgpu::TextureFormat::Depth16Unorm => -UNORM16_BIAS_STEPS,
+        wgpu::TextureFormat::Depth16Unorm => -UNORM16_BIAS_UNITS,
         _ => 0,
     };
     wgpu::DepthBiasState {
@@ -107,9 +107,10 @@ pub fn caster_bias(slope: f32, clamp: f32, format: wgpu::TextureFormat) -> wgpu:
     }
 }
 
-/// Depth steps a caster drawn into a `Depth16Unorm` layer is pushed away from the light
-/// ([`caster_bias`]).
-pub const UNORM16_BIAS_STEPS: i32 = 2;
+/// Units of constant depth bias pushing a caster drawn into a `Depth16Unorm` layer away from
+/// the light ([`caster_bias`]): a unit is one step of the format or two, as the implementation
+/// chooses (lavapipe: two), at least the half step a depth rounds by.
+pub const UNORM16_BIAS_UNITS: i32 = 1;
 
 fn create_pipeline(
     device: &wgpu::Device,
@@ -140,7 +141,11 @@ fn create_pipeline(
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Greater),
         stencil: wgpu::StencilState::default(),
-        bias: caster_bias(f32::from_bits(key.slope_bias), f32::from_bits(key.bias_clamp), key.format),
+        bias: caster_bias(
+            f32::from_bits(key.slope_bias),
+            f32::from_bits(key.bias_clamp),
+            key.format,
+        ),
     };
     let primitive = wgpu::PrimitiveState {
         // Two-sided: single-sided casters (planes, cards) must cast from both sides.

@@ -91,7 +91,13 @@ impl ClearPipelines {
             })
         });
         self.pipelines.entry((views, format)).or_insert_with(|| {
-            overwrite_pipeline(device, "shadow clear", layout, (shader, "vs_main", None), (views, format))
+            overwrite_pipeline(
+                device,
+                "shadow clear",
+                layout,
+                (shader, "vs_main", None),
+                (views, format),
+            )
         })
     }
 }

@@ -65,9 +65,10 @@ pub struct ShadowResources {
     /// EVSM or MSM (in [`cascade_moment_format`]) for the cascades; a stand-in while none of
     /// the storage's lights filters moments.
     moments: [Arc<MomentArray>; ShadowStorage::COUNT],
-    /// The depth format of the cascades' storage (the renderer sets it from
-    /// [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth) before
-    /// [`prepare`](Self::prepare)); every other storage is [`SHADOW_FORMAT`].
+    /// The depth format of the suns' storages (those whose
+    /// [`StorageDesc::sun_depth`](crate::layout::StorageDesc::sun_depth) is set; the renderer
+    /// sets it from [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth)
+    /// before [`prepare`](Self::prepare)); every other storage is [`SHADOW_FORMAT`].
     pub cascade_format: wgpu::TextureFormat,
     /// The depth layer scrolling views move their layers through
     /// ([`crate::render::shadows::shift`]), of their storage's side, while a view scrolls.
@@ -286,9 +287,10 @@ impl ShadowResources {
                 (true, Some(key)) => (key.atlas_side(), 1),
                 (true, None) => (0, 0),
             };
-            let format = match kind {
-                ShadowStorage::Cascades => self.cascade_format,
-                _ => SHADOW_FORMAT,
+            let format = if desc.sun_depth {
+                self.cascade_format
+            } else {
+                SHADOW_FORMAT
             };
             let storage = &mut self.maps[kind.index()];
             if storage.needs(side, layers, format) {

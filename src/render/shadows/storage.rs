@@ -118,8 +118,7 @@ impl DepthArray {
     /// side or the format differs or there are too few layers. A kind with no views keeps what
     /// it has.
     pub fn needs(&self, side: u32, layers: u32, format: wgpu::TextureFormat) -> bool {
-        layers > 0
-            && (self.placeholder || self.side != side || self.layers() < layers || self.format() != format)
+        layers > 0 && (self.placeholder || self.side != side || self.layers() < layers || self.format() != format)
     }
 
     /// Its depth format.
