@@ -6,9 +6,9 @@
 mod common;
 
 use bevy_app::App;
-use common::scene_with;
+use common::{renderer, scene_with};
 use penumbra::layout::ShadowStorage;
-use penumbra::render::{RenderOptions, Renderer, SunDepth};
+use penumbra::render::{RenderOptions, SunDepth};
 
 /// One step of `Depth16Unorm`.
 const STEP: f32 = 1.0 / 65_535.0;
@@ -25,10 +25,6 @@ fn rendered(depth: SunDepth) -> App {
     app.update();
     app.update();
     app
-}
-
-fn renderer(app: &App) -> &Renderer {
-    app.world().resource::<Renderer>()
 }
 
 /// Every cascade layer of `app`, read back as 0–1 depths.

@@ -44,6 +44,11 @@ pub fn scene_with(scene: &str, options: RenderOptions) -> App {
     app
 }
 
+/// `app`'s renderer.
+pub fn renderer(app: &App) -> &Renderer {
+    app.world().resource::<Renderer>()
+}
+
 /// [`scene_with`] the shadow cache on or off.
 pub fn cached_scene(scene: &str, cache: bool) -> App {
     scene_with(
