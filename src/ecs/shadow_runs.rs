@@ -52,7 +52,9 @@ pub(crate) fn cull_sun_runs(
     }
     let n = instances.casters.len();
     let cascades = entries.len().min(MAX_SUN_VIEWS);
-    visit_cascade_chunks(set, &instances.caster_chunks, n, |k, overlap, inside| {
+    // NOTE: only the wanted cascades are tested: a chunk that meets only held ones costs
+    // nothing past its group's test.
+    visit_cascade_chunks(set, &instances.caster_chunks, (n, want), |k, overlap, inside| {
         let mut bits = overlap & want;
         while bits != 0 {
             let c = bits.trailing_zeros() as usize;

@@ -174,7 +174,7 @@ pub fn visit_casters_chunked(
 ) {
     let n = centers.len().min(radii.len());
     let mut masks = [0u8; CHUNK];
-    visit_cascade_chunks(set, chunks, n, |k, overlap, inside| {
+    visit_cascade_chunks(set, chunks, (n, u8::MAX), |k, overlap, inside| {
         let start = k * CHUNK;
         let end = (start + CHUNK).min(n);
         let masks = &mut masks[..end - start];
@@ -188,16 +188,23 @@ pub fn visit_casters_chunked(
 }
 
 /// Calls `visit(k, overlap, inside)` for each chunk `k` of `chunks` (of `n` spheres) that
-/// overlaps a cascade box of `set`: the bits of the boxes its sphere overlaps, and of those
-/// that hold it whole (a chunk whose sphere is not finite overlaps every box and is inside
-/// none). The decisions are padded, never stricter than [`cull_casters`]' member test.
-pub fn visit_cascade_chunks(set: &CascadeSet, chunks: &SphereChunks, n: usize, mut visit: impl FnMut(usize, u8, u8)) {
+/// overlaps a cascade box of `set` among the bits of `mask`: the bits of those boxes its
+/// sphere overlaps, and of those that hold it whole (a chunk whose sphere is not finite
+/// overlaps every box and is inside none). The decisions are padded, never stricter than
+/// [`cull_casters`]' member test. The boxes outside `mask` are not tested: a chunk that meets
+/// only those is not visited.
+pub fn visit_cascade_chunks(
+    set: &CascadeSet,
+    chunks: &SphereChunks,
+    (n, mask): (usize, u8),
+    mut visit: impl FnMut(usize, u8, u8),
+) {
     let boxes = CascadeBoxes::new(set);
     let rows = set.light_rotation.transpose().to_cols_array_2d();
     let count = n.div_ceil(CHUNK).min(chunks.len());
     // NOTE: a group inside every box it overlaps gives its chunks its answer; a group that
     // overlaps none is skipped.
-    let all = boxes.active;
+    let all = boxes.active & mask;
     let test = |center, radius| match classify_cascades(&boxes, &rows, (center, radius), all) {
         (0, _) => GroupTest::Outside,
         (overlap, inside) if overlap == inside => GroupTest::Whole(overlap),
@@ -469,6 +476,30 @@ mod tests {
             "{calls} of {} chunks visited",
             chunks.centers.len()
         );
+    }
+
+    #[test]
+    fn a_masked_visit_gives_the_full_visits_bits_in_its_mask() {
+        let (centers, radii) = grid();
+        let chunks = SphereChunks::build(&centers, &radii);
+        let set = cascades(4, 150.0);
+        let mut full = vec![None; chunks.len()];
+        visit_cascade_chunks(&set, &chunks, (centers.len(), u8::MAX), |k, o, i| {
+            full[k] = Some((o, i))
+        });
+        for mask in [0b0001u8, 0b0011, 0b1000, 0b0110] {
+            let mut masked = vec![None; chunks.len()];
+            visit_cascade_chunks(&set, &chunks, (centers.len(), mask), |k, o, i| masked[k] = Some((o, i)));
+            let want: Vec<_> = (full.iter())
+                .map(|v| v.map(|(o, i)| (o & mask, i & mask)).filter(|&(o, _)| o != 0))
+                .collect();
+            assert_eq!(masked, want, "mask {mask:04b}");
+            let visited = masked.iter().flatten().count();
+            assert!(
+                visited > 0 && visited < full.iter().flatten().count(),
+                "mask {mask:04b}: {visited}"
+            );
+        }
     }
 
     #[test]
