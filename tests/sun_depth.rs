@@ -1,7 +1,8 @@
 //! 16-bit sun depth (lavapipe): the default scene's cascades drawn into `Depth16Unorm` hold the
 //! depths of the same cascades drawn into `Depth32Float`, every depth a whole step, pushed
 //! back by the 16-bit casters' unit of constant bias to within the half step of rounding, in
-//! the same texels and half the memory; and the image changes in few pixels.
+//! the same texels and half the memory; the image changes in few pixels; and switching the
+//! depth between frames draws what a renderer started with it draws.
 
 mod common;
 
@@ -84,4 +85,31 @@ fn sixteen_bit_cascades_hold_the_float_depths_to_their_bias_in_half_the_memory()
         .count();
     eprintln!("{differ} of {} pixels differ by more than 8/255", x.pixels().count());
     assert!(differ <= 30, "{differ} pixels differ by more than 8/255");
+}
+
+#[test]
+fn switching_the_sun_depth_between_frames_draws_what_a_fresh_renderer_draws() {
+    // A still camera keeps its maps: the switch must replace the array and draw every layer.
+    for (from, to) in [
+        (SunDepth::Float32, SunDepth::Unorm16),
+        (SunDepth::Unorm16, SunDepth::Float32),
+    ] {
+        let mut switched = rendered(from);
+        switched.insert_resource(RenderOptions {
+            sun_depth: to,
+            ..RenderOptions::default()
+        });
+        switched.update();
+        let fresh = rendered(to);
+        let (a, b) = (cascades(&switched), cascades(&fresh));
+        let covered: usize = b.iter().map(|l| l.iter().filter(|&&d| d > 0.0).count()).sum();
+        assert!(covered > 20_000, "{to:?}: only {covered} caster texels judged");
+        assert!(a == b, "{from:?} → {to:?}: the layers differ from a fresh renderer's");
+        let memory = |app: &App| renderer(app).last_report.shadow_memory;
+        assert_eq!(memory(&switched), memory(&fresh), "{from:?} → {to:?}: shadow memory");
+        assert!(
+            renderer(&switched).read_image() == renderer(&fresh).read_image(),
+            "{from:?} → {to:?}: the images differ"
+        );
+    }
 }
