@@ -81,24 +81,17 @@ pub fn cull_view(
         return;
     }
     *last = key;
+    let view_lod = view.camera.as_ref().and_then(|(camera, _)| {
+        let eye = (camera.position(), camera.forward());
+        (lods.as_deref()).and_then(|lods| ViewLod::new(lods, lod, eye, camera.fov_y, viewport.height))
+    });
     let held_for = (instances.generation, viewport.height, lod);
     if let (true, Some((camera, _)), Some((grown, made_for))) = (gpu, &view.camera, &visible.held)
         && *made_for == held_for
         && grown.contains_points(&slice_corners(camera, camera.near, camera.far))
     {
         // NOTE: the runs stand; only the LOD's error scale follows the camera.
-        groups.lod_error_per_depth = lods
-            .as_deref()
-            .and_then(|lods| {
-                ViewLod::new(
-                    lods,
-                    lod,
-                    (camera.position(), camera.forward()),
-                    camera.fov_y,
-                    viewport.height,
-                )
-            })
-            .map_or(0.0, |v| v.error_per_depth());
+        groups.lod_error_per_depth = view_lod.as_ref().map_or(0.0, ViewLod::error_per_depth);
         stats.view_culling_cpu = start.elapsed();
         return;
     }
@@ -118,9 +111,6 @@ pub fn cull_view(
             held,
         } = &mut *visible;
         let eye = camera.position();
-        let view_lod = lods
-            .as_deref()
-            .and_then(|lods| ViewLod::new(lods, lod, (eye, camera.forward()), camera.fov_y, viewport.height));
         let grown = frustum.dilated(HELD_MARGIN * camera.far);
         if gpu && cull_chunk_runs(&grown, view_lod.as_ref(), &instances, groups) {
             *held = Some((grown, held_for));
