@@ -17,6 +17,7 @@ use crate::ecs::view::SeenByCamera;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::options::{RenderOptions, SunDepth};
 use crate::render::renderer::Renderer;
+use crate::render::shadows::storage::depth_texel_bytes;
 
 /// Adds the render system. Requires [`ShadowPlugin`](crate::ecs::ShadowPlugin) and a
 /// [`Renderer`] resource; frames without a renderer are skipped.
@@ -72,7 +73,7 @@ pub fn sync_memory_costs(options: Option<Res<RenderOptions>>, budget: Option<Res
         return;
     };
     let depth = options.as_deref().map_or_else(SunDepth::default, |o| o.sun_depth);
-    let bytes = u64::from(depth.bits() / 8);
+    let bytes = u64::from(depth_texel_bytes(depth.format()));
     if budget.costs.sun_depth_texel != bytes {
         budget.costs.sun_depth_texel = bytes;
     }

@@ -8,7 +8,6 @@ use std::collections::HashMap;
 
 use crate::render::draw::mesh_vertex_state;
 use crate::render::layouts::Layouts;
-use crate::render::shadows::storage::SHADOW_FORMAT;
 use crate::settings::ShadowSettings;
 use crate::shader::ShaderLibrary;
 
@@ -31,26 +30,26 @@ pub struct CasterKey {
 
 impl CasterKey {
     /// The key for a light's settings on a device that does (or does not) support unclipped
-    /// depth.
-    pub fn new(settings: &ShadowSettings, masked: bool, unclipped_supported: bool) -> Self {
+    /// depth, drawing into layers of depth format `format` (its storage's).
+    pub fn new(
+        settings: &ShadowSettings,
+        masked: bool,
+        unclipped_supported: bool,
+        format: wgpu::TextureFormat,
+    ) -> Self {
         Self {
             masked,
             slope_bias: settings.bias.slope_bias.to_bits(),
             bias_clamp: settings.bias.bias_clamp.to_bits(),
             unclipped: settings.map.depth_clamp && unclipped_supported,
             views: 0,
-            format: SHADOW_FORMAT,
+            format,
         }
     }
 
     /// This key for a multiview pass of `views` views.
     pub fn with_views(self, views: u32) -> Self {
         Self { views, ..self }
-    }
-
-    /// This key for layers of depth format `format`.
-    pub fn with_format(self, format: wgpu::TextureFormat) -> Self {
-        Self { format, ..self }
     }
 }
 

@@ -305,9 +305,7 @@ impl DepthPass {
             .filter(|c| !c.is_empty())
             .map(|_| self.clears.get(&ctx.gpu.device, ctx.library, (views, format)).clone());
         let mut pipeline = |masked| {
-            let key = (CasterKey::new(settings, masked, unclipped))
-                .with_views(views)
-                .with_format(format);
+            let key = CasterKey::new(settings, masked, unclipped, format).with_views(views);
             self.pipelines
                 .get(&ctx.gpu.device, ctx.layouts, ctx.library, key, &mut built)
                 .clone()

@@ -176,7 +176,7 @@ impl DepthPass {
         let format = self.storage(view.kind).format();
         let mut built = 0;
         let mut pipeline = |masked| {
-            let key = CasterKey::new(settings, masked, unclipped).with_format(format);
+            let key = CasterKey::new(settings, masked, unclipped, format);
             self.pipelines
                 .get(&ctx.gpu.device, ctx.layouts, ctx.library, key, &mut built)
                 .clone()

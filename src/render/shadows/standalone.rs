@@ -167,7 +167,7 @@ impl StandaloneShadows {
     ) {
         let device = &gpu.device;
         let mut built = 0;
-        let key = CasterKey::new(settings, false, gpu.unclipped_depth);
+        let key = CasterKey::new(settings, false, gpu.unclipped_depth, SHADOW_FORMAT);
         let pipeline = self
             .pipelines
             .get(device, &self.layouts, &mut self.library, key, &mut built)

@@ -18,12 +18,12 @@ static CREATED: AtomicU64 = AtomicU64::new(1);
 /// Depth format of every shadow map but a sun's cascades drawn with 16 bits.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Bytes of one texel of a shadow depth format (4 but for `Depth16Unorm`).
+/// Bytes of one texel of a shadow depth format, as wgpu copies its depth (2 for
+/// `Depth16Unorm`, 4 for `Depth32Float`).
 pub fn depth_texel_bytes(format: wgpu::TextureFormat) -> u32 {
-    match format {
-        wgpu::TextureFormat::Depth16Unorm => 2,
-        _ => 4,
-    }
+    format
+        .block_copy_size(Some(wgpu::TextureAspect::DepthOnly))
+        .unwrap_or(4)
 }
 
 /// One kind's depth array and its views.
