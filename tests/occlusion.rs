@@ -178,7 +178,8 @@ fn a_slow_walk_keeps_its_chunk_runs_and_every_pixel() {
     // Measured: kept on 8 of 9 frames (relisted once, after about 3 m).
     assert!(kept >= 6, "runs kept on only {kept} of 9 frames");
     assert!(kept < 9, "the runs were never listed again");
-    assert!(judged > 200_000, "only {judged} visible instances judged");
+    // Measured: 802 924.
+    assert!(judged > 400_000, "only {judged} visible instances judged");
 }
 
 #[test]

@@ -1,8 +1,8 @@
 //! 16-bit sun depth (lavapipe): the default scene's cascades drawn into `Depth16Unorm` hold the
 //! depths of the same cascades drawn into `Depth32Float`, every depth a whole step, pushed
 //! back by the 16-bit casters' unit of constant bias to within the half step of rounding, in
-//! the same texels and half the memory; the image changes in few pixels; and switching the
-//! depth between frames draws what a renderer started with it draws.
+//! the same texels and half the memory; no pixel of the image changes by more than 8/255; and
+//! switching the depth between frames draws what a renderer started with it draws.
 
 mod common;
 
@@ -84,7 +84,8 @@ fn sixteen_bit_cascades_hold_the_float_depths_to_their_bias_in_half_the_memory()
         .filter(|(p, q)| p.0.iter().zip(q.0).any(|(a, b)| a.abs_diff(b) > 8))
         .count();
     eprintln!("{differ} of {} pixels differ by more than 8/255", x.pixels().count());
-    assert!(differ <= 30, "{differ} pixels differ by more than 8/255");
+    // Measured: none at 160×90.
+    assert_eq!(differ, 0, "{differ} pixels differ by more than 8/255");
 }
 
 #[test]
