@@ -3,9 +3,8 @@
 
 use super::*;
 use crate::math::aabb::Aabb;
-use crate::math::cascades::{CascadeInput, compute_cascades};
+use crate::math::cascades::{CascadeFit, CascadeInput, compute_cascades};
 use crate::math::frustum::CameraView;
-use crate::settings::CascadeFit;
 use glam::{Mat4, Quat};
 
 #[test]
