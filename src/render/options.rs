@@ -202,8 +202,8 @@ pub enum SunDepth {
     Float32,
     /// `Depth16Unorm`: half the memory and the bandwidth of a layer's clear and its casters'
     /// depth writes; a depth rounds to one of 65 536 steps of the view's depth range, and the
-    /// casters are pushed one or two steps further from the light
-    /// ([`UNORM16_BIAS_UNITS`](crate::render::shadows::casters::UNORM16_BIAS_UNITS)).
+    /// casters are drawn half a step further from the light so that rounding never brings one
+    /// nearer ([`caster_clip_from_clip`](crate::render::shadows::casters::caster_clip_from_clip)).
     Unorm16,
 }
 

@@ -6,6 +6,8 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 
+use glam::{Mat4, Vec3};
+
 use crate::render::draw::mesh_vertex_state;
 use crate::render::layouts::Layouts;
 use crate::settings::ShadowSettings;
@@ -89,27 +91,34 @@ impl CasterPipelines {
 }
 
 /// The hardware depth bias of a caster pipeline with slope-scaled bias `slope` clamped at
-/// `clamp`, drawing into `format`. Reverse-Z stores larger depth nearer the light, so the
-/// bias is negative: it pushes casters away from the light. The clamp is negative too
-/// (Vulkan takes max(bias, clamp)). A `Depth16Unorm` layer rounds each depth to the nearest
-/// of 65 536 steps, up to half a step towards the light: [`UNORM16_BIAS_UNITS`] of constant
-/// bias more keep a lit surface from shadowing itself whichever way its own depth rounds.
-pub fn caster_bias(slope: f32, clamp: f32, format: wgpu::TextureFormat) -> wgpu::DepthBiasState {
-    let constant = match format {
-        wgpu::TextureFormat::Depth16Unorm => -UNORM16_BIAS_UNITS,
-        _ => 0,
-    };
+/// `clamp`. Reverse-Z stores larger depth nearer the light, so the bias is negative: it
+/// pushes casters away from the light. The clamp is negative too (Vulkan takes max(bias,
+/// clamp)). No constant bias: a unit of it is the implementation's choice for fixed-point
+/// formats; a `Depth16Unorm` layer's rounding is met by [`caster_clip_from_clip`] instead.
+pub fn caster_bias(slope: f32, clamp: f32) -> wgpu::DepthBiasState {
     wgpu::DepthBiasState {
-        constant,
+        constant: 0,
         slope_scale: -slope,
         clamp: -clamp,
     }
 }
 
-/// Units of constant depth bias pushing a caster drawn into a `Depth16Unorm` layer away from
-/// the light ([`caster_bias`]): a unit is one step of the format or two, as the implementation
-/// chooses (lavapipe: two), at least the half step a depth rounds by.
-pub const UNORM16_BIAS_UNITS: i32 = 1;
+/// Half a step of `Depth16Unorm` (65 535 steps over 0–1).
+pub const UNORM16_HALF_STEP: f32 = 0.5 / 65_535.0;
+
+/// The shift applied to a caster's clip position when it is drawn into `format`. A
+/// `Depth16Unorm` layer rounds each depth to one of its 65 536 steps, by up to half a step
+/// towards the light where it rounds to the nearest: its casters are drawn
+/// [`UNORM16_HALF_STEP`] further from the light (reverse-Z: smaller depth, in normalised
+/// depth whatever the projection), so a stored depth lies 0–1 step behind the caster's and a
+/// lit surface never shadows itself through rounding, on every implementation alike.
+/// Float formats keep their depth (the identity).
+pub fn caster_clip_from_clip(format: wgpu::TextureFormat) -> Mat4 {
+    match format {
+        wgpu::TextureFormat::Depth16Unorm => Mat4::from_translation(Vec3::new(0.0, 0.0, -UNORM16_HALF_STEP)),
+        _ => Mat4::IDENTITY,
+    }
+}
 
 fn create_pipeline(
     device: &wgpu::Device,
@@ -140,11 +149,7 @@ fn create_pipeline(
         depth_write_enabled: Some(true),
         depth_compare: Some(wgpu::CompareFunction::Greater),
         stencil: wgpu::StencilState::default(),
-        bias: caster_bias(
-            f32::from_bits(key.slope_bias),
-            f32::from_bits(key.bias_clamp),
-            key.format,
-        ),
+        bias: caster_bias(f32::from_bits(key.slope_bias), f32::from_bits(key.bias_clamp)),
     };
     let primitive = wgpu::PrimitiveState {
         // Two-sided: single-sided casters (planes, cards) must cast from both sides.

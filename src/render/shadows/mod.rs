@@ -42,6 +42,7 @@ use crate::render::gpu_types::PoissonTapsGpu;
 use crate::render::grow_buffer::GrowBuffer;
 use crate::render::layouts::Layouts;
 use crate::render::limits::{LimitError, UploadProblems};
+use crate::render::shadows::casters::caster_clip_from_clip;
 use crate::render::shadows::gpu::{
     CasterViewGpu, LightGpu, MAX_LIGHTS, MAX_SHADOW_VIEWS, SHADOW_FLAG_CONTACT_ONLY, SINGLE_PASS_VIEWS, ShadowViewGpu,
     assign_resolve_layers, pack_lights, pack_view, wrap_origin,
@@ -364,10 +365,12 @@ impl ShadowResources {
         self.view_data.clear();
         self.caster_data.clear();
         for view in &views.views {
-            let side = self.storage(view.kind).side;
+            let storage = self.storage(view.kind);
+            let (side, format) = (storage.side, storage.format());
             self.view_data.push(pack_view(lights, view, side, support));
+            let clip_from_world = caster_clip_from_clip(format) * view.clip_from_world;
             self.caster_data
-                .push(CasterViewGpu::new(view.clip_from_world, view.kind.single_pass_bit()));
+                .push(CasterViewGpu::new(clip_from_world, view.kind.single_pass_bit()));
         }
         // NOTE: a single-pass binding starting at the last view still lies inside the buffer.
         let padded = self.caster_data.len() + SINGLE_PASS_VIEWS - 1;

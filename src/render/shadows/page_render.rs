@@ -294,7 +294,7 @@ impl PageRenderer {
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: wgpu::StencilState::default(),
-                    bias: caster_bias(bias.slope_bias, bias.bias_clamp, SHADOW_FORMAT),
+                    bias: caster_bias(bias.slope_bias, bias.bias_clamp),
                 }),
                 multisample: wgpu::MultisampleState::default(),
                 fragment,
