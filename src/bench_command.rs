@@ -74,9 +74,9 @@ pub struct BenchArgs {
     /// 0-64.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
     snap_cells: Option<u32>,
-    /// Bits of depth of the suns' cascade and clipmap layers, timed and scored: 32 (float) or
-    /// 16 (unorm).
-    #[arg(long, default_value = "32")]
+    /// Bits of depth of the suns' cascade and clipmap layers, timed and scored: 16 (unorm) or
+    /// 32 (float).
+    #[arg(long, default_value = "16")]
     sun_depth: SunDepth,
     /// Override every scene sun's angular diameter, degrees 0-30 (sweeps of penumbra width).
     #[arg(long, value_parser = sun_degrees, conflicts_with = "sun_diameters")]

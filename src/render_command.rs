@@ -183,9 +183,9 @@ pub struct RenderArgs {
     /// to what the GPU supports. With `--shadow-out` the image is rendered with 1.
     #[arg(long, default_value = "1")]
     msaa: Msaa,
-    /// Bits of depth of the suns' cascade and clipmap layers: 32 (float) or 16 (unorm: half
-    /// the memory and bandwidth; a depth rounds to 1/65 536 of the view's depth range).
-    #[arg(long, default_value = "32")]
+    /// Bits of depth of the suns' cascade and clipmap layers: 16 (unorm: half the memory and
+    /// bandwidth; a depth rounds to 1/65 536 of the view's depth range) or 32 (float).
+    #[arg(long, default_value = "16")]
     sun_depth: SunDepth,
     /// Most MiB of the scene's decoded images together, with their mip chains: an image that
     /// would pass it is downscaled to fit, with a warning.

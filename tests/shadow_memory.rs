@@ -194,14 +194,15 @@ fn the_renderer_allocates_what_the_account_says() {
 #[test]
 fn a_render_over_any_budget_fails_with_the_accounts_error() {
     let desc = scene("resolution: 1024", &[point(0.0, 3.0, "mode: Vsm, vsm_blur: 0")]);
-    // Half a MiB holds neither the point light's cube nor the sun's four cascades at 256².
-    let error = match render(&desc, Some(MIB / 2)) {
+    // A quarter of a MiB holds neither the point light's cube nor the sun's four cascades
+    // at 256² (16-bit depth, the default: 0.5 MiB).
+    let error = match render(&desc, Some(MIB / 4)) {
         Err(RenderError::ShadowMemory(e)) => e,
         Err(other) => panic!("{other}"),
-        Ok(_) => panic!("a 0.5 MiB budget rendered"),
+        Ok(_) => panic!("a 0.25 MiB budget rendered"),
     };
     assert!(error.contains("point light lights[0] (7.5 MiB at 256²)"), "{error}");
-    assert!(error.contains("directional light sun (1.0 MiB at 256²)"), "{error}");
+    assert!(error.contains("directional light sun (0.5 MiB at 256²)"), "{error}");
 }
 
 #[test]

@@ -187,7 +187,7 @@ pub struct RenderOptions {
     /// box's 8 instead of 24). Off, they read the mesh's own indices.
     pub position_indices: bool,
     /// The depth format of the suns' cascade and clipmap layers (default
-    /// [`SunDepth::Float32`]). Spot and point lights, whose perspective depth needs the
+    /// [`SunDepth::Unorm16`]). Spot and point lights, whose perspective depth needs the
     /// float's precision near the light, and paged suns always draw 32-bit floats.
     pub sun_depth: SunDepth,
 }
@@ -197,13 +197,14 @@ pub struct RenderOptions {
 /// step evenly through the view's depth range.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SunDepth {
-    /// `Depth32Float`.
-    #[default]
+    /// `Depth32Float`: for a sun whose cascades span kilometres of depth, where a 16-bit step
+    /// would grow past a few centimetres.
     Float32,
-    /// `Depth16Unorm`: half the memory and the bandwidth of a layer's clear and its casters'
+    /// `Depth16Unorm` (the default): half the memory and the bandwidth of a layer's clear and its casters'
     /// depth writes; a depth rounds to one of 65 536 steps of the view's depth range, and the
     /// casters are drawn half a step further from the light so that rounding never brings one
     /// nearer ([`caster_clip_from_clip`](crate::render::shadows::casters::caster_clip_from_clip)).
+    #[default]
     Unorm16,
 }
 
@@ -251,7 +252,7 @@ impl Default for RenderOptions {
             deferred_lighting: DeferredLighting::Auto,
             prepass_reuse: true,
             position_indices: true,
-            sun_depth: SunDepth::Float32,
+            sun_depth: SunDepth::Unorm16,
         }
     }
 }

@@ -17,11 +17,15 @@ pub fn long_field_filtered(resolution: u32, cache: bool, mode: ShadowMode) -> Ap
     app
 }
 
-/// [`long_field_filtered`] before its first frame.
+/// [`long_field_filtered`] before its first frame, its suns' layers in 32-bit floats.
 pub fn long_field_unrendered(resolution: u32, cache: bool, mode: ShadowMode) -> App {
     use penumbra::settings::{ShadowSettings, SunLayout};
     let mut app = super::cached_scene("assets/bench/long_field.ron", cache);
     let world = app.world_mut();
+    // NOTE: 32-bit float depth, so that layers kept from an earlier window compare with
+    // fresh ones to a few ulps; in 16 bits a depth that close to a step's midpoint may round
+    // either way (`tests/sun_depth.rs` checks the 16-bit layers against these).
+    world.resource_mut::<penumbra::render::RenderOptions>().sun_depth = penumbra::render::SunDepth::Float32;
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
         s.map.resolution = resolution;

@@ -96,7 +96,7 @@ pub fn small_bench(scene: &str, presets: &[&str]) -> penumbra::bench::BenchConfi
         timing_frames: 1,
         warmup_frames: 0,
         pages: None,
-        sun_depth: penumbra::render::SunDepth::Float32,
+        sun_depth: penumbra::render::SunDepth::default(),
         reference: penumbra::reference::ReferenceSettings {
             max_samples: 32,
             min_samples: 16,
