@@ -415,7 +415,8 @@ fn check_and_render_print_the_shadow_memory_and_fit_it_to_the_budget() {
         err.contains("night.ron: the shadow-memory budget of 3.0 MiB cannot hold the shadows of point light lights[0] (13.5 MiB at 256²)"),
         "{err}"
     );
-    // The default scene's four 2048² cascades take 64 MiB; 1 MiB holds four of 256².
+    // The default scene's four 2048² cascades take 32 MiB (16-bit depth); 1 MiB holds four
+    // of 256² (0.5 MiB), not of 512² (2 MiB).
     let out = small_render(&[
         "--shadow-budget",
         "1",
@@ -424,10 +425,10 @@ fn check_and_render_print_the_shadow_memory_and_fit_it_to_the_budget() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(text.contains("with 256² texels per cascade, 1.0 MiB"), "{text}");
-    assert!(text.contains("memory     1.0 MiB of a 1.0 MiB budget"), "{text}");
+    assert!(text.contains("with 256² texels per cascade, 0.5 MiB"), "{text}");
+    assert!(text.contains("memory     0.5 MiB of a 1.0 MiB budget"), "{text}");
     assert!(
-        text.contains("directional light sun: 4 × 256² (asked 2048²), 1.0 MiB"),
+        text.contains("directional light sun: 4 × 256² (asked 2048²), 0.5 MiB"),
         "{text}"
     );
 }

@@ -187,18 +187,19 @@ fn sliders_move_the_sun_and_the_split() {
 fn the_memory_budget_slider_lowers_the_maps_and_the_account_shows_it() {
     let mut h = harness(state("memory"));
     h.run();
-    assert!(h.query_by_label("directional light sun: 4 × 2048², 64.0 MiB").is_some());
-    // 16 MiB holds four cascades of 1024².
-    slider(&h, "budget MiB").set_value_accesskit(16.0);
+    // 16-bit depth (the default): 2 bytes a texel.
+    assert!(h.query_by_label("directional light sun: 4 × 2048², 32.0 MiB").is_some());
+    // 8 MiB holds four cascades of 1024².
+    slider(&h, "budget MiB").set_value_accesskit(8.0);
     h.run();
     h.state_mut().app.update();
     h.run();
     assert_eq!(renderer(&h).storage_resolution(ShadowStorage::Cascades), Some(1024));
     assert!(
-        h.query_by_label("directional light sun: 4 × 1024² (asked 2048²), 16.0 MiB")
+        h.query_by_label("directional light sun: 4 × 1024² (asked 2048²), 8.0 MiB")
             .is_some()
     );
-    assert!(h.query_by_label_contains("16.0 MiB of a 16.0 MiB budget").is_some());
+    assert!(h.query_by_label_contains("8.0 MiB of a 8.0 MiB budget").is_some());
 }
 
 #[test]

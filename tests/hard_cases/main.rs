@@ -362,7 +362,14 @@ fn cascade_count_and_resolution_change_between_frames() {
             allocated = (resolution, u64::from(count));
         }
         let (side, layers) = allocated;
-        assert_eq!(report.shadow_memory, side * side * 4 * layers, "frame {frame}");
+        let texel = u64::from(
+            RenderOptions::default()
+                .sun_depth
+                .format()
+                .block_copy_size(None)
+                .unwrap(),
+        );
+        assert_eq!(report.shadow_memory, side * side * texel * layers, "frame {frame}");
     }
 }
 
