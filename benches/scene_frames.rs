@@ -4,12 +4,14 @@
 //! alone, culling as for a renderer that culls on the GPU (camera and cascades by chunk), the
 //! camera walking 0.37 m a frame back and forth along its scene's axis (30 frames each way,
 //! so it stays over the scene) — `scene_frame_moving/<scene>` — or standing still
-//! (`scene_frame_still/<scene>`). Run with `cargo bench --bench scene_frames`. The caches
-//! are warm here; in `penumbra render` the GPU's work between frames evicts them.
+//! (`scene_frame_still/<scene>`); `scene_frame_moving_cold/<scene>` walks the same way with
+//! the CPU's caches flushed before each frame (64 MiB written, untimed), as the GPU's work
+//! between frames of `penumbra render` flushes them. Run with `cargo bench --bench
+//! scene_frames`.
 
 use bevy_app::App;
 use bevy_ecs::query::With;
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use penumbra::app::PreparedScene;
 use penumbra::ecs::components::ViewportSize;
 use penumbra::ecs::receiver_culling::ShadowCulling;
@@ -53,6 +55,17 @@ fn walk(app: &mut App, frame: &mut u32) {
     *frame += 1;
 }
 
+/// Bytes written between cold frames: more than the last-level cache of common CPUs.
+const FLUSH_BYTES: usize = 64 << 20;
+
+/// Writes every cache line of `buffer` (with `pass` so no write is elided).
+fn flush(buffer: &mut [u8], pass: u8) {
+    for line in buffer.chunks_mut(64) {
+        line[0] = line[0].wrapping_add(pass);
+    }
+    std::hint::black_box(&buffer[..]);
+}
+
 fn scene_frames(c: &mut Criterion) {
     for (name, moving) in [("scene_frame_moving", true), ("scene_frame_still", false)] {
         let mut group = c.benchmark_group(name);
@@ -60,8 +73,7 @@ fn scene_frames(c: &mut Criterion) {
         for scene in SCENES {
             let mut app = scene_app(scene);
             let mut frame = 0;
-            let id = scene.rsplit('/').next().unwrap_or(scene).trim_end_matches(".ron");
-            group.bench_with_input(BenchmarkId::from_parameter(id), &id, |b, _| {
+            group.bench_with_input(BenchmarkId::from_parameter(scene_id(scene)), &scene, |b, _| {
                 b.iter(|| {
                     if moving {
                         walk(&mut app, &mut frame);
@@ -72,6 +84,29 @@ fn scene_frames(c: &mut Criterion) {
         }
         group.finish();
     }
+    let mut group = c.benchmark_group("scene_frame_moving_cold");
+    group.sample_size(30);
+    let mut buffer = vec![0u8; FLUSH_BYTES];
+    for scene in SCENES {
+        let mut app = scene_app(scene);
+        let mut frame = 0;
+        group.bench_with_input(BenchmarkId::from_parameter(scene_id(scene)), &scene, |b, _| {
+            b.iter_batched(
+                || flush(&mut buffer, 1),
+                |()| {
+                    walk(&mut app, &mut frame);
+                    app.update()
+                },
+                BatchSize::PerIteration,
+            )
+        });
+    }
+    group.finish();
+}
+
+/// The file name of `scene` without its extension.
+fn scene_id(scene: &str) -> &str {
+    scene.rsplit('/').next().unwrap_or(scene).trim_end_matches(".ron")
 }
 
 criterion_group!(benches, scene_frames);
