@@ -3,10 +3,14 @@
 //! the camera's frustum and their slice (grown by the filter's reach, and widened to whole
 //! cells where the boxes snap to a coarse grid), so casters whose shadow cannot land on
 //! anything the camera sees are not drawn. Receivers are taken by culling
-//! chunk; recomputed only when the camera, the instance list or the sun's cascades change.
+//! chunk. Each slice's bounds are those of the camera at the centre of a grid cell (a
+//! twentieth of the slice's depth length) for the slice grown by a cell: they are computed
+//! again only when the camera enters another cell, turns, or the instances, the slice or the
+//! light change, so a walking camera recomputes its far slices, which see most of a large
+//! scene, every few dozen frames.
 
 use bevy_ecs::resource::Resource;
-use glam::{Mat4, Vec3};
+use glam::{I64Vec3, Mat3, Mat4, Vec3, Vec4};
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::instances::RenderInstances;
@@ -17,7 +21,7 @@ use crate::math::cascades::CascadeSet;
 use crate::math::cascades::MAX_SUN_VIEWS;
 use crate::math::chunk_groups::{frustum_test, visit_groups};
 use crate::math::chunks::CHUNK;
-use crate::math::frustum::{Frustum, slice_corners};
+use crate::math::frustum::{CameraView, Frustum, slice_corners};
 use crate::math::receivers::{Slice, receiver_bounds, shrink_to_receivers, snap_to_grid};
 use crate::shader::contract::INSTANCE_FLAG_RECEIVE_SHADOWS;
 
@@ -97,6 +101,25 @@ pub struct ReceiverCache {
     bounds: Vec<Aabb>,
     /// Receiver spheres of this frame: chunks, or members of expanded chunks.
     members: Vec<(Vec3, f32, usize)>,
+    /// Per sun, each slice's receiver bounds and what they were computed from.
+    held: Vec<[Option<(SliceKey, Aabb)>; MAX_SUN_VIEWS]>,
+}
+
+/// Share of a slice's depth length by which its receiver bounds reach past it on every side
+/// ([`ReceiverCache`]): the side of the grid cells the camera's position snaps to for them.
+pub const HOLD_FRACTION: f32 = 0.05;
+
+/// What a slice's receiver bounds were computed from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SliceKey {
+    /// The camera at the world's origin: its rotation and projection.
+    turned: CameraView,
+    near: f32,
+    far: f32,
+    /// The grid cell holding the camera's position (cells of the slice's margin).
+    cell: I64Vec3,
+    generation: u64,
+    light_rotation: Mat3,
 }
 
 impl ReceiverCache {
@@ -138,39 +161,7 @@ impl ReceiverCache {
                         world: Aabb::from_points(&slice_corners(camera, near, far)),
                     });
                 }
-                self.bounds.resize(count, Aabb::EMPTY);
-                let frustum = Frustum::from_clip_from_world(camera.clip_from_world());
-                // NOTE: receivers are taken chunk by chunk (64 instances, the culling chunks):
-                // a chunk's sphere bounds its members, receivers or not, so the bounds only
-                // grow (still correct) and cost a fiftieth of a pass over instances. A chunk
-                // much larger than its neighbours (it holds a ground plane) is taken member
-                // by member, so the plane's flat box can be clipped to each slice.
-                let largest = self
-                    .slices
-                    .iter()
-                    .map(|s| s.world.half_extents().max_element())
-                    .fold(0.0, f32::max);
-                let expand = CHUNK_EXPAND_FRACTION * largest;
-                self.members.clear();
-                collect_receivers(&frustum, instances, expand, &mut self.members);
-                let world_box = |id: usize| {
-                    if id & CHUNK_BIT != 0 {
-                        return instances.chunks.boxes[id & !CHUNK_BIT];
-                    }
-                    let mesh = meshes.get(instances.keys[id].mesh);
-                    mesh.map_or(Aabb::EMPTY, |m| {
-                        m.bounds().transformed(&instances.gpu[id].world_from_local())
-                    })
-                };
-                let receivers = self.members.iter().copied();
-                receiver_bounds(
-                    &set.light_rotation,
-                    &camera.view_from_world(),
-                    &self.slices,
-                    receivers,
-                    world_box,
-                    &mut self.bounds,
-                );
+                self.hold_bounds(i, (&set, camera), instances, meshes);
                 for (cascade, bound) in set.cascades.iter_mut().zip(&self.bounds) {
                     let reach = FILTER_REACH_TEXELS * cascade.texel_world_size;
                     let whole = (cascade.light_min, cascade.light_max);
@@ -187,6 +178,99 @@ impl ReceiverCache {
                 self.keys.push(key);
                 self.sets.push(set);
             }
+        }
+    }
+
+    /// Fills `bounds` with the receiver bounds of sun `i`'s slices in `slices`, for `set` seen
+    /// by `camera`. A slice's bounds are those of the camera at the centre of the grid cell
+    /// holding its position, cells of the slice's margin ([`HOLD_FRACTION`] of its depth
+    /// length), with the slice grown by the margin on every side (its depth range, its world
+    /// box and its frustum): the slice of the camera anywhere in the cell lies in that grown
+    /// slice, so its receivers are bounded. They are computed again only when the camera
+    /// enters another cell, turns, or the instances, the slice's depths or the light change,
+    /// and equal what a fresh cache computes at the same pose.
+    fn hold_bounds(
+        &mut self,
+        i: usize,
+        (set, camera): (&CascadeSet, &CameraView),
+        instances: &RenderInstances,
+        meshes: &Meshes,
+    ) {
+        let mut turned = *camera;
+        turned.world_from_view.w_axis = Vec4::W;
+        if self.held.len() <= i {
+            self.held.resize(i + 1, [None; MAX_SUN_VIEWS]);
+        }
+        // NOTE: receivers are taken chunk by chunk (64 instances, the culling chunks): a
+        // chunk's sphere bounds its members, receivers or not, so the bounds only grow (still
+        // correct) and cost a fiftieth of a pass over instances. A chunk much larger than its
+        // neighbours (it holds a ground plane) is taken member by member, so the plane's flat
+        // box can be clipped to each slice.
+        let largest = self
+            .slices
+            .iter()
+            .map(|s| s.world.half_extents().max_element())
+            .fold(0.0, f32::max);
+        let expand = CHUNK_EXPAND_FRACTION * largest;
+        let world_box = |id: usize| {
+            if id & CHUNK_BIT != 0 {
+                return instances.chunks.boxes[id & !CHUNK_BIT];
+            }
+            let mesh = meshes.get(instances.keys[id].mesh);
+            mesh.map_or(Aabb::EMPTY, |m| {
+                m.bounds().transformed(&instances.gpu[id].world_from_local())
+            })
+        };
+        self.bounds.clear();
+        for (c, slice) in self.slices.iter().enumerate() {
+            let margin = (HOLD_FRACTION * (slice.far - slice.near)).max(MIN_HOLD_MARGIN);
+            let (cell, centre) = grid_cell(camera.position(), margin);
+            let key = SliceKey {
+                turned,
+                near: slice.near,
+                far: slice.far,
+                cell,
+                generation: instances.generation,
+                light_rotation: set.light_rotation,
+            };
+            if let Some((held, bound)) = self.held[i][c]
+                && held == key
+            {
+                self.bounds.push(bound);
+                continue;
+            }
+            let mut at = *camera;
+            at.world_from_view.w_axis = centre.extend(1.0);
+            let world = Aabb::from_points(&slice_corners(&at, slice.near, slice.far));
+            let grown = Slice {
+                near: slice.near - margin,
+                far: slice.far + margin,
+                world: Aabb {
+                    min: world.min - margin,
+                    max: world.max + margin,
+                },
+            };
+            // NOTE: a slice of no depth still makes a projection.
+            let range = CameraView {
+                near: slice.near,
+                far: slice.far.max(slice.near + MIN_HOLD_MARGIN),
+                ..at
+            };
+            let frustum = Frustum::from_clip_from_world(range.clip_from_world()).dilated(margin);
+            self.members.clear();
+            collect_receivers(&frustum, instances, expand, &mut self.members);
+            let mut bound = [Aabb::EMPTY];
+            let receivers = self.members.iter().copied();
+            receiver_bounds(
+                &set.light_rotation,
+                &at.view_from_world(),
+                &[grown],
+                receivers,
+                world_box,
+                &mut bound,
+            );
+            self.held[i][c] = Some((key, bound[0]));
+            self.bounds.push(bound[0]);
         }
     }
 
@@ -231,4 +315,15 @@ fn collect_receivers(
             }
         }
     });
+}
+
+/// Smallest margin of a slice's held receiver bounds, metres (a slice of no depth).
+const MIN_HOLD_MARGIN: f32 = 1e-3;
+
+/// The cell of a grid of `side`-wide cells (from the world's origin) holding `p`, and its
+/// centre, computed in f64 so a camera far from the origin keeps its cell.
+fn grid_cell(p: Vec3, side: f32) -> (I64Vec3, Vec3) {
+    let side = f64::from(side);
+    let cell = (p.as_dvec3() / side).floor();
+    ((cell.as_i64vec3()), ((cell + 0.5) * side).as_vec3())
 }
