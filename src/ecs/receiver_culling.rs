@@ -3,11 +3,11 @@
 //! the camera's frustum and their slice (grown by the filter's reach, and widened to whole
 //! cells where the boxes snap to a coarse grid), so casters whose shadow cannot land on
 //! anything the camera sees are not drawn. Receivers are taken by culling
-//! chunk. Each slice's bounds are those of the camera at the centre of a grid cell (a
-//! twentieth of the slice's depth length) for the slice grown by a cell: they are computed
-//! again only when the camera enters another cell, turns, or the instances, the slice or the
-//! light change, so a walking camera recomputes its far slices, which see most of a large
-//! scene, every few dozen frames.
+//! chunk. The last slice's bounds (it reaches to the shadows' far end and sees most of a
+//! large scene) are those of the camera at the centre of a grid cell (a twentieth of the
+//! slice's depth length) for the slice grown by a cell: a walking camera computes them again
+//! only when it enters another cell, every few dozen frames; the nearer slices' bounds are
+//! computed for the camera itself whenever it moves.
 
 use bevy_ecs::resource::Resource;
 use glam::{I64Vec3, Mat3, Mat4, Vec3, Vec4};
@@ -101,12 +101,13 @@ pub struct ReceiverCache {
     bounds: Vec<Aabb>,
     /// Receiver spheres of this frame: chunks, or members of expanded chunks.
     members: Vec<(Vec3, f32, usize)>,
-    /// Per sun, each slice's receiver bounds and what they were computed from.
-    held: Vec<[Option<(SliceKey, Aabb)>; MAX_SUN_VIEWS]>,
+    /// Per sun, its last slice's receiver bounds and what they were computed from.
+    held: Vec<Option<(SliceKey, Aabb)>>,
 }
 
-/// Share of a slice's depth length by which its receiver bounds reach past it on every side
-/// ([`ReceiverCache`]): the side of the grid cells the camera's position snaps to for them.
+/// Share of the last slice's depth length by which its receiver bounds reach past it on every
+/// side ([`ReceiverCache`]): the side of the grid cells the camera's position snaps to for
+/// them.
 pub const HOLD_FRACTION: f32 = 0.05;
 
 /// What a slice's receiver bounds were computed from.
@@ -182,13 +183,16 @@ impl ReceiverCache {
     }
 
     /// Fills `bounds` with the receiver bounds of sun `i`'s slices in `slices`, for `set` seen
-    /// by `camera`. A slice's bounds are those of the camera at the centre of the grid cell
-    /// holding its position, cells of the slice's margin ([`HOLD_FRACTION`] of its depth
-    /// length), with the slice grown by the margin on every side (its depth range, its world
-    /// box and its frustum): the slice of the camera anywhere in the cell lies in that grown
-    /// slice, so its receivers are bounded. They are computed again only when the camera
-    /// enters another cell, turns, or the instances, the slice's depths or the light change,
-    /// and equal what a fresh cache computes at the same pose.
+    /// by `camera`. The nearer slices' bounds are computed for this camera, together. The
+    /// last slice, which reaches to the shadows' far end and sees most of a large scene,
+    /// takes the bounds of the camera at the centre of the grid cell holding its position
+    /// (cells of [`HOLD_FRACTION`] of the slice's depth length) for the slice grown by a
+    /// cell on every side (its depth range, its world box and its frustum): the slice of the
+    /// camera anywhere in the cell lies in that grown slice, so its receivers are bounded.
+    /// Those are computed again only when the camera enters another cell, turns, or the
+    /// instances, the slice's depths or the light change, and equal what a fresh cache
+    /// computes at the same pose. (Holding the nearer slices too saves little and moves their
+    /// cull boxes at other frames than their own boxes, so their maps are drawn more often.)
     fn hold_bounds(
         &mut self,
         i: usize,
@@ -196,10 +200,12 @@ impl ReceiverCache {
         instances: &RenderInstances,
         meshes: &Meshes,
     ) {
-        let mut turned = *camera;
-        turned.world_from_view.w_axis = Vec4::W;
+        let Some((last, nearer)) = self.slices.split_last() else {
+            self.bounds.clear();
+            return;
+        };
         if self.held.len() <= i {
-            self.held.resize(i + 1, [None; MAX_SUN_VIEWS]);
+            self.held.resize(i + 1, None);
         }
         // NOTE: receivers are taken chunk by chunk (64 instances, the culling chunks): a
         // chunk's sphere bounds its members, receivers or not, so the bounds only grow (still
@@ -222,56 +228,66 @@ impl ReceiverCache {
             })
         };
         self.bounds.clear();
-        for (c, slice) in self.slices.iter().enumerate() {
-            let margin = (HOLD_FRACTION * (slice.far - slice.near)).max(MIN_HOLD_MARGIN);
-            let (cell, centre) = grid_cell(camera.position(), margin);
-            let key = SliceKey {
-                turned,
-                near: slice.near,
-                far: slice.far,
-                cell,
-                generation: instances.generation,
-                light_rotation: set.light_rotation,
-            };
-            if let Some((held, bound)) = self.held[i][c]
-                && held == key
-            {
-                self.bounds.push(bound);
-                continue;
-            }
-            let mut at = *camera;
-            at.world_from_view.w_axis = centre.extend(1.0);
-            let world = Aabb::from_points(&slice_corners(&at, slice.near, slice.far));
-            let grown = Slice {
-                near: slice.near - margin,
-                far: slice.far + margin,
-                world: Aabb {
-                    min: world.min - margin,
-                    max: world.max + margin,
-                },
-            };
-            // NOTE: a slice of no depth still makes a projection.
-            let range = CameraView {
-                near: slice.near,
-                far: slice.far.max(slice.near + MIN_HOLD_MARGIN),
-                ..at
-            };
-            let frustum = Frustum::from_clip_from_world(range.clip_from_world()).dilated(margin);
+        self.bounds.resize(nearer.len(), Aabb::EMPTY);
+        if let (Some(first), Some(end)) = (nearer.first(), nearer.last()) {
+            let frustum = depth_range_frustum(camera, (first.near, end.far), 0.0);
             self.members.clear();
             collect_receivers(&frustum, instances, expand, &mut self.members);
-            let mut bound = [Aabb::EMPTY];
             let receivers = self.members.iter().copied();
+            let view_from_world = camera.view_from_world();
             receiver_bounds(
                 &set.light_rotation,
-                &at.view_from_world(),
-                &[grown],
+                &view_from_world,
+                nearer,
                 receivers,
                 world_box,
-                &mut bound,
+                &mut self.bounds,
             );
-            self.held[i][c] = Some((key, bound[0]));
-            self.bounds.push(bound[0]);
         }
+        let margin = (HOLD_FRACTION * (last.far - last.near)).max(MIN_HOLD_MARGIN);
+        let (cell, centre) = grid_cell(camera.position(), margin);
+        let mut turned = *camera;
+        turned.world_from_view.w_axis = Vec4::W;
+        let key = SliceKey {
+            turned,
+            near: last.near,
+            far: last.far,
+            cell,
+            generation: instances.generation,
+            light_rotation: set.light_rotation,
+        };
+        if let Some((held, bound)) = self.held[i]
+            && held == key
+        {
+            self.bounds.push(bound);
+            return;
+        }
+        let mut at = *camera;
+        at.world_from_view.w_axis = centre.extend(1.0);
+        let world = Aabb::from_points(&slice_corners(&at, last.near, last.far));
+        let grown = Slice {
+            near: last.near - margin,
+            far: last.far + margin,
+            world: Aabb {
+                min: world.min - margin,
+                max: world.max + margin,
+            },
+        };
+        let frustum = depth_range_frustum(&at, (last.near, last.far), margin);
+        self.members.clear();
+        collect_receivers(&frustum, instances, expand, &mut self.members);
+        let mut bound = [Aabb::EMPTY];
+        let receivers = self.members.iter().copied();
+        receiver_bounds(
+            &set.light_rotation,
+            &at.view_from_world(),
+            &[grown],
+            receivers,
+            world_box,
+            &mut bound,
+        );
+        self.held[i] = Some((key, bound[0]));
+        self.bounds.push(bound[0]);
     }
 
     /// Sun `i`'s cascade set as culling uses it (after [`update`](Self::update)).
@@ -319,6 +335,17 @@ fn collect_receivers(
 
 /// Smallest margin of a slice's held receiver bounds, metres (a slice of no depth).
 const MIN_HOLD_MARGIN: f32 = 1e-3;
+
+/// The frustum of `camera` between view depths `near` and `far` (a slice of no depth still
+/// makes one), every plane moved `margin` outwards.
+fn depth_range_frustum(camera: &CameraView, (near, far): (f32, f32), margin: f32) -> Frustum {
+    let range = CameraView {
+        near,
+        far: far.max(near + MIN_HOLD_MARGIN),
+        ..*camera
+    };
+    Frustum::from_clip_from_world(range.clip_from_world()).dilated(margin)
+}
 
 /// The cell of a grid of `side`-wide cells (from the world's origin) holding `p`, and its
 /// centre, computed in f64 so a camera far from the origin keeps its cell.
