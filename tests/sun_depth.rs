@@ -2,12 +2,15 @@
 //! depths of the same cascades drawn into `Depth32Float`, every depth a whole step 0–1 step
 //! behind the float's (drawn half a step back, then rounded), in the same texels and half the
 //! memory; no pixel of the image changes by more than 8/255; and
-//! switching the depth between frames draws what a renderer started with it draws.
+//! switching the depth between frames draws what a renderer started with it draws; a sun
+//! whose 16-bit depth steps more coarsely than its texels is warned about (not with floats,
+//! not in the default scene).
 
 mod common;
 
 use bevy_app::App;
 use common::{renderer, scene_with};
+use penumbra::ecs::ShadowDiagnostics;
 use penumbra::layout::ShadowStorage;
 use penumbra::render::{RenderOptions, SunDepth};
 
@@ -107,4 +110,54 @@ fn switching_the_sun_depth_between_frames_draws_what_a_fresh_renderer_draws() {
             "{from:?} → {to:?}: the images differ"
         );
     }
+}
+
+/// A sun 1.1° above the horizon over boxes spread 2 km along its light: its near cascade spans
+/// about 2 km of depth, a 16-bit step of about two of its 1.6 cm texels.
+const GRAZING: &str = r#"Scene(
+    camera: (position: (0, 1.7, 0), target: (0, 1.4, -30), fov: 60, near: 0.1, far: 600),
+    sun: (direction: (0.0, -0.02, -1.0), illuminance: 3.0),
+    materials: { "grey": (base_color: (0.5, 0.5, 0.5, 1)) },
+    shadows: (mode: Pcf, cascade_count: 4, resolution: 2048, max_distance: 150),
+    objects: [
+        (shape: Plane(size: (4000, 4000)), material: "grey", cast_shadows: false),
+        (
+            shape: Cuboid(size: (1, 4, 1)),
+            material: "grey",
+            translation: (0, 2, 0),
+            grid: (count: (3, 1, 40), spacing: (10, 0, 50)),
+        ),
+    ],
+)"#;
+
+/// The warnings of `scene`'s first frame with the suns' layers in `depth`.
+fn first_frame_warnings(scene: &str, depth: SunDepth) -> Vec<String> {
+    let mut app = scene_with(
+        scene,
+        RenderOptions {
+            sun_depth: depth,
+            ..RenderOptions::default()
+        },
+    );
+    app.update();
+    app.world().resource::<ShadowDiagnostics>().current.clone()
+}
+
+#[test]
+fn a_sun_whose_16_bit_steps_pass_its_texels_is_warned_about() {
+    let path = std::env::temp_dir().join(format!("penumbra-grazing-{}.ron", std::process::id()));
+    std::fs::write(&path, GRAZING).expect("the scene file is written");
+    let scene = path.to_str().expect("a UTF-8 path");
+    let coarse = |warnings: &[String]| {
+        let about = |m: &&String| m.contains("a step of 16-bit depth is coarser than a shadow texel");
+        warnings.iter().filter(about).count()
+    };
+    let sixteen = first_frame_warnings(scene, SunDepth::Unorm16);
+    assert_eq!(coarse(&sixteen), 1, "{sixteen:?}");
+    assert!(sixteen.iter().any(|m| m.contains("--sun-depth 32")), "{sixteen:?}");
+    let float = first_frame_warnings(scene, SunDepth::Float32);
+    assert_eq!(coarse(&float), 0, "{float:?}");
+    let default = first_frame_warnings("assets/scenes/default.ron", SunDepth::Unorm16);
+    assert_eq!(coarse(&default), 0, "{default:?}");
+    std::fs::remove_file(&path).ok();
 }

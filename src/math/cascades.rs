@@ -174,6 +174,18 @@ impl CascadeSet {
         &self.cascades[..self.count.min(MAX_SUN_VIEWS)]
     }
 
+    /// The coarsest step of a depth stored in `steps` steps (65 535 for 16-bit unorm) among
+    /// the active cascades, in shadow texels: the largest `depth_range / steps` over the
+    /// cascade's `texel_world_size`; 0 without cascades.
+    pub fn depth_step_in_texels(&self, steps: f32) -> f32 {
+        let step = |c: &Cascade| c.depth_range / steps / c.texel_world_size;
+        self.active()
+            .iter()
+            .map(step)
+            .filter(|s| s.is_finite())
+            .fold(0.0, f32::max)
+    }
+
     /// The far split of each cascade (`splits[1..=4]`), the layout a shader selecting a
     /// cascade by view depth wants.
     pub fn far_splits(&self) -> Vec4 {

@@ -256,3 +256,29 @@ fn a_held_box_reports_its_grid() {
         }
     }
 }
+
+#[test]
+fn the_coarsest_depth_step_is_that_of_the_cascade_with_the_most_depth_per_texel() {
+    let set = compute_cascades(&input(CascadeFit::Tight));
+    let per_cascade: Vec<f32> = set
+        .active()
+        .iter()
+        .map(|c| c.depth_range / 65_535.0 / c.texel_world_size)
+        .collect();
+    let coarsest = set.depth_step_in_texels(65_535.0);
+    assert_eq!(per_cascade.len(), 4);
+    assert!(
+        per_cascade.iter().all(|&s| s > 0.0 && s <= coarsest),
+        "{per_cascade:?} {coarsest}"
+    );
+    assert!(per_cascade.contains(&coarsest), "{per_cascade:?} {coarsest}");
+    // A sun spanning 100 times the scene's depth steps 100 times as coarsely.
+    let mut deep = input(CascadeFit::Tight);
+    deep.scene_bounds = Aabb::new(
+        Vec3::new(-20_000.0, -5.0, -20_000.0),
+        Vec3::new(20_000.0, 60.0, 20_000.0),
+    );
+    let deep = compute_cascades(&deep).depth_step_in_texels(65_535.0);
+    assert!(deep > 10.0 * coarsest, "{deep} against {coarsest}");
+    assert_eq!(CascadeSet::default().depth_step_in_texels(65_535.0), 0.0);
+}

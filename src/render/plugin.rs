@@ -10,9 +10,11 @@ use bevy_ecs::world::World;
 
 use crate::ecs::clipmap_scroll::ScrollResync;
 use crate::ecs::components::ViewportSize;
+use crate::ecs::light_views::FrameLights;
 use crate::ecs::plugin::ShadowSystems;
 use crate::ecs::receiver_culling::ShadowCulling;
 use crate::ecs::shadow_memory::ShadowMemoryBudget;
+use crate::ecs::stats::{ShadowDiagnostics, log_diagnostics};
 use crate::ecs::view::SeenByCamera;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::options::{RenderOptions, SunDepth};
@@ -29,6 +31,12 @@ impl Plugin for RenderPlugin {
         app.init_resource::<RenderOptions>();
         app.add_systems(PostUpdate, sync_culling.before(ShadowSystems::Cull));
         app.add_systems(PostUpdate, sync_memory_costs.before(ShadowSystems::ComputeCascades));
+        app.add_systems(
+            PostUpdate,
+            warn_coarse_sun_depth
+                .after(ShadowSystems::ComputeCascades)
+                .before(log_diagnostics),
+        );
         app.add_systems(Last, render_frame);
     }
 }
@@ -76,6 +84,38 @@ pub fn sync_memory_costs(options: Option<Res<RenderOptions>>, budget: Option<Res
     let bytes = u64::from(depth_texel_bytes(depth.format()));
     if budget.costs.sun_depth_texel != bytes {
         budget.costs.sun_depth_texel = bytes;
+    }
+}
+
+/// Steps of `Depth16Unorm` over a view's depth range.
+const UNORM16_STEPS: f32 = 65_535.0;
+
+/// Warns about each sun whose 16-bit depth ([`RenderOptions::sun_depth`]) steps more coarsely
+/// than its shadow texels in some cascade (a sun near the horizon over casters kilometres
+/// apart along its light): contacts may then leak by up to a step, which 32-bit floats avoid.
+/// Logged once per sun ([`ShadowDiagnostics`]).
+pub fn warn_coarse_sun_depth(
+    options: Option<Res<RenderOptions>>,
+    lights: Option<Res<FrameLights>>,
+    diagnostics: Option<ResMut<ShadowDiagnostics>>,
+) {
+    let (Some(lights), Some(mut diagnostics)) = (lights, diagnostics) else {
+        return;
+    };
+    let depth = options.as_deref().map_or_else(SunDepth::default, |o| o.sun_depth);
+    if depth != SunDepth::Unorm16 {
+        return;
+    }
+    for sun in lights.suns.iter().filter(|s| s.paged.is_none()) {
+        if sun.cascades.depth_step_in_texels(UNORM16_STEPS) > 1.0 {
+            let name = sun.entity.to_string();
+            diagnostics.warn_about(
+                &name,
+                format!(
+                    "directional light {name}: its cascades span so much depth that a step of 16-bit depth is coarser than a shadow texel, so contacts may leak by up to a step; RenderOptions::sun_depth = SunDepth::Float32 (--sun-depth 32) draws its maps in 32-bit floats"
+                ),
+            );
+        }
     }
 }
 
