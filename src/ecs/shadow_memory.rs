@@ -21,8 +21,8 @@ use crate::ecs::light_views::FrameLights;
 use crate::math::evsm::MomentPrecision;
 use crate::math::light_budget::{LightKind, RankingView, screen_coverage};
 use crate::math::shadow_memory::{
-    BudgetFit, DEPTH_TEXEL_BYTES, LightRequest, MIN_BUDGET_RESOLUTION, MOMENT_MIPS, MemoryCosts, MomentSupport,
-    MomentUse, StorageBytes, alone_bytes, cascade_moment_format, fit_budget_into, storage_index,
+    BudgetFit, DEFAULT_SUN_DEPTH_TEXEL_BYTES, LightRequest, MIN_BUDGET_RESOLUTION, MOMENT_MIPS, MemoryCosts,
+    MomentSupport, MomentUse, StorageBytes, alone_bytes, cascade_moment_format, fit_budget_into, storage_index,
 };
 use crate::settings::{ShadowMode, ShadowSettings};
 use crate::text::format_bytes;
@@ -57,7 +57,7 @@ impl Default for ShadowMemoryBudget {
             bytes: GPU_BUDGET,
             costs: MemoryCosts {
                 vsm_texel: 16,
-                sun_depth_texel: DEPTH_TEXEL_BYTES,
+                sun_depth_texel: DEFAULT_SUN_DEPTH_TEXEL_BYTES,
                 support: MomentSupport {
                     fp32_filterable: true,
                     unorm16: true,

@@ -21,6 +21,11 @@ use crate::math::light_budget::LightKind;
 /// [`MemoryCosts::sun_depth_texel`].
 pub const DEPTH_TEXEL_BYTES: u64 = 4;
 
+/// Bytes of a sun's depth texel in the renderer's default format (`Depth16Unorm`, see
+/// [`RenderOptions::sun_depth`](crate::render::RenderOptions::sun_depth)): what a budget
+/// accounts until a renderer hands it the format in use.
+pub const DEFAULT_SUN_DEPTH_TEXEL_BYTES: u64 = 2;
+
 /// Mip levels of a sun's moments under contact hardening: the last averages 64² texels, the
 /// widest penumbra filter (`MAX_PENUMBRA_TEXELS` = 32 texels of radius in the shaders).
 pub const MOMENT_MIPS: u32 = 7;

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use thiserror::Error;
 
 use crate::ecs::shadow_memory::{GPU_BUDGET, SHARED_BUDGET, SOFTWARE_BUDGET, ShadowMemoryBudget};
-use crate::math::shadow_memory::{DEPTH_TEXEL_BYTES, MemoryCosts};
+use crate::math::shadow_memory::{DEFAULT_SUN_DEPTH_TEXEL_BYTES, MemoryCosts};
 use crate::render::limits::{DeviceLimits, LimitError, requested_limits};
 use crate::render::shadows::sun_moments::MomentSupport;
 
@@ -212,7 +212,7 @@ impl GpuContext {
             bytes,
             costs: MemoryCosts {
                 vsm_texel,
-                sun_depth_texel: DEPTH_TEXEL_BYTES,
+                sun_depth_texel: DEFAULT_SUN_DEPTH_TEXEL_BYTES,
                 support: self.moment_support(),
             },
         }

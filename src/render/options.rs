@@ -317,6 +317,12 @@ mod tests {
             assert_eq!(depth.bits().to_string().parse::<SunDepth>(), Ok(depth));
         }
         assert_eq!(SunDepth::Unorm16.format(), wgpu::TextureFormat::Depth16Unorm);
+        let default_bytes = crate::render::shadows::storage::depth_texel_bytes(SunDepth::default().format());
+        assert_eq!(
+            u64::from(default_bytes),
+            crate::math::shadow_memory::DEFAULT_SUN_DEPTH_TEXEL_BYTES,
+            "the budget's default sun texel is the default format's"
+        );
         assert!("24".parse::<SunDepth>().unwrap_err().contains("`24`"));
     }
 
