@@ -12,10 +12,11 @@ use bevy_app::App;
 use common::{renderer, scene_with};
 use penumbra::ecs::ShadowDiagnostics;
 use penumbra::layout::ShadowStorage;
+use penumbra::render::shadows::casters::UNORM16_STEPS;
 use penumbra::render::{RenderOptions, SunDepth};
 
 /// One step of `Depth16Unorm`.
-const STEP: f32 = 1.0 / 65_535.0;
+const STEP: f32 = 1.0 / UNORM16_STEPS;
 
 /// The default scene rendered once (two frames) with the suns' layers in `depth`.
 fn rendered(depth: SunDepth) -> App {

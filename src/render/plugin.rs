@@ -19,6 +19,7 @@ use crate::ecs::view::SeenByCamera;
 use crate::render::frame_inputs::FrameInputs;
 use crate::render::options::{RenderOptions, SunDepth};
 use crate::render::renderer::Renderer;
+use crate::render::shadows::casters::UNORM16_STEPS;
 use crate::render::shadows::storage::depth_texel_bytes;
 
 /// Adds the render system. Requires [`ShadowPlugin`](crate::ecs::ShadowPlugin) and a
@@ -80,15 +81,16 @@ pub fn sync_memory_costs(options: Option<Res<RenderOptions>>, budget: Option<Res
     let Some(mut budget) = budget else {
         return;
     };
-    let depth = options.as_deref().map_or_else(SunDepth::default, |o| o.sun_depth);
-    let bytes = u64::from(depth_texel_bytes(depth.format()));
+    let bytes = u64::from(depth_texel_bytes(sun_depth(options.as_deref()).format()));
     if budget.costs.sun_depth_texel != bytes {
         budget.costs.sun_depth_texel = bytes;
     }
 }
 
-/// Steps of `Depth16Unorm` over a view's depth range.
-const UNORM16_STEPS: f32 = 65_535.0;
+/// The suns' depth format `options` ask for (the default without them).
+fn sun_depth(options: Option<&RenderOptions>) -> SunDepth {
+    options.map_or_else(SunDepth::default, |o| o.sun_depth)
+}
 
 /// Warns about each sun whose 16-bit depth ([`RenderOptions::sun_depth`]) steps more coarsely
 /// than its shadow texels in some cascade (a sun near the horizon over casters kilometres
@@ -102,8 +104,7 @@ pub fn warn_coarse_sun_depth(
     let (Some(lights), Some(mut diagnostics)) = (lights, diagnostics) else {
         return;
     };
-    let depth = options.as_deref().map_or_else(SunDepth::default, |o| o.sun_depth);
-    if depth != SunDepth::Unorm16 {
+    if sun_depth(options.as_deref()) != SunDepth::Unorm16 {
         return;
     }
     for sun in lights.suns.iter().filter(|s| s.paged.is_none()) {

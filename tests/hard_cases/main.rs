@@ -17,6 +17,7 @@ use penumbra::ecs::{
 };
 use penumbra::render::frame::FrameInputs;
 use penumbra::render::probe::ProbeGpu;
+use penumbra::render::shadows::storage::depth_texel_bytes;
 use penumbra::render::{RenderOptions, Renderer, SunDepth};
 use penumbra::settings::ShadowSettings;
 
@@ -64,22 +65,23 @@ fn sun_two_degrees_above_the_horizon() {
 }
 
 #[test]
-fn sixteen_bit_sun_depth_meets_the_same_limits() {
+fn thirty_two_bit_sun_depth_meets_the_same_limits() {
     // Straight down, 2° above the horizon, and 100 km from the origin: the same floors and
-    // limits as with 32-bit depth (the tests above), with the layers in `Depth16Unorm`.
+    // limits as with the default 16-bit depth (the tests above), with the layers in
+    // `Depth32Float`.
     let options = RenderOptions {
-        sun_depth: SunDepth::Unorm16,
+        sun_depth: SunDepth::Float32,
         ..RenderOptions::default()
     };
     let down = Case::sun(Vec3::NEG_Y).desc();
-    judge_with("16-bit: sun straight down", &down, (96, 64), options).assert_judged(&Floors {
+    judge_with("32-bit: sun straight down", &down, (96, 64), options).assert_judged(&Floors {
         judged: 3000,
         ground_lit: 2000,
         caster_lit: 250,
         umbra: 350,
     });
     let low = Case::sun(sun_at_elevation(2.0)).desc();
-    judge_with("16-bit: sun 2° above the horizon", &low, (128, 96), options).assert_judged(&Floors {
+    judge_with("32-bit: sun 2° above the horizon", &low, (128, 96), options).assert_judged(&Floors {
         judged: 6000,
         ground_lit: 5000,
         caster_lit: 500,
@@ -92,7 +94,7 @@ fn sixteen_bit_sun_depth_meets_the_same_limits() {
     for object in &mut far.objects {
         object.translation += shift;
     }
-    judge_with("16-bit: 100 km from the origin", &far, (96, 64), options).assert_judged(&Floors {
+    judge_with("32-bit: 100 km from the origin", &far, (96, 64), options).assert_judged(&Floors {
         judged: 3000,
         ground_lit: 2400,
         caster_lit: 300,
@@ -362,13 +364,7 @@ fn cascade_count_and_resolution_change_between_frames() {
             allocated = (resolution, u64::from(count));
         }
         let (side, layers) = allocated;
-        let texel = u64::from(
-            RenderOptions::default()
-                .sun_depth
-                .format()
-                .block_copy_size(None)
-                .unwrap(),
-        );
+        let texel = u64::from(depth_texel_bytes(RenderOptions::default().sun_depth.format()));
         assert_eq!(report.shadow_memory, side * side * texel * layers, "frame {frame}");
     }
 }

@@ -103,8 +103,11 @@ pub fn caster_bias(slope: f32, clamp: f32) -> wgpu::DepthBiasState {
     }
 }
 
-/// Half a step of `Depth16Unorm` (65 535 steps over 0–1).
-pub const UNORM16_HALF_STEP: f32 = 0.5 / 65_535.0;
+/// Steps of `Depth16Unorm` over 0–1 (a view's depth range).
+pub const UNORM16_STEPS: f32 = 65_535.0;
+
+/// Half a step of `Depth16Unorm`.
+pub const UNORM16_HALF_STEP: f32 = 0.5 / UNORM16_STEPS;
 
 /// The shift applied to a caster's clip position when it is drawn into `format`. A
 /// `Depth16Unorm` layer rounds each depth to one of its 65 536 steps, by up to half a step
