@@ -83,6 +83,7 @@ fn frame_input() -> CascadeInput {
         angular_diameter: 0.0093,
         blend_width: 0.1,
         snap_cells: 0,
+        scroll: false,
         seen: None,
     }
 }

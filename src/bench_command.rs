@@ -74,6 +74,9 @@ pub struct BenchArgs {
     /// 0-64.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
     snap_cells: Option<u32>,
+    /// Override whether every scene's cascades scroll, true or false.
+    #[arg(long)]
+    cascade_scroll: Option<bool>,
     /// Bits of depth of the suns' cascade and clipmap layers, timed and scored: 16 (unorm) or
     /// 32 (float).
     #[arg(long, default_value = "16")]
@@ -159,6 +162,7 @@ pub fn bench(args: BenchArgs) -> Result<(), Box<dyn Error>> {
         sun_diameter: args.sun_diameter,
         fit: args.fit.map(Into::into),
         snap_cells: args.snap_cells,
+        cascade_scroll: args.cascade_scroll,
         resolution: args.resolution,
         contact: args.contact_shadows,
     };

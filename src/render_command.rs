@@ -64,6 +64,11 @@ pub struct RenderArgs {
     /// of a box, which grows by a cell.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
     snap_cells: Option<u32>,
+    /// Whether the sun's cascades scroll, true or false (default: the scene's): a cascade
+    /// whose box moved by whole texels keeps its map and draws only the texels it newly
+    /// covers (not with moment filters).
+    #[arg(long)]
+    cascade_scroll: Option<bool>,
     /// Texels per side of every light's shadow maps (cascades, clipmap levels, spot maps, cube
     /// faces), 256-4096 (default: the scene's).
     #[arg(long, value_parser = clap::value_parser!(u32).range(256..=4096))]
@@ -300,6 +305,7 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         sun_diameter,
         fit,
         snap_cells,
+        cascade_scroll,
         resolution,
         layout,
         clipmap_levels,
@@ -387,6 +393,9 @@ pub fn render(args: RenderArgs) -> Result<(), RenderError> {
         }
         if let Some(cells) = snap_cells {
             s.map.cascades.snap_cells = cells;
+        }
+        if let Some(on) = cascade_scroll {
+            s.map.cascades.scroll = on;
         }
         if let Some(side) = resolution {
             s.map.resolution = side;

@@ -94,6 +94,7 @@ fn input(camera: CameraView, count: usize, lambda: f32, max_distance: f32, seen:
         angular_diameter: 0.01,
         blend_width: 0.1,
         snap_cells: 0,
+        scroll: false,
         seen,
     }
 }

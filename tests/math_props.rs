@@ -144,6 +144,7 @@ fn input() -> BoxedStrategy<CascadeInput> {
                     angular_diameter: ad,
                     blend_width: 0.1,
                     snap_cells,
+                    scroll: false,
                     seen: None,
                 }
             },
@@ -220,6 +221,7 @@ fn degenerate_input() -> BoxedStrategy<CascadeInput> {
                 angular_diameter: ad,
                 blend_width: 0.1,
                 snap_cells,
+                scroll: false,
                 seen: None,
             },
         )

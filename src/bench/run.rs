@@ -104,6 +104,8 @@ pub struct SettingsOverrides {
     pub fit: Option<CascadeFit>,
     /// Cells per side of the grid every scene's cascade boxes snap to.
     pub snap_cells: Option<u32>,
+    /// Whether every scene's cascades scroll.
+    pub cascade_scroll: Option<bool>,
     /// Every scene's shadow-map resolution (texels per side).
     pub resolution: Option<u32>,
     /// Every light's contact shadows (the `-contact` presets use them instead of the
@@ -132,6 +134,9 @@ impl SettingsOverrides {
         }
         if let Some(cells) = self.snap_cells {
             s.map.cascades.snap_cells = cells;
+        }
+        if let Some(on) = self.cascade_scroll {
+            s.map.cascades.scroll = on;
         }
         if let Some(resolution) = self.resolution {
             s.map.resolution = resolution;

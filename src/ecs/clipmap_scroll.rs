@@ -1,13 +1,14 @@
-//! Scrolling clipmap levels: what a level's layer must draw this frame when its window moved
-//! or casters changed inside it. A level keeps its content version while only its window
-//! moves ([`ViewCache`](crate::ecs::view_cache::ViewCache) with `scrolls`), so the renderer
-//! keeps the layer: it moves the layer's texels by the window's shift in whole texels and
-//! draws only the strips the window newly covers ([`exposed_strips`]) and the regions where
-//! casters moved, each with the casters that reach it. The renderer checks that its layer
-//! holds this version at last frame's window (`Scroll::from`) and draws the level whole
-//! otherwise. A level filtered by depth comparisons wraps instead of moving
-//! ([`Scroll::origin`]): its layer keeps every texel where it was drawn, the window's first
-//! texel moving round the layer, so a moved window costs only its strips.
+//! Scrolling views (clipmap levels, and cascades that scroll, [`CascadeSet::scrolls`]): what
+//! a view's layer must draw this frame when its box moved or casters changed inside it. A
+//! view keeps its content version while only its box moves by whole texels of its grid
+//! ([`ViewCache`](crate::ecs::view_cache::ViewCache) with `scrolls`), so the renderer keeps
+//! the layer: it moves the layer's texels by the box's shift in whole texels and draws only
+//! the strips the box newly covers ([`exposed_strips`]) and the regions where casters moved,
+//! each with the casters that reach it. The renderer checks that its layer holds this
+//! version at last frame's box (`Scroll::from`) and draws the view whole otherwise. A view
+//! filtered by depth comparisons wraps instead of moving ([`Scroll::origin`]): its layer
+//! keeps every texel where it was drawn, the box's first texel moving round the layer, so a
+//! moved box costs only its strips.
 
 use bevy_ecs::entity::Entity;
 use bevy_ecs::resource::Resource;
@@ -23,8 +24,8 @@ use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::view_cache::CachedView;
 use crate::ecs::view_list::{Scroll, ShadowView};
 use crate::math::aabb::Aabb;
-use crate::math::cascades::{CascadeSet, MAX_SUN_VIEWS};
-use crate::math::clipmap::{ClipmapLevel, GridRect, exposed_strips, window};
+use crate::math::cascades::{Cascade, CascadeSet, MAX_SUN_VIEWS};
+use crate::math::clipmap::{GridRect, exposed_strips};
 use crate::math::footprint::TexelRect;
 
 /// Scrolling views a renderer had to draw whole from a draw group of an earlier window
@@ -105,11 +106,14 @@ pub(crate) fn plan_scrolls(
     for (v, (view, entry)) in views.iter_mut().zip(entries).enumerate() {
         let Some(scroll) = &mut view.scroll else { continue };
         let Some(sun) = lights.sun_at(view.light) else { continue };
-        let Some(level) = sun.clipmap.active().get(view.kind.index as usize) else {
+        let Some(level) = sun.cascades.active().get(view.kind.index as usize) else {
             continue;
         };
-        let to = level.first_texel;
-        let here = window(level, view.resolution);
+        let to = level.grid.first_texel;
+        let here = GridRect {
+            min: to,
+            max: to + I64Vec2::splat(i64::from(view.resolution)),
+        };
         // NOTE: moments are blurred up to the layer's edges, so a moments sun's layer moves.
         let wraps = !sun.settings.filter.mode.effective(true).is_sun_moments();
         let held = scratch
@@ -154,7 +158,7 @@ pub(crate) fn plan_scrolls(
         }
         if entry.touched {
             for changed in &changes.regions {
-                let rect = grid_rect(sun.clipmap.light_rotation, level, changed).intersect(&here);
+                let rect = grid_rect(sun.cascades.light_rotation, level, changed).intersect(&here);
                 if rect.area() > 0 {
                     scratch.rects.push(rect);
                 }
@@ -169,14 +173,16 @@ pub(crate) fn plan_scrolls(
             // casters at a time, so a strip costs what its casters cost, not its level's.
             let mut set = CascadeSet {
                 count: batch,
-                light_rotation: sun.clipmap.light_rotation,
+                light_rotation: sun.cascades.light_rotation,
                 clipmap: true,
+                scrolls: true,
                 ..CascadeSet::default()
             };
+            let texel = level.grid.texel;
             for (c, rect) in set.cascades.iter_mut().zip(&scratch.rects[done..done + batch]) {
-                let (lo, hi) = (rect.min.as_vec2() * level.texel, rect.max.as_vec2() * level.texel);
-                c.light_min = lo.extend(level.z_min);
-                c.light_max = hi.extend(level.z_min + level.depth);
+                let (lo, hi) = (rect.min.as_vec2() * texel, rect.max.as_vec2() * texel);
+                c.light_min = lo.extend(level.light_min.z);
+                c.light_max = hi.extend(level.light_max.z);
             }
             while scratch.regions.len() < scratch.count + batch {
                 scratch.regions.push(RegionDraw::default());
@@ -220,13 +226,13 @@ pub(crate) fn plan_scrolls(
     scratch.count
 }
 
-/// The grid texels of `level` a world box covers in the light's frame (rounded out).
-fn grid_rect(rotation: glam::Mat3, level: &ClipmapLevel, world: &Aabb) -> GridRect {
+/// The grid texels of `level`'s grid a world box covers in the light's frame (rounded out).
+fn grid_rect(rotation: glam::Mat3, level: &Cascade, world: &Aabb) -> GridRect {
     let (lo, hi) = world.corners().iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), &c| {
         let p = (rotation * c).truncate();
         (lo.min(p), hi.max(p))
     });
-    let texel = level.texel;
+    let texel = level.grid.texel;
     GridRect {
         min: (lo / texel).floor().as_i64vec2() - I64Vec2::ONE,
         max: (hi / texel).ceil().as_i64vec2() + I64Vec2::ONE,

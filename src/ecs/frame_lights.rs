@@ -277,6 +277,10 @@ pub fn update_frame_lights(
                     angular_diameter: sun.light.angular_diameter,
                     blend_width: sun.settings.map.cascades.blend_width,
                     snap_cells: sun.settings.map.cascades.snap_cells,
+                    // NOTE: moments are blurred up to a layer's edges: a moments sun's
+                    // cascades are drawn whole.
+                    scroll: sun.settings.map.cascades.scroll
+                        && !sun.settings.filter.mode.effective(true).is_sun_moments(),
                     seen: seen.relative_to(origin.0),
                 });
             }

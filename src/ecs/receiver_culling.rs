@@ -147,8 +147,10 @@ impl ReceiverCache {
                 continue;
             }
             let mut set = sun.cascades;
-            // NOTE: clipmap levels are not view-depth slices: they keep their whole windows.
-            if let (true, Some(camera)) = (culling.receivers && !set.clipmap, camera) {
+            // NOTE: scrolling views keep their whole boxes: a layer kept while its box moves
+            // must hold every caster of the texels it keeps, not only those of an earlier
+            // frame's receivers (clipmap levels are not view-depth slices either).
+            if let (true, Some(camera)) = (culling.receivers && !set.scrolls, camera) {
                 let count = set.count.min(MAX_SUN_VIEWS);
                 self.slices.clear();
                 for c in 0..count {

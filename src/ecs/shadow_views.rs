@@ -95,7 +95,13 @@ pub fn update_shadow_views(
         key: settings.map_key(),
         cull: &v.cull,
         scrolls: v.scroll.is_some(),
-        lazy: v.scroll.is_some() && culling.cached && !resync.wants(v.entity, v.kind.index),
+        // NOTE: a clipmap level's casters are culled again only for a new version (its strips
+        // are culled on their own); a scrolling cascade's whenever its box moves, so the
+        // list a whole draw takes (on the GPU, by chunk) always serves the current box.
+        lazy: v.scroll.is_some()
+            && culling.cached
+            && !resync.wants(v.entity, v.kind.index)
+            && lights.sun_at(v.light).is_some_and(|s| s.cascades.clipmap),
     });
     scratch
         .cache

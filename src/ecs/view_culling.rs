@@ -67,9 +67,10 @@ pub(crate) fn collect_single_pass(lights: &FrameLights, scratch: &ViewScratch, o
     for (i, ((_, sun), pass)) in scratch.suns.iter().zip(out.single_pass.iter_mut()).enumerate() {
         let set = scratch.receivers.set(i);
         pass.first_view = first_view;
-        // NOTE: a clipmap's levels are drawn one pass each (their masks need more bits than
-        // an entry packs); an empty run is never drawn as one.
-        pass.views = if set.clipmap { 0 } else { set.count as u32 };
+        // NOTE: scrolling views are drawn one pass each (a clipmap's masks need more bits than
+        // an entry packs, and a kept layer draws only strips); an empty run is never drawn
+        // as one.
+        pass.views = if set.scrolls { 0 } else { set.count as u32 };
         pass.group.append_copy(&sun.group, &sun.list, &mut out.indices);
         first_view += set.count as u32;
     }
@@ -101,7 +102,7 @@ pub(crate) fn cull_views(
         // NOTE: a sun's single-pass list is made when its views are culled; one missing (just
         // turned on, or the sun at this index changed) has its views culled again.
         let (owner, list) = &mut scratch.suns[i];
-        let single_pass = scratch.single_pass && !set.clipmap;
+        let single_pass = scratch.single_pass && !set.scrolls;
         let stale = single_pass && *owner != Some(sun.entity);
         if set.count == 0 || !(stale || entries[range.clone()].iter().any(|e| e.cull)) {
             continue;

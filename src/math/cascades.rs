@@ -2,7 +2,7 @@
 //! reverse-Z orthographic box per slice in a light frame shared by all cascades, and
 //! stabilise the boxes so camera motion moves shadows by whole texels only.
 
-use glam::{DMat3, DVec3, DVec4, Mat3, Mat4, Vec3, Vec4};
+use glam::{DMat3, DVec3, DVec4, I64Vec2, Mat3, Mat4, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use crate::math::aabb::Aabb;
@@ -101,6 +101,10 @@ pub struct CascadeInput {
     /// wider to pay for it; at most a quarter of the box. The depth range snaps to steps of
     /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself.
     pub snap_cells: u32,
+    /// The boxes scroll ([`CascadeSet::scrolls`]): a box that moved by whole texels keeps its
+    /// map where its depth range held, so the range moves in steps of
+    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself, not of a lateral cell.
+    pub scroll: bool,
     /// What an earlier frame's camera saw, for [`CascadeFit::DepthBounds`] (ignored by the
     /// other fits; None fits as Tight). Its world boxes are in this input's world frame.
     pub seen: Option<SeenDepths>,
@@ -144,6 +148,20 @@ pub struct Cascade {
     /// receiver-bounded volume to it ([`crate::math::receivers::snap_to_grid`]) so that volume, too, holds
     /// while the camera moves within a cell.
     pub hold_grid: Vec3,
+    /// The texel grid of the light frame the box lies on: the box's first texel and a
+    /// texel's world size along light x and y. Every box of the same size and depth range
+    /// is the same map moved by whole texels of this grid ([`CascadeSet::scrolls`]).
+    pub grid: TexelGrid,
+}
+
+/// A grid of shadow texels fixed in the light frame: `first_texel` the grid index (light x,
+/// y) of a view's first texel, `texel` a texel's world size along x and y.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TexelGrid {
+    /// Grid index of the view's first texel.
+    pub first_texel: I64Vec2,
+    /// World size of a texel along light x and y.
+    pub texel: Vec2,
 }
 
 /// The cascades of one frame.
@@ -166,6 +184,12 @@ pub struct CascadeSet {
     /// The views are clipmap levels ([`crate::math::clipmap`]): a receiver picks one by its
     /// light-frame position, not by its view depth, and `splits` are unused.
     pub clipmap: bool,
+    /// Its views scroll: a view whose box keeps its size and depth range while moving by
+    /// whole texels of its [`Cascade::grid`] keeps its map, and only the texels the box
+    /// newly covers are drawn (clipmap levels always; cascades when
+    /// [`CascadeSettings::scroll`](crate::settings::CascadeSettings::scroll) asks for it).
+    /// Such views are culled against their whole boxes, not the receivers.
+    pub scrolls: bool,
 }
 
 impl CascadeSet {
@@ -246,6 +270,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
         caster_top: caster_top(&rot, &input.scene_bounds),
         resolution: f64::from(input.resolution.max(2)),
         cells: f64::from(input.snap_cells),
+        scroll: input.scroll,
     };
 
     let mut cascades = [Cascade::default(); MAX_SUN_VIEWS];
@@ -287,6 +312,7 @@ pub fn compute_cascades(input: &CascadeInput) -> CascadeSet {
         end: plain[count],
         light_rotation,
         clipmap: false,
+        scrolls: input.scroll,
     }
 }
 
@@ -351,6 +377,8 @@ struct Frame {
     resolution: f64,
     /// Fewest cells per side of the grid boxes start on (0: no fewest).
     cells: f64,
+    /// The boxes scroll: the depth step is not capped by a lateral cell.
+    scroll: bool,
 }
 
 impl Frame {
@@ -381,8 +409,13 @@ impl Frame {
         // depth moved the far side every few frames. No longer than a lateral cell: under a
         // low sun the range is far deeper than the box is wide, and a 64th of it added bias
         // in metres enough to open leaks at the casters' feet (the hard cases' 0.5° sun).
-        let depth_step =
-            (quantize_extent_up(z_max - lo.z) / HOLD_DEPTH_STEPS).min((x.cell * x.texel).min(y.cell * y.texel));
+        // A scrolling box keeps its map while its range holds, whatever its lateral cells.
+        let whole_step = quantize_extent_up(z_max - lo.z) / HOLD_DEPTH_STEPS;
+        let depth_step = if self.scroll {
+            whole_step
+        } else {
+            whole_step.min((x.cell * x.texel).min(y.cell * y.texel))
+        };
         let snapped = snap_outwards(lo.z, z_max, depth_step);
         // NOTE: a near side at the casters' top does not move with the camera: it keeps its
         // place, so the range grows by under one step, not two. Near the end of f32's range
@@ -421,6 +454,10 @@ impl Frame {
                 f32_sat(y.cell * y.texel),
                 f32_sat(depth_step),
             ),
+            grid: TexelGrid {
+                first_texel: I64Vec2::new(x.first_texel as i64, y.first_texel as i64),
+                texel: Vec2::new(f32_sat(x.texel), f32_sat(y.texel)),
+            },
         }
     }
 

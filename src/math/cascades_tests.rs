@@ -29,6 +29,7 @@ fn input(fit: CascadeFit) -> CascadeInput {
         angular_diameter: 0.0093,
         blend_width: 0.0,
         snap_cells: 0,
+        scroll: false,
         seen: None,
     }
 }
@@ -281,4 +282,44 @@ fn the_coarsest_depth_step_is_that_of_the_cascade_with_the_most_depth_per_texel(
     let deep = compute_cascades(&deep).depth_step_in_texels(65_535.0);
     assert!(deep > 10.0 * coarsest, "{deep} against {coarsest}");
     assert_eq!(CascadeSet::default().depth_step_in_texels(65_535.0), 0.0);
+}
+
+/// The matrix of `c` with its box moved to the grid's origin: equal for boxes of one size
+/// and depth range, wherever they lie.
+fn at_grid_origin(c: &Cascade) -> Mat4 {
+    let mut m = c.clip_from_world;
+    m.w_axis.x = -1.0;
+    m.w_axis.y = -1.0;
+    m
+}
+
+#[test]
+fn scrolling_boxes_keep_their_depth_range_longer_and_lie_on_their_grid() {
+    let mut redrawn = [0usize; 2];
+    for (k, scroll) in [false, true].into_iter().enumerate() {
+        let mut inp = input(CascadeFit::Tight);
+        inp.scroll = scroll;
+        let forward = -inp.camera.world_from_view.z_axis.truncate() * 0.37;
+        let mut last = compute_cascades(&inp);
+        assert_eq!(last.scrolls, scroll);
+        for _ in 0..100 {
+            inp.camera.world_from_view.w_axis += forward.extend(0.0);
+            let set = compute_cascades(&inp);
+            for (c, before) in set.active().iter().zip(last.active()) {
+                redrawn[k] += usize::from(at_grid_origin(c) != at_grid_origin(before));
+                // The matrix starts the box at its grid's first texel, exactly.
+                let first = c.grid.first_texel.as_vec2();
+                assert_eq!(c.clip_from_world.w_axis.x, -2.0 * first.x / 2048.0 - 1.0, "{c:?}");
+                assert_eq!(c.clip_from_world.w_axis.y, -2.0 * first.y / 2048.0 - 1.0, "{c:?}");
+                assert_eq!(c.grid.texel.x, c.texel_world_size);
+            }
+            last = set;
+        }
+    }
+    println!(
+        "boxes changed size or depth range {} times held, {} scrolling",
+        redrawn[0], redrawn[1]
+    );
+    // Scrolling boxes step their depth range by a 64th of itself, not by a lateral cell.
+    assert!(redrawn[1] * 2 <= redrawn[0], "{redrawn:?}");
 }

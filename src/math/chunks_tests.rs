@@ -111,6 +111,7 @@ fn cascades(count: usize, max_distance: f32) -> CascadeSet {
         angular_diameter: 0.01,
         blend_width: 0.0,
         snap_cells: 0,
+        scroll: false,
         seen: None,
     })
 }

@@ -19,7 +19,7 @@
 use glam::{DVec3, I64Vec2, Mat3, Mat4, Vec2, Vec3};
 
 use crate::math::aabb::Aabb;
-use crate::math::cascades::{Cascade, CascadeSet, MAX_CASCADES};
+use crate::math::cascades::{Cascade, CascadeSet, MAX_CASCADES, TexelGrid};
 use crate::math::footprint::TexelRect;
 use crate::math::light_space::light_rotation;
 use crate::math::pcss::pcss_params_f64;
@@ -291,6 +291,7 @@ pub fn clipmap_cascades(set: &ClipmapSet, angular_diameter: f32) -> CascadeSet {
         count: set.count,
         light_rotation: set.light_rotation,
         clipmap: true,
+        scrolls: true,
         ..CascadeSet::default()
     };
     let last = set.active().last().copied().unwrap_or_default();
@@ -317,6 +318,10 @@ pub fn clipmap_cascades(set: &ClipmapSet, angular_diameter: f32) -> CascadeSet {
             uv_scale_y: pcss.uv_scale_y,
             receiver_start: 0.0,
             hold_grid: Vec3::ZERO,
+            grid: TexelGrid {
+                first_texel: level.first_texel,
+                texel: Vec2::splat(level.texel),
+            },
         };
     }
     out.splits = [end; MAX_CASCADES + 1];

@@ -233,6 +233,7 @@ mod tests {
             angular_diameter: 0.01,
             blend_width: 0.0,
             snap_cells: 0,
+            scroll: false,
             seen: None,
         });
         (set, camera)

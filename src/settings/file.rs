@@ -53,6 +53,9 @@ pub struct ShadowSettingsFile {
     /// texels its rounded-up extent leaves spare): a moving camera redraws a cascade only when
     /// its box crosses a cell.
     pub cascade_snap_cells: u32,
+    /// Cascades whose box moved by whole texels keep their map and draw only the texels they
+    /// newly cover (not with moment filters).
+    pub cascade_scroll: bool,
     /// Fraction (0–0.5) of `max_distance` over which shadows fade out at the far end.
     pub distance_fade_width: f32,
     /// Clamp casters in front of the near plane to it instead of clipping them, where the
@@ -123,6 +126,7 @@ impl Default for ShadowSettingsFile {
             temporal_rotation: true,
             blend_width: 0.1,
             cascade_snap_cells: 0,
+            cascade_scroll: false,
             distance_fade_width: 0.1,
             depth_clamp: true,
             debug_view: ShadowDebugView::None,
@@ -153,6 +157,7 @@ impl From<ShadowSettingsFile> for ShadowSettings {
                     fit: f.fit,
                     blend_width: f.blend_width,
                     snap_cells: f.cascade_snap_cells,
+                    scroll: f.cascade_scroll,
                 },
                 max_distance: f.max_distance,
                 depth_clamp: f.depth_clamp,
@@ -211,6 +216,7 @@ impl From<ShadowSettings> for ShadowSettingsFile {
             temporal_rotation: filter.temporal_rotation,
             blend_width: map.cascades.blend_width,
             cascade_snap_cells: map.cascades.snap_cells,
+            cascade_scroll: map.cascades.scroll,
             distance_fade_width: filter.distance_fade_width,
             depth_clamp: map.depth_clamp,
             debug_view: filter.debug_view,

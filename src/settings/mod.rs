@@ -219,6 +219,12 @@ pub struct CascadeSettings {
     /// N makes cells at least `1 / N` of the box, the box then one cell wider to pay for it
     /// ([`CascadeInput::snap_cells`](crate::math::cascades::CascadeInput::snap_cells)).
     pub snap_cells: u32,
+    /// Cascades scroll ([`CascadeSet::scrolls`](crate::math::cascades::CascadeSet::scrolls)):
+    /// a cascade whose box moved by whole texels, keeping its size and depth range, keeps
+    /// its map and draws only the texels it newly covers, as a clipmap level does. Its
+    /// casters are then culled against its whole box, not the receivers. Suns filtering
+    /// moments (VSM, EVSM, MSM) do not scroll their cascades.
+    pub scroll: bool,
 }
 
 /// Depth bias: the hardware's, applied when the maps are drawn (a change redraws them), and

@@ -1,7 +1,7 @@
 //! The sun's views: a layer of the cascades' storage per cascade or clipmap level of each
-//! shadowed sun, culled against the light-space box the receivers bound; a clipmap level
-//! scrolls ([`Scroll`]) rather than moving with the camera; a paged sun's levels are virtual
-//! views of the page pool.
+//! shadowed sun, culled against the light-space box the receivers bound; a clipmap level, or
+//! a cascade of a sun whose cascades scroll, scrolls ([`Scroll`]) rather than being drawn
+//! again when its box moves; a paged sun's levels are virtual views of the page pool.
 
 use glam::Vec4;
 
@@ -38,7 +38,7 @@ pub fn push_sun_views(lights: &FrameLights, receivers: &ReceiverCache, sink: &mu
         let set = &sun.cascades;
         let culled = receivers.set(i);
         for (c, (cascade, cull)) in set.active().iter().zip(culled.active()).enumerate() {
-            let window = sun.clipmap.levels[c].first_texel;
+            let window = cascade.grid.first_texel;
             let mut shading = cascade_shading(cascade);
             let (kind, view_slot, scroll) = match sun.paged {
                 Some(pages) => {
@@ -53,7 +53,7 @@ pub fn push_sun_views(lights: &FrameLights, receivers: &ReceiverCache, sink: &mu
                     (kind, c as u32, None)
                 }
                 None => {
-                    let scroll = set.clipmap.then_some(Scroll {
+                    let scroll = set.scrolls.then_some(Scroll {
                         from: window,
                         to: window,
                         ..Scroll::default()

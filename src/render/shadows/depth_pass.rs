@@ -148,7 +148,11 @@ impl RenderNode for DepthPass {
         // NOTE: the views the GPU culls are claimed first, so one dispatch culls those drawn.
         self.gpu_drawn.clear();
         for v in 0..views.views.len() {
-            let drawn = ctx.shadow_cull.culls(v) && self.claim(ctx, v);
+            let drawn = ctx.shadow_cull.culls(v)
+                && match views.views[v].scroll {
+                    Some(_) => self.claim_scrolled(ctx, v),
+                    None => self.claim(ctx, v),
+                };
             self.gpu_drawn.push(drawn);
         }
         ctx.shadow_cull
@@ -168,7 +172,9 @@ impl RenderNode for DepthPass {
                 .iter()
                 .find(|g| g.first_view as usize == v && g.views >= 2);
             let Some(run_group) = run_group else {
-                if ctx.shadow_cull.culls(v) {
+                if ctx.shadow_cull.culls(v) && views.views[v].scroll.is_some() {
+                    self.draw_gpu_scrolled(ctx, encoder, v);
+                } else if ctx.shadow_cull.culls(v) {
                     if self.gpu_drawn[v] {
                         self.draw(ctx, encoder, v, 1, &views.groups[v]);
                     }

@@ -13,7 +13,7 @@ use super::DepthPass;
 use crate::ecs::view_list::Scroll;
 use crate::math::clipmap::wrapped_parts;
 use crate::math::footprint::TexelRect;
-use crate::render::draw::draw_batches;
+use crate::render::draw::{draw_batches, draw_culled};
 use crate::render::frame::FrameContext;
 use crate::render::scene_gpu::IndexList;
 use crate::render::shadows::casters::CasterKey;
@@ -40,11 +40,14 @@ fn advanced(origin: [u32; 2], d: I64Vec2, side: u32) -> [u32; 2] {
 }
 
 impl DepthPass {
-    /// Draws scrolling view `v`: kept (wrapped round or moved) and drawn by region where its
-    /// layer allows, else whole.
-    pub(super) fn scroll_or_draw(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder, v: usize) {
+    /// Whether scrolling view `v`'s layer holds its version at last frame's window where
+    /// this frame's wrap origin expects it (for a layer that does not wrap: at its first
+    /// texel), with the window moved by less than a layer; and its wrap origin.
+    fn held_window(&mut self, ctx: &FrameContext<'_>, v: usize) -> (bool, Option<[u32; 2]>) {
         let view = &ctx.shadow_views.views[v];
-        let Some(scroll) = view.scroll else { return };
+        let Some(scroll) = view.scroll else {
+            return (false, None);
+        };
         let (kind, version, resolution, slot) = (view.kind, view.version, view.resolution, view.slot);
         let storage = self.storage(kind);
         let wrap = wrap_origin(view, storage.side);
@@ -66,6 +69,72 @@ impl DepthPass {
             && held.window == Some(scroll.from)
             && d.abs().max_element() < i64::from(resolution)
             && placed;
+        (kept, wrap)
+    }
+
+    /// Claims scrolling view `v`, whose casters the GPU culls, for a whole draw: when its
+    /// version is new, or its layer cannot be kept by wrapping (it holds another window, or
+    /// it would have to move). Called before the culling, which then culls the view.
+    pub(super) fn claim_scrolled(&mut self, ctx: &FrameContext<'_>, v: usize) -> bool {
+        if self.claim(ctx, v) {
+            return true;
+        }
+        let (kept, wrap) = self.held_window(ctx, v);
+        let moved = ctx.shadow_views.views[v].scroll.is_some_and(|s| s.from != s.to);
+        if kept && (wrap.is_some() || !moved) {
+            return false;
+        }
+        self.forget(ctx, v);
+        self.claim(ctx, v)
+    }
+
+    /// Marks `v`'s layer as holding nothing it can keep.
+    fn forget(&mut self, ctx: &FrameContext<'_>, v: usize) {
+        let view = &ctx.shadow_views.views[v];
+        if let Some(layer) = self.held[view.kind.storage.index()].1.get_mut(view.slot as usize) {
+            layer.version = 0;
+        }
+    }
+
+    /// Draws scrolling view `v`, whose casters the GPU culls: whole from the culled list
+    /// where it was claimed for that ([`Self::claim_scrolled`]), else its regions into its
+    /// kept layer.
+    pub(super) fn draw_gpu_scrolled(
+        &mut self,
+        ctx: &mut FrameContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        v: usize,
+    ) {
+        let view = &ctx.shadow_views.views[v];
+        let Some(scroll) = view.scroll else { return };
+        let wrap = wrap_origin(view, self.storage(view.kind).side);
+        let origin = wrap.unwrap_or_default();
+        let whole = self.gpu_drawn[v];
+        if whole {
+            ctx.shadow_views_drawn += 1;
+            self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
+        } else if scroll.from != scroll.to || scroll.region_count > 0 {
+            ctx.shadow_views_scrolled += 1;
+            self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), origin);
+        }
+        let view = &ctx.shadow_views.views[v];
+        if let Some(layer) = self.held[view.kind.storage.index()].1.get_mut(view.slot as usize) {
+            layer.window = Some(scroll.to);
+            layer.origin = origin;
+            // NOTE: what a wrapped or scrolled layer holds is not the footprint of one draw.
+            layer.written = None;
+        }
+    }
+
+    /// Draws scrolling view `v`: kept (wrapped round or moved) and drawn by region where its
+    /// layer allows, else whole.
+    pub(super) fn scroll_or_draw(&mut self, ctx: &mut FrameContext<'_>, encoder: &mut wgpu::CommandEncoder, v: usize) {
+        let view = &ctx.shadow_views.views[v];
+        let Some(scroll) = view.scroll else { return };
+        let (kind, resolution, slot) = (view.kind, view.resolution, view.slot);
+        let storage = self.storage(kind);
+        let (kept, wrap) = self.held_window(ctx, v);
+        let d = scroll.to - scroll.from;
         let moved = scroll.from != scroll.to;
         let shifted = kept
             && (wrap.is_some() || !moved || {
@@ -168,7 +237,13 @@ impl DepthPass {
             }
             Parts::Whole => &[],
         };
-        let rects = || whole.into_iter().chain(listed.iter().map(|r| (r.rect, &r.group)));
+        // NOTE: a view the GPU culled draws whole from the culling's arguments; its regions
+        // from the lists culling made for them.
+        let culled = ctx.shadow_cull.draws(v).filter(|_| whole.is_some());
+        let rects = || {
+            let whole = whole.into_iter().map(|(rect, group)| (rect, group, culled));
+            whole.chain(listed.iter().map(|r| (r.rect, &r.group, None)))
+        };
         if rects().next().is_none() {
             return;
         }
@@ -182,7 +257,7 @@ impl DepthPass {
                 .clone()
         };
         let opaque = pipeline(false);
-        let masked = rects().any(|(_, g)| !g.masked.is_empty()).then(|| pipeline(true));
+        let masked = rects().any(|(_, g, _)| !g.masked.is_empty()).then(|| pipeline(true));
         ctx.counters.caster_pipelines += built;
         let clear = self.clears.get(&ctx.gpu.device, ctx.library, (0, format)).clone();
         let storage = self.storage(view.kind);
@@ -211,7 +286,7 @@ impl DepthPass {
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let offset = (v * size_of::<CasterViewGpu>()) as u32;
         let mut calls = 0;
-        for (rect, group) in rects() {
+        for (rect, group, culled) in rects() {
             // NOTE: without wrapping (`origin` 0) the one part is the rectangle itself, drawn
             // with the window at the layer's first texel.
             for ([vx, vy], r) in wrapped_parts(rect, origin, side) {
@@ -222,14 +297,23 @@ impl DepthPass {
                 pass.set_pipeline(&clear);
                 pass.draw(0..6, 0..1);
                 pass.set_bind_group(0, &ctx.shadows.caster_group, &[offset]);
-                pass.set_bind_group(1, &ctx.scene.shadow_instances_group, &[]);
+                let instances = culled.map_or(&ctx.scene.shadow_instances_group, |(group, ..)| group);
+                pass.set_bind_group(1, instances, &[]);
+                let mut draw = |pass: &mut wgpu::RenderPass<'_>, batches, masked, first_arg| match culled {
+                    Some((_, args, base)) => {
+                        let args = (args, base + first_arg);
+                        draw_culled(pass, ctx.scene, batches, (masked, &[]), args, ctx.draw_args)
+                    }
+                    None => {
+                        let list = (ctx.scene, IndexList::for_caster(masked, false));
+                        draw_batches(pass, list, batches, (masked, &[]), ctx.draw_args)
+                    }
+                };
                 pass.set_pipeline(&opaque);
-                let opaque = (ctx.scene, IndexList::for_caster(false, false));
-                calls += draw_batches(&mut pass, opaque, &group.opaque, (false, &[]), ctx.draw_args);
+                calls += draw(&mut pass, &group.opaque, false, 0);
                 if let Some(masked) = &masked {
                     pass.set_pipeline(masked);
-                    let masked = (ctx.scene, IndexList::for_caster(true, false));
-                    calls += draw_batches(&mut pass, masked, &group.masked, (true, &[]), ctx.draw_args);
+                    calls += draw(&mut pass, &group.masked, true, group.opaque.len() as u32);
                 }
             }
         }

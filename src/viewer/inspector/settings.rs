@@ -158,6 +158,8 @@ fn layout_ui(ui: &mut Ui, s: &mut ShadowSettings) {
     ui.add(Slider::new(&mut s.map.cascades.split_lambda, 0.0..=1.0).text("split λ"));
     ui.add(Slider::new(&mut s.map.cascades.snap_cells, 0..=MAX_SNAP_CELLS).text("snap cells"))
         .on_hover_text("Cascades hold while the camera moves within a cell: 0 cells of the spare texels, N cells of at least 1/N of a box");
+    ui.checkbox(&mut s.map.cascades.scroll, "scroll cascades")
+        .on_hover_text("A cascade moved by whole texels keeps its map and draws only the texels it newly covers");
     ui.add(
         Slider::new(&mut s.map.max_distance, 1.0..=2000.0)
             .logarithmic(true)

@@ -1,0 +1,157 @@
+//! Cascades that scroll (lavapipe): a cascade whose box moved by whole texels keeps its map,
+//! wrapped round its layer, and draws only the texels it newly covers, so a walk draws few
+//! whole maps; the maps kept, read in their boxes' order, equal the maps a renderer draws
+//! fresh at the walk's end, and so does the image. Checked on a scene whose casters the CPU
+//! lists and on one whose casters the GPU culls; a sun filtering moments does not scroll.
+
+mod common;
+
+use bevy_app::App;
+use common::clipmap::window_texels;
+use glam::Vec3;
+use penumbra::ecs::ShadowViews;
+use penumbra::render::Renderer;
+use penumbra::settings::{ShadowMode, ShadowSettings};
+
+/// `scene` with its sun's cascades at 1024² scrolling (or not), filtered with `mode`, before
+/// its first frame.
+fn scene(scene: &str, scroll: bool, mode: ShadowMode) -> App {
+    let renderer = Renderer::headless(160, 90)
+        .expect("no GPU adapter: install a Vulkan driver (on Debian/Ubuntu: apt-get install mesa-vulkan-drivers)");
+    let mut app = common::still_scene(renderer, scene);
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        s.map.resolution = 1024;
+        s.map.cascades.scroll = scroll;
+        s.filter.mode = mode;
+    }
+    app
+}
+
+/// One step of the walks: 0.37 m towards −z, drifting 0.05 m along x.
+fn step(app: &mut App) {
+    common::move_camera(app, |t| t.translation += Vec3::new(0.05, 0.0, -0.37));
+}
+
+/// Walks `app` `frames` steps after its first frame; returns the maps drawn whole and the
+/// maps scrolled (drawn by strip) over the walk.
+fn walk(app: &mut App, frames: usize) -> (u32, u32) {
+    app.update();
+    let (mut whole, mut scrolled) = (0, 0);
+    for _ in 0..frames {
+        step(app);
+        app.update();
+        let report = &app.world().resource::<Renderer>().last_report;
+        whole += report.shadow_views_drawn;
+        scrolled += report.shadow_views_scrolled;
+    }
+    (whole, scrolled)
+}
+
+/// One step of the suns' 16-bit depth, and a little: a kept texel was drawn with its box
+/// elsewhere, so its triangles' interpolated depth may round to the other step where it lies
+/// at a step's midpoint.
+const ONE_STEP: f32 = 1.0 / 65_535.0 + 1e-7;
+
+/// Compares every cascade of `walked` (read in its box's order) and its image with a fresh
+/// app of `scene` at the same pose; returns the caster texels judged, the texels that differ
+/// by more than [`ONE_STEP`] (and prints those that differ by one) and the largest channel
+/// difference of the images.
+fn compare_with_fresh(walked: &mut App, scene_path: &str) -> (usize, usize, u8) {
+    let at = common::camera_transform(walked);
+    let mut fresh = scene(scene_path, true, ShadowMode::Pcf);
+    common::move_camera(&mut fresh, |t| *t = at);
+    fresh.update();
+    let (mut judged, mut differ) = (0, 0);
+    let (a, b) = (
+        walked.world().resource::<ShadowViews>(),
+        fresh.world().resource::<ShadowViews>(),
+    );
+    assert_eq!(a.views.len(), b.views.len());
+    for (v, w) in a.views.iter().zip(&b.views) {
+        assert_eq!(
+            v.clip_from_world, w.clip_from_world,
+            "the walked and fresh boxes differ"
+        );
+        let (kept, drawn) = (window_texels(walked, v), window_texels(&fresh, w));
+        let by = |most: f32| {
+            kept.iter()
+                .zip(&drawn)
+                .filter(|(x, y)| (**x - **y).abs() > most)
+                .count()
+        };
+        let (d, stepped) = (by(ONE_STEP), by(0.0));
+        let covered = drawn.iter().filter(|&&t| t > 0.0).count();
+        println!(
+            "{scene_path}, cascade {}: {covered} caster texels, {stepped} differ, {d} by more than a step",
+            v.kind.index
+        );
+        judged += covered;
+        differ += d;
+    }
+    let (p, q) = (
+        walked.world().resource::<Renderer>().read_image(),
+        fresh.world().resource::<Renderer>().read_image(),
+    );
+    let largest = p
+        .pixels()
+        .zip(q.pixels())
+        .map(|(x, y)| (0..3).map(|c| x[c].abs_diff(y[c])).max().unwrap_or(0))
+        .max()
+        .unwrap_or(0);
+    (judged, differ, largest)
+}
+
+/// The long field (9 015 casters, listed by the CPU): a 24-frame walk draws at most 12 whole
+/// maps with scrolling cascades (5 measured, and 6 scrolled) where it draws at least 16
+/// without (23 measured), and its kept maps (to a step of depth) and image (to one level)
+/// equal a fresh renderer's.
+#[test]
+fn scrolling_cascades_listed_on_the_cpu_keep_the_maps_drawn_fresh() {
+    let path = "assets/bench/long_field.ron";
+    let (mut scrolling, mut held) = (scene(path, true, ShadowMode::Pcf), scene(path, false, ShadowMode::Pcf));
+    let (whole, scrolled) = walk(&mut scrolling, 24);
+    let (redrawn, _) = walk(&mut held, 24);
+    println!("scrolling: {whole} maps drawn whole, {scrolled} scrolled; held: {redrawn} drawn");
+    assert!(whole <= 12 && scrolled > 0, "{whole} whole, {scrolled} scrolled");
+    assert!(redrawn >= 16, "without scrolling the walk drew only {redrawn} maps");
+    let (judged, differ, largest) = compare_with_fresh(&mut scrolling, path);
+    assert!(judged > 10_000, "the cascades hold only {judged} caster texels");
+    assert_eq!(
+        differ, 0,
+        "{differ} kept texels differ from a fresh map by more than a step"
+    );
+    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
+}
+
+/// The bench field (100k casters, culled on the GPU): a 10-frame walk scrolls its cascades,
+/// draws at most 8 whole maps (3 measured, and 17 scrolled), and keeps the maps (to a step of
+/// depth) and image (to one level) a fresh renderer draws.
+#[test]
+fn scrolling_cascades_culled_on_the_gpu_keep_the_maps_drawn_fresh() {
+    let path = "assets/bench/field.ron";
+    let mut app = scene(path, true, ShadowMode::Pcf);
+    let (whole, scrolled) = walk(&mut app, 10);
+    println!("{whole} maps drawn whole, {scrolled} scrolled");
+    assert!(whole <= 8 && scrolled > 0, "{whole} whole, {scrolled} scrolled");
+    let (judged, differ, largest) = compare_with_fresh(&mut app, path);
+    assert!(judged > 10_000, "the cascades hold only {judged} caster texels");
+    assert_eq!(
+        differ, 0,
+        "{differ} kept texels differ from a fresh map by more than a step"
+    );
+    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
+}
+
+/// A sun filtering moments blurs them up to its layers' edges: its cascades are drawn whole,
+/// never scrolled, though it asks for scrolling.
+#[test]
+fn a_moments_sun_does_not_scroll_its_cascades() {
+    let mut app = scene("assets/bench/long_field.ron", true, ShadowMode::Evsm);
+    let (whole, scrolled) = walk(&mut app, 4);
+    let views = &app.world().resource::<ShadowViews>().views;
+    assert!(views.iter().all(|v| v.scroll.is_none()), "a moments cascade scrolls");
+    assert_eq!(scrolled, 0);
+    assert!(whole > 0, "the walk drew no map");
+}
