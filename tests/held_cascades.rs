@@ -21,6 +21,8 @@ fn field(cells: u32) -> App {
     for mut s in settings.iter_mut(world) {
         s.map.resolution = 1024;
         s.map.cascades.snap_cells = cells;
+        // NOTE: held, not scrolled (tests/scrolling_cascades.rs scrolls them).
+        s.map.cascades.scroll = false;
     }
     app
 }

@@ -3,7 +3,7 @@
 //! is identical to the one drawn with every caster of the cascade boxes, on a still camera
 //! and on every frame of a walk (where the receivers' bounds are held over cells of the
 //! camera's position); the held bounds cull with exactly the volumes of a fresh app at the
-//! walk's end.
+//! walk's end. Cascades are held, not scrolled (scrolling ones keep their whole boxes).
 
 mod common;
 
@@ -19,6 +19,7 @@ use penumbra::ecs::view_list::{CullVolume, ShadowViews};
 use penumbra::ecs::{ShadowPlugin, Transform};
 use penumbra::render::Renderer;
 use penumbra::scene::SceneDesc;
+use penumbra::settings::ShadowSettings;
 
 /// `scene` in a 240×135 headless app culling to the receivers or not, before its first frame.
 fn scene_app(scene: &str, receivers: bool) -> App {
@@ -29,7 +30,17 @@ fn scene_app(scene: &str, receivers: bool) -> App {
         receivers,
         ..Default::default()
     });
+    held_cascades(&mut app);
     app
+}
+
+/// Turns off `app`'s suns' scrolling cascades, which are culled against their whole boxes.
+fn held_cascades(app: &mut App) {
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        s.map.cascades.scroll = false;
+    }
 }
 
 /// The image of `app`'s last frame and the casters drawn per shadow view.
@@ -116,6 +127,7 @@ fn systems_app(scene: &str, receivers: bool, at: Option<Transform>) -> App {
     PreparedScene::new(&desc)
         .expect("the scene spawns")
         .spawn(app.world_mut());
+    held_cascades(&mut app);
     if let Some(at) = at {
         move_camera(&mut app, |t| *t = at);
     }

@@ -126,7 +126,7 @@ impl Default for ShadowSettingsFile {
             temporal_rotation: true,
             blend_width: 0.1,
             cascade_snap_cells: 0,
-            cascade_scroll: false,
+            cascade_scroll: true,
             distance_fade_width: 0.1,
             depth_clamp: true,
             debug_view: ShadowDebugView::None,
