@@ -441,6 +441,8 @@ impl Renderer {
         let drawn = input.view.camera.is_some() && drawable;
         if drawn {
             self.graph.execute(&mut ctx, &mut encoder);
+        } else {
+            self.graph.skip();
         }
         let (draw_calls, shadow_views_drawn, shadow_draw_calls, shadow_cleared_texels) = (
             ctx.draw_calls,

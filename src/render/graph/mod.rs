@@ -37,6 +37,9 @@ pub trait RenderNode: Send + Sync {
     fn setup(&mut self, pass: &mut PassBuilder<'_>, frame: &mut FrameResources, inputs: &FrameInputs<'_>);
     /// Records the node's GPU work, resolving its handles through `resources`.
     fn record(&mut self, ctx: &mut FrameContext<'_>, resources: &GraphResources, encoder: &mut wgpu::CommandEncoder);
+    /// The frame was not drawn: a node that keeps what earlier frames drew, and draws only
+    /// what changed, forgets it (this frame's changes were never drawn).
+    fn skipped(&mut self) {}
 }
 
 /// A graph that cannot run (a bug in a node's declarations, not in user data).
@@ -194,6 +197,13 @@ impl RenderGraph {
     /// Names of the nodes the last build culled.
     pub fn culled(&self) -> Vec<&'static str> {
         self.schedule.culled.iter().map(|&p| self.names[p as usize]).collect()
+    }
+
+    /// Tells every node the frame was not drawn ([`RenderNode::skipped`]).
+    pub fn skip(&mut self) {
+        for node in &mut self.nodes {
+            node.skipped();
+        }
     }
 
     /// Records the kept nodes, in order, into one encoder.

@@ -133,6 +133,14 @@ impl RenderNode for DepthPass {
         }
     }
 
+    /// Forgets what every layer holds: a scrolling view's changes of this frame (strips,
+    /// moved casters) were never drawn, so its layer is drawn whole next.
+    fn skipped(&mut self) {
+        for (_, layers) in &mut self.held {
+            layers.clear();
+        }
+    }
+
     fn record(&mut self, ctx: &mut FrameContext<'_>, res: &GraphResources, encoder: &mut wgpu::CommandEncoder) {
         self.shift.begin_frame();
         self.storages.clear();
