@@ -20,6 +20,8 @@ fn field(cache: bool) -> App {
     let mut settings = world.query::<&mut ShadowSettings>();
     for mut s in settings.iter_mut(world) {
         s.map.resolution = 512;
+        // NOTE: held, not scrolled (tests/scrolling_cascades.rs scrolls them).
+        s.map.cascades.scroll = false;
     }
     app
 }

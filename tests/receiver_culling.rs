@@ -19,7 +19,6 @@ use penumbra::ecs::view_list::{CullVolume, ShadowViews};
 use penumbra::ecs::{ShadowPlugin, Transform};
 use penumbra::render::Renderer;
 use penumbra::scene::SceneDesc;
-use penumbra::settings::ShadowSettings;
 
 /// `scene` in a 240×135 headless app culling to the receivers or not, before its first frame.
 fn scene_app(scene: &str, receivers: bool) -> App {
@@ -30,17 +29,8 @@ fn scene_app(scene: &str, receivers: bool) -> App {
         receivers,
         ..Default::default()
     });
-    held_cascades(&mut app);
+    common::hold_cascades(&mut app);
     app
-}
-
-/// Turns off `app`'s suns' scrolling cascades, which are culled against their whole boxes.
-fn held_cascades(app: &mut App) {
-    let world = app.world_mut();
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.map.cascades.scroll = false;
-    }
 }
 
 /// The image of `app`'s last frame and the casters drawn per shadow view.
@@ -127,7 +117,7 @@ fn systems_app(scene: &str, receivers: bool, at: Option<Transform>) -> App {
     PreparedScene::new(&desc)
         .expect("the scene spawns")
         .spawn(app.world_mut());
-    held_cascades(&mut app);
+    common::hold_cascades(&mut app);
     if let Some(at) = at {
         move_camera(&mut app, |t| *t = at);
     }

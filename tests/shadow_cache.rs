@@ -24,6 +24,8 @@ struct Pair {
 
 fn app(scene: &str, cache: bool) -> (App, Entity) {
     let mut app = common::cached_scene(scene, cache);
+    // NOTE: held cascades: a scrolling one draws a moved caster by region, not whole.
+    common::hold_cascades(&mut app);
     let world = app.world_mut();
     let cube = spawn_box(
         world,

@@ -45,6 +45,8 @@ fn app(gpu: bool) -> App {
         ..PointLight::default()
     };
     world.spawn((point, Transform::from_xyz(4.0, 2.5, 186.0)));
+    // NOTE: held cascades, so moving casters redraw them whole from the GPU's lists.
+    common::hold_cascades(&mut app);
     app.insert_resource(CameraLod { max_error_pixels: 0.0 });
     app.insert_resource(RenderOptions {
         gpu_culling: gpu,

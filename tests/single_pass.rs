@@ -35,12 +35,9 @@ fn app(single_pass: bool, cache: bool) -> (App, Entity) {
         shadow_cache: cache,
         ..RenderOptions::default()
     });
-    let world = app.world_mut();
     // NOTE: scrolling cascades are drawn one pass each.
-    let mut settings = world.query::<&mut ShadowSettings>();
-    for mut s in settings.iter_mut(world) {
-        s.map.cascades.scroll = false;
-    }
+    common::hold_cascades(&mut app);
+    let world = app.world_mut();
     let cube = spawn_box(
         world,
         Vec3::new(0.8, 1.6, 0.8),

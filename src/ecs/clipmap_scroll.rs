@@ -22,7 +22,7 @@ use crate::ecs::light_views::FrameLights;
 use crate::ecs::lod_table::{lod_key, lod_table};
 use crate::ecs::shadow_lods::ShadowLods;
 use crate::ecs::view_cache::CachedView;
-use crate::ecs::view_list::{Scroll, ShadowView};
+use crate::ecs::view_list::{CullVolume, Scroll, ShadowView};
 use crate::math::aabb::Aabb;
 use crate::math::cascades::{Cascade, CascadeSet, MAX_SUN_VIEWS};
 use crate::math::clipmap::{GridRect, exposed_strips};
@@ -54,6 +54,9 @@ struct Held {
     /// The window the level was last drawn whole for (its first texel at the layer's first),
     /// for a layer that wraps.
     anchor: Option<I64Vec2>,
+    /// The grid texels the layer holds as a fresh draw would: those of the view's cull
+    /// volume (the whole window unless it is bounded by the receivers).
+    valid: GridRect,
 }
 
 /// A region one scrolling view draws, and the casters reaching it (its batches index `list`).
@@ -104,6 +107,7 @@ pub(crate) fn plan_scrolls(
     scratch.count = 0;
     scratch.next.clear();
     for (v, (view, entry)) in views.iter_mut().zip(entries).enumerate() {
+        let cull = view.cull;
         let Some(scroll) = &mut view.scroll else { continue };
         let Some(sun) = lights.sun_at(view.light) else { continue };
         let Some(level) = sun.cascades.active().get(view.kind.index as usize) else {
@@ -130,12 +134,14 @@ pub(crate) fn plan_scrolls(
             let n = i64::from(view.resolution.max(1));
             [(to.x - a.x).rem_euclid(n) as u32, (a.y - to.y).rem_euclid(n) as u32]
         });
+        let valid = cull_rect(&cull, level).intersect(&here);
         scratch.next.push(Held {
             entity: view.entity,
             level: view.kind.index,
             version: view.version,
             window: to,
             anchor,
+            valid,
         });
         let Some(held) = held else {
             *scroll = Scroll {
@@ -149,12 +155,12 @@ pub(crate) fn plan_scrolls(
         };
         let from = held.window;
         scratch.rects.clear();
-        if from != to {
-            let before = GridRect {
-                min: from,
-                max: from + (here.max - here.min),
-            };
-            exposed_strips(&before, &here, &mut scratch.rects);
+        // NOTE: what the layer still holds of its last volume, in this window; the rest of
+        // this volume is drawn (the strips a moved window newly covers, and where a volume
+        // bounded by the receivers newly reaches).
+        let kept = held.valid.intersect(&here);
+        if kept != valid && valid.area() > 0 {
+            exposed_strips(&kept, &valid, &mut scratch.rects);
         }
         if entry.touched {
             for changed in &changes.regions {
@@ -224,6 +230,19 @@ pub(crate) fn plan_scrolls(
     }
     std::mem::swap(&mut scratch.held, &mut scratch.next);
     scratch.count
+}
+
+/// The grid texels of `level`'s grid that cull volume `cull` covers (rounded out by a
+/// texel); none for a volume that is not a light-frame box.
+fn cull_rect(cull: &CullVolume, level: &Cascade) -> GridRect {
+    let CullVolume::LightBox { min, max, .. } = *cull else {
+        return GridRect::default();
+    };
+    let texel = level.grid.texel;
+    GridRect {
+        min: (min.truncate() / texel).floor().as_i64vec2() - I64Vec2::ONE,
+        max: (max.truncate() / texel).ceil().as_i64vec2() + I64Vec2::ONE,
+    }
 }
 
 /// The grid texels of `level`'s grid a world box covers in the light's frame (rounded out).

@@ -147,10 +147,8 @@ impl ReceiverCache {
                 continue;
             }
             let mut set = sun.cascades;
-            // NOTE: scrolling views keep their whole boxes: a layer kept while its box moves
-            // must hold every caster of the texels it keeps, not only those of an earlier
-            // frame's receivers (clipmap levels are not view-depth slices either).
-            if let (true, Some(camera)) = (culling.receivers && !set.scrolls, camera) {
+            // NOTE: clipmap levels are not view-depth slices: they keep their whole windows.
+            if let (true, Some(camera)) = (culling.receivers && !set.clipmap, camera) {
                 let count = set.count.min(MAX_SUN_VIEWS);
                 self.slices.clear();
                 for c in 0..count {
@@ -172,6 +170,12 @@ impl ReceiverCache {
                     // NOTE: a box that holds while the camera moves within a cell culls to
                     // whole cells too, so its casters (and its map) hold with it.
                     (cascade.light_min, cascade.light_max) = snap_to_grid(shrunk, cascade.hold_grid, whole);
+                    // NOTE: a scrolling cascade's kept texels hold the casters of earlier
+                    // volumes: it draws again only where its volume newly reaches across
+                    // (`ecs::clipmap_scroll`), so the volume reaches as deep as its box.
+                    if set.scrolls {
+                        cascade.light_min.z = whole.0.z;
+                    }
                 }
             }
             if i < self.keys.len() {

@@ -103,7 +103,8 @@ pub struct CascadeInput {
     pub snap_cells: u32,
     /// The boxes scroll ([`CascadeSet::scrolls`]): a box that moved by whole texels keeps its
     /// map where its depth range held, so the range moves in steps of
-    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself, not of a lateral cell.
+    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself or of the box's width, the
+    /// lesser, not of a lateral cell.
     pub scroll: bool,
     /// What an earlier frame's camera saw, for [`CascadeFit::DepthBounds`] (ignored by the
     /// other fits; None fits as Tight). Its world boxes are in this input's world frame.
@@ -188,7 +189,6 @@ pub struct CascadeSet {
     /// whole texels of its [`Cascade::grid`] keeps its map, and only the texels the box
     /// newly covers are drawn (clipmap levels always; cascades when
     /// [`CascadeSettings::scroll`](crate::settings::CascadeSettings::scroll) asks for it).
-    /// Such views are culled against their whole boxes, not the receivers.
     pub scrolls: bool,
 }
 
@@ -377,7 +377,8 @@ struct Frame {
     resolution: f64,
     /// Fewest cells per side of the grid boxes start on (0: no fewest).
     cells: f64,
-    /// The boxes scroll: the depth step is not capped by a lateral cell.
+    /// The boxes scroll: the depth step is capped by a 64th of the box's width, not by a
+    /// lateral cell.
     scroll: bool,
 }
 
@@ -409,10 +410,12 @@ impl Frame {
         // depth moved the far side every few frames. No longer than a lateral cell: under a
         // low sun the range is far deeper than the box is wide, and a 64th of it added bias
         // in metres enough to open leaks at the casters' feet (the hard cases' 0.5° sun).
-        // A scrolling box keeps its map while its range holds, whatever its lateral cells.
+        // A scrolling box keeps its map while its range holds, whatever its lateral cells: its
+        // step is no longer than a 64th of its width (a 64th of the range under a 0.5° sun
+        // let 6 of 498 umbra pixels of the hard cases leak, a 64th of the width 4).
         let whole_step = quantize_extent_up(z_max - lo.z) / HOLD_DEPTH_STEPS;
         let depth_step = if self.scroll {
-            whole_step
+            whole_step.min(x.width.min(y.width) / HOLD_DEPTH_STEPS)
         } else {
             whole_step.min((x.cell * x.texel).min(y.cell * y.texel))
         };

@@ -219,7 +219,7 @@ pub fn light_xy(set: &ClipmapSet, world: Vec3) -> Vec2 {
 }
 
 /// A rectangle of grid texels `[min, max)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GridRect {
     /// First texel.
     pub min: I64Vec2,

@@ -221,8 +221,8 @@ pub struct CascadeSettings {
     pub snap_cells: u32,
     /// Cascades scroll ([`CascadeSet::scrolls`](crate::math::cascades::CascadeSet::scrolls)):
     /// a cascade whose box moved by whole texels, keeping its size and depth range, keeps
-    /// its map and draws only the texels it newly covers, as a clipmap level does. Its
-    /// casters are then culled against its whole box, not the receivers. Suns filtering
+    /// its map and draws only the texels it newly covers, as a clipmap level does (where its
+    /// box moved, and where its receiver-bounded cull volume newly reaches). Suns filtering
     /// moments (VSM, EVSM, MSM) do not scroll their cascades.
     pub scroll: bool,
 }

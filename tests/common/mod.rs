@@ -60,6 +60,17 @@ pub fn cached_scene(scene: &str, cache: bool) -> App {
     )
 }
 
+/// Turns off scrolling cascades for every light of `app` that has settings: its cascades
+/// are held and drawn whole when they move, and culled to the receivers (what the tests of
+/// held cascades, receiver-bounded culling and single-pass cascades judge).
+pub fn hold_cascades(app: &mut App) {
+    let world = app.world_mut();
+    let mut settings = world.query::<&mut ShadowSettings>();
+    for mut s in settings.iter_mut(world) {
+        s.map.cascades.scroll = false;
+    }
+}
+
 /// Applies `f` to the transform of every 3D camera of `app`.
 pub fn move_camera(app: &mut App, f: impl Fn(&mut Transform)) {
     let world = app.world_mut();

@@ -7,12 +7,12 @@
 //! the view is drawn whole (in up to four parts where it wraps with its window elsewhere than
 //! at its first texel).
 
-use glam::{I64Vec2, IVec2};
+use glam::{I64Vec2, IVec2, Vec2};
 
 use super::DepthPass;
 use crate::ecs::view_list::Scroll;
 use crate::math::clipmap::wrapped_parts;
-use crate::math::footprint::TexelRect;
+use crate::math::footprint::{ClipRect, TexelRect, TileMask};
 use crate::render::draw::{draw_batches, draw_culled};
 use crate::render::frame::FrameContext;
 use crate::render::scene_gpu::IndexList;
@@ -110,19 +110,31 @@ impl DepthPass {
         let wrap = wrap_origin(view, self.storage(view.kind).side);
         let origin = wrap.unwrap_or_default();
         let whole = self.gpu_drawn[v];
-        if whole {
+        // NOTE: the tiles the layer may hold casters in afterwards: what `draw` records, none
+        // known after a whole draw wrapped round the layer, what it held and the regions'
+        // after regions (the layer's texels stay where they are).
+        let written = if whole && origin == [0, 0] {
+            // NOTE: at the layer's first texel, cleared where the layer holds casters.
+            let group = &ctx.shadow_views.groups[v];
+            self.draw(ctx, encoder, v, 1, group);
+            None
+        } else if whole {
             ctx.shadow_views_drawn += 1;
             self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
+            Some(None)
         } else if scroll.from != scroll.to || scroll.region_count > 0 {
             ctx.shadow_views_scrolled += 1;
-            self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), origin);
-        }
+            Some(Some(self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), origin)))
+        } else {
+            Some(Some(TileMask::EMPTY))
+        };
         let view = &ctx.shadow_views.views[v];
         if let Some(layer) = self.held[view.kind.storage.index()].1.get_mut(view.slot as usize) {
             layer.window = Some(scroll.to);
             layer.origin = origin;
-            // NOTE: what a wrapped or scrolled layer holds is not the footprint of one draw.
-            layer.written = None;
+            if let Some(added) = written {
+                layer.written = layer.written.zip(added).map(|(w, a)| w.union(a));
+            }
         }
     }
 
@@ -191,21 +203,26 @@ impl DepthPass {
             }
             return;
         }
+        let mut added = TileMask::EMPTY;
         if moved || scroll.region_count > 0 {
             ctx.shadow_views_scrolled += 1;
-            self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), wrap.unwrap_or_default());
+            added = self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), wrap.unwrap_or_default());
         }
         if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
             layer.window = Some(scroll.to);
             layer.origin = wrap.unwrap_or_default();
-            // NOTE: what the moved layer holds is no longer the footprint of one draw.
-            layer.written = None;
+            // NOTE: a wrapping layer's texels stay where they are, and the regions add theirs;
+            // what a moved layer holds is no longer the footprint of one draw.
+            layer.written = match wrap.is_some() || !moved {
+                true => layer.written.map(|w| w.union(added)),
+                false => None,
+            };
         }
     }
 
     /// Clears and draws `parts` of scrolling view `v` into its layer, which holds the
     /// window's first texel at `origin` (wrapping round its edges; `[0, 0]` where it does not
-    /// wrap).
+    /// wrap); returns the layer's tiles it drew.
     fn draw_parts(
         &mut self,
         ctx: &mut FrameContext<'_>,
@@ -213,13 +230,14 @@ impl DepthPass {
         v: usize,
         parts: Parts,
         origin: [u32; 2],
-    ) {
+    ) -> TileMask {
+        let mut tiles = TileMask::EMPTY;
         let Some((vertices, indices)) = ctx.scene.mesh_buffers() else {
-            return;
+            return tiles;
         };
         let view = &ctx.shadow_views.views[v];
         let Some(settings) = ctx.lights.view_settings(view) else {
-            return;
+            return tiles;
         };
         let whole = matches!(parts, Parts::Whole).then(|| {
             let full = TexelRect {
@@ -245,7 +263,7 @@ impl DepthPass {
             whole.chain(listed.iter().map(|r| (r.rect, &r.group, None)))
         };
         if rects().next().is_none() {
-            return;
+            return tiles;
         }
         let unclipped = ctx.gpu.unclipped_depth;
         let format = self.storage(view.kind).format();
@@ -292,6 +310,7 @@ impl DepthPass {
             for ([vx, vy], r) in wrapped_parts(rect, origin, side) {
                 ctx.shadow_drawn_texels += r.area();
                 ctx.shadow_cleared_texels += r.area();
+                tiles.add_rect(&layer_clip_rect(r, side));
                 pass.set_viewport(vx as f32, vy as f32, side as f32, side as f32, 0.0, 1.0);
                 pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
                 pass.set_pipeline(&clear);
@@ -319,5 +338,15 @@ impl DepthPass {
         }
         ctx.draw_calls += calls;
         ctx.shadow_draw_calls += calls;
+        tiles
+    }
+}
+
+/// Texels `r` of a layer `side` texels wide as a clip-space rectangle (row 0 at clip `y = 1`).
+fn layer_clip_rect(r: TexelRect, side: u32) -> ClipRect {
+    let at = |t: u32| 2.0 * t as f32 / side.max(1) as f32 - 1.0;
+    ClipRect {
+        min: Vec2::new(at(r.x0), -at(r.y1)),
+        max: Vec2::new(at(r.x1), -at(r.y0)),
     }
 }
