@@ -90,6 +90,9 @@ struct Key {
     generation: u64,
     cascades: CascadeSet,
     enabled: bool,
+    /// The renderer keeps layers (a scrolling cascade's volume then reaches as deep as its
+    /// box).
+    cached: bool,
 }
 
 /// Each sun's cascade set as culling uses it, kept between frames.
@@ -142,6 +145,7 @@ impl ReceiverCache {
                 generation: instances.generation,
                 cascades: sun.cascades,
                 enabled: culling.receivers,
+                cached: culling.cached,
             };
             if self.keys.get(i) == Some(&key) {
                 continue;
@@ -172,8 +176,9 @@ impl ReceiverCache {
                     (cascade.light_min, cascade.light_max) = snap_to_grid(shrunk, cascade.hold_grid, whole);
                     // NOTE: a scrolling cascade's kept texels hold the casters of earlier
                     // volumes: it draws again only where its volume newly reaches across
-                    // (`ecs::clipmap_scroll`), so the volume reaches as deep as its box.
-                    if set.scrolls {
+                    // (`ecs::clipmap_scroll`), so the volume reaches as deep as its box (where
+                    // the renderer keeps layers at all).
+                    if set.scrolls && culling.cached {
                         cascade.light_min.z = whole.0.z;
                     }
                 }

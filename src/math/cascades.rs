@@ -103,8 +103,8 @@ pub struct CascadeInput {
     pub snap_cells: u32,
     /// The boxes scroll ([`CascadeSet::scrolls`]): a box that moved by whole texels keeps its
     /// map where its depth range held, so the range moves in steps of
-    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself or of the box's width, the
-    /// lesser, not of a lateral cell.
+    /// [`1 / HOLD_DEPTH_STEPS`](HOLD_DEPTH_STEPS) of itself, no longer than a lateral cell or
+    /// a 64th of the box's width, whichever is longer.
     pub scroll: bool,
     /// What an earlier frame's camera saw, for [`CascadeFit::DepthBounds`] (ignored by the
     /// other fits; None fits as Tight). Its world boxes are in this input's world frame.
@@ -377,8 +377,8 @@ struct Frame {
     resolution: f64,
     /// Fewest cells per side of the grid boxes start on (0: no fewest).
     cells: f64,
-    /// The boxes scroll: the depth step is capped by a 64th of the box's width, not by a
-    /// lateral cell.
+    /// The boxes scroll: the depth step may reach a 64th of the box's width where its
+    /// lateral cells are smaller.
     scroll: bool,
 }
 
@@ -411,13 +411,15 @@ impl Frame {
         // low sun the range is far deeper than the box is wide, and a 64th of it added bias
         // in metres enough to open leaks at the casters' feet (the hard cases' 0.5° sun).
         // A scrolling box keeps its map while its range holds, whatever its lateral cells: its
-        // step is no longer than a 64th of its width (a 64th of the range under a 0.5° sun
-        // let 6 of 498 umbra pixels of the hard cases leak, a 64th of the width 4).
+        // step may reach a 64th of its width where its cells are smaller (a 64th of the range
+        // under a 0.5° sun let 6 of 498 umbra pixels of the hard cases leak, a 64th of the
+        // width 4).
         let whole_step = quantize_extent_up(z_max - lo.z) / HOLD_DEPTH_STEPS;
+        let cell = (x.cell * x.texel).min(y.cell * y.texel);
         let depth_step = if self.scroll {
-            whole_step.min(x.width.min(y.width) / HOLD_DEPTH_STEPS)
+            whole_step.min(cell.max(x.width.min(y.width) / HOLD_DEPTH_STEPS))
         } else {
-            whole_step.min((x.cell * x.texel).min(y.cell * y.texel))
+            whole_step.min(cell)
         };
         let snapped = snap_outwards(lo.z, z_max, depth_step);
         // NOTE: a near side at the casters' top does not move with the camera: it keeps its
