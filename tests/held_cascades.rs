@@ -66,14 +66,7 @@ fn compare_with_fresh(walked: &mut App, cells: u32) -> (u8, usize) {
         );
         judged += covered;
     }
-    let (p, q) = (a.read_image(), b.read_image());
-    let largest = p
-        .pixels()
-        .zip(q.pixels())
-        .map(|(x, y)| (0..3).map(|c| x[c].abs_diff(y[c])).max().unwrap_or(0))
-        .max()
-        .unwrap_or(0);
-    (largest, judged)
+    (common::largest_difference(&a.read_image(), &b.read_image()), judged)
 }
 
 /// Checks that a walk (24 frames of 0.37 m) draws at most 75 of the 96 maps of four cascades

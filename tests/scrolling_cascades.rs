@@ -132,13 +132,31 @@ fn compare_with_fresh(walked: &mut App, scene_path: &str) -> (usize, usize, u8) 
         walked.world().resource::<Renderer>().read_image(),
         fresh.world().resource::<Renderer>().read_image(),
     );
-    let largest = p
-        .pixels()
-        .zip(q.pixels())
-        .map(|(x, y)| (0..3).map(|c| x[c].abs_diff(y[c])).max().unwrap_or(0))
-        .max()
-        .unwrap_or(0);
-    (judged, differ, largest)
+    (judged, differ, common::largest_difference(&p, &q))
+}
+
+/// Walks `path` `frames` steps with scrolling cascades (and, where `held` is given, with held
+/// ones, checking the scrolling walk draws at most 60 % of the whole maps the held one
+/// draws); checks it scrolled, and that its maps (inside their volumes, to a step of depth)
+/// and image (to one level) equal a fresh renderer's with more than `fewest` caster texels
+/// judged.
+fn judge_walk(path: &str, frames: usize, held: bool, fewest: usize) {
+    let mut app = scene(path, true, ShadowMode::Pcf);
+    let (whole, scrolled) = walk(&mut app, frames);
+    println!("{path}: {whole} maps drawn whole, {scrolled} scrolled");
+    assert!(scrolled > 0, "{whole} whole, {scrolled} scrolled");
+    if held {
+        let (redrawn, _) = walk(&mut scene(path, false, ShadowMode::Pcf), frames);
+        println!("{path}: held, {redrawn} maps drawn");
+        assert!(whole * 5 <= redrawn * 3, "{whole} whole maps, {redrawn} held");
+    }
+    let (judged, differ, largest) = compare_with_fresh(&mut app, path);
+    assert!(judged > fewest, "the cascades hold only {judged} caster texels");
+    assert_eq!(
+        differ, 0,
+        "{differ} kept texels differ from a fresh map by more than a step"
+    );
+    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
 }
 
 /// The long field (9 015 casters, listed by the CPU): a 24-frame walk with scrolling
@@ -147,20 +165,7 @@ fn compare_with_fresh(walked: &mut App, scene_path: &str) -> (usize, usize, u8) 
 /// level) equal a fresh renderer's.
 #[test]
 fn scrolling_cascades_listed_on_the_cpu_keep_the_maps_drawn_fresh() {
-    let path = "assets/bench/long_field.ron";
-    let (mut scrolling, mut held) = (scene(path, true, ShadowMode::Pcf), scene(path, false, ShadowMode::Pcf));
-    let (whole, scrolled) = walk(&mut scrolling, 24);
-    let (redrawn, _) = walk(&mut held, 24);
-    println!("scrolling: {whole} maps drawn whole, {scrolled} scrolled; held: {redrawn} drawn");
-    assert!(scrolled > 0, "{whole} whole, {scrolled} scrolled");
-    assert!(whole * 5 <= redrawn * 3, "{whole} whole maps, {redrawn} held");
-    let (judged, differ, largest) = compare_with_fresh(&mut scrolling, path);
-    assert!(judged > 10_000, "the cascades hold only {judged} caster texels");
-    assert_eq!(
-        differ, 0,
-        "{differ} kept texels differ from a fresh map by more than a step"
-    );
-    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
+    judge_walk("assets/bench/long_field.ron", 24, true, 10_000);
 }
 
 /// The pillars, where the receivers bound the near cascades' volumes inside their boxes: a
@@ -168,18 +173,7 @@ fn scrolling_cascades_listed_on_the_cpu_keep_the_maps_drawn_fresh() {
 /// image (to one level) a fresh renderer draws.
 #[test]
 fn scrolling_cascades_bounded_by_the_receivers_keep_the_maps_drawn_fresh() {
-    let path = "assets/scenes/pillars.ron";
-    let mut app = scene(path, true, ShadowMode::Pcf);
-    let (whole, scrolled) = walk(&mut app, 24);
-    println!("{whole} maps drawn whole, {scrolled} scrolled");
-    assert!(scrolled > 0, "{whole} whole, {scrolled} scrolled");
-    let (judged, differ, largest) = compare_with_fresh(&mut app, path);
-    assert!(judged > 1_000, "the cascades hold only {judged} caster texels");
-    assert_eq!(
-        differ, 0,
-        "{differ} kept texels differ from a fresh map by more than a step"
-    );
-    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
+    judge_walk("assets/scenes/pillars.ron", 24, false, 1_000);
 }
 
 /// The bench field (100k casters, culled on the GPU): a 10-frame walk with scrolling cascades
@@ -188,20 +182,7 @@ fn scrolling_cascades_bounded_by_the_receivers_keep_the_maps_drawn_fresh() {
 /// level) a fresh renderer draws.
 #[test]
 fn scrolling_cascades_culled_on_the_gpu_keep_the_maps_drawn_fresh() {
-    let path = "assets/bench/field.ron";
-    let (mut app, mut held) = (scene(path, true, ShadowMode::Pcf), scene(path, false, ShadowMode::Pcf));
-    let (whole, scrolled) = walk(&mut app, 10);
-    let (redrawn, _) = walk(&mut held, 10);
-    println!("{whole} maps drawn whole, {scrolled} scrolled; held: {redrawn} drawn");
-    assert!(scrolled > 0, "{whole} whole, {scrolled} scrolled");
-    assert!(whole * 5 <= redrawn * 3, "{whole} whole maps, {redrawn} held");
-    let (judged, differ, largest) = compare_with_fresh(&mut app, path);
-    assert!(judged > 10_000, "the cascades hold only {judged} caster texels");
-    assert_eq!(
-        differ, 0,
-        "{differ} kept texels differ from a fresh map by more than a step"
-    );
-    assert!(largest <= 1, "the image differs from a fresh one by up to {largest}");
+    judge_walk("assets/bench/field.ron", 10, true, 10_000);
 }
 
 /// A sun filtering moments blurs them up to its layers' edges: its cascades are drawn whole,

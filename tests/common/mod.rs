@@ -223,3 +223,12 @@ pub fn equal_layers(what: &str, a: &[Vec<f32>], b: &[Vec<f32>]) -> Vec<usize> {
         })
         .collect()
 }
+
+/// The largest difference of any colour channel (sRGB levels) between two images.
+pub fn largest_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
+    a.pixels()
+        .zip(b.pixels())
+        .map(|(x, y)| (0..3).map(|c| x[c].abs_diff(y[c])).max().unwrap_or(0))
+        .max()
+        .unwrap_or(0)
+}
