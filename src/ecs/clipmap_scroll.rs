@@ -25,7 +25,7 @@ use crate::ecs::view_cache::CachedView;
 use crate::ecs::view_list::{CullVolume, Scroll, ShadowView};
 use crate::math::aabb::Aabb;
 use crate::math::cascades::{Cascade, CascadeSet, MAX_SUN_VIEWS};
-use crate::math::clipmap::{GridRect, exposed_strips};
+use crate::math::clipmap::{GridRect, covering_texels, exposed_strips, window};
 use crate::math::footprint::TexelRect;
 
 /// Scrolling views a renderer had to draw whole from a draw group of an earlier window
@@ -114,10 +114,7 @@ pub(crate) fn plan_scrolls(
             continue;
         };
         let to = level.grid.first_texel;
-        let here = GridRect {
-            min: to,
-            max: to + I64Vec2::splat(i64::from(view.resolution)),
-        };
+        let here = window(to, view.resolution);
         // NOTE: moments are blurred up to the layer's edges, so a moments sun's layer moves.
         let wraps = !sun.settings.filter.mode.effective(true).is_sun_moments();
         let held = scratch
@@ -238,11 +235,7 @@ fn cull_rect(cull: &CullVolume, level: &Cascade) -> GridRect {
     let CullVolume::LightBox { min, max, .. } = *cull else {
         return GridRect::default();
     };
-    let texel = level.grid.texel;
-    GridRect {
-        min: (min.truncate() / texel).floor().as_i64vec2() - I64Vec2::ONE,
-        max: (max.truncate() / texel).ceil().as_i64vec2() + I64Vec2::ONE,
-    }
+    covering_texels(min.truncate(), max.truncate(), level.grid.texel)
 }
 
 /// The grid texels of `level`'s grid a world box covers in the light's frame (rounded out).
@@ -251,11 +244,7 @@ fn grid_rect(rotation: glam::Mat3, level: &Cascade, world: &Aabb) -> GridRect {
         let p = (rotation * c).truncate();
         (lo.min(p), hi.max(p))
     });
-    let texel = level.grid.texel;
-    GridRect {
-        min: (lo / texel).floor().as_i64vec2() - I64Vec2::ONE,
-        max: (hi / texel).ceil().as_i64vec2() + I64Vec2::ONE,
-    }
+    covering_texels(lo, hi, level.grid.texel)
 }
 
 /// The layer texels of grid rectangle `rect` in the window starting at grid texel `to`

@@ -13,7 +13,6 @@
 use std::time::Instant;
 
 use bevy_ecs::system::{Local, Res, ResMut};
-use glam::Mat4;
 
 use crate::ecs::assets::Meshes;
 use crate::ecs::caster_changes::CasterChanges;
@@ -31,16 +30,7 @@ use crate::ecs::view_cache::ViewInput;
 use crate::ecs::view_culling::{ViewScratch, collect_single_pass, cull_views};
 use crate::ecs::view_list::ShadowViews;
 pub use crate::layout::ShadowStorage;
-
-/// A scrolling view's matrix with its window moved to the grid's origin: what its texels
-/// hold does not depend on where the window is (`math::clipmap`: the window only adds a
-/// whole number of texels to clip x and y).
-fn grid_matrix(clip_from_world: Mat4) -> Mat4 {
-    let mut m = clip_from_world;
-    m.w_axis.x = -1.0;
-    m.w_axis.y = -1.0;
-    m
-}
+use crate::math::cascades::TexelGrid;
 
 /// Lists the shadow views of the shadowed lights, gives each its content version
 /// ([`ViewCache`](crate::ecs::view_cache::ViewCache)), and culls every caster into the draw group of each view it touches — only
@@ -88,7 +78,7 @@ pub fn update_shadow_views(
         entity: v.entity,
         kind: v.kind,
         clip_from_world: match v.scroll {
-            Some(_) => grid_matrix(v.clip_from_world),
+            Some(_) => TexelGrid::at_origin(v.clip_from_world),
             None => v.clip_from_world,
         },
         resolution: v.resolution,

@@ -165,6 +165,19 @@ pub struct TexelGrid {
     pub texel: Vec2,
 }
 
+impl TexelGrid {
+    /// `clip_from_world` of a view on this kind of grid with its first texel moved to the
+    /// grid's origin: equal for every box of one size and depth range, wherever it lies (its
+    /// first texel only adds a whole number of texels to clip x and y). What a scrolling
+    /// view's texels hold depends on this matrix alone.
+    pub fn at_origin(clip_from_world: Mat4) -> Mat4 {
+        let mut m = clip_from_world;
+        m.w_axis.x = -1.0;
+        m.w_axis.y = -1.0;
+        m
+    }
+}
+
 /// The cascades of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CascadeSet {

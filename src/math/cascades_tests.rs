@@ -284,15 +284,6 @@ fn the_coarsest_depth_step_is_that_of_the_cascade_with_the_most_depth_per_texel(
     assert_eq!(CascadeSet::default().depth_step_in_texels(65_535.0), 0.0);
 }
 
-/// The matrix of `c` with its box moved to the grid's origin: equal for boxes of one size
-/// and depth range, wherever they lie.
-fn at_grid_origin(c: &Cascade) -> Mat4 {
-    let mut m = c.clip_from_world;
-    m.w_axis.x = -1.0;
-    m.w_axis.y = -1.0;
-    m
-}
-
 #[test]
 fn scrolling_boxes_step_their_depth_range_no_more_often_and_lie_on_their_grid() {
     let mut changed = [0usize; 2];
@@ -311,7 +302,9 @@ fn scrolling_boxes_step_their_depth_range_no_more_often_and_lie_on_their_grid() 
         ];
         for (k, set) in sets.iter().enumerate() {
             for (c, before) in set.active().iter().zip(last[k].active()) {
-                changed[k] += usize::from(at_grid_origin(c) != at_grid_origin(before));
+                changed[k] += usize::from(
+                    TexelGrid::at_origin(c.clip_from_world) != TexelGrid::at_origin(before.clip_from_world),
+                );
                 // The matrix starts the box at its grid's first texel, exactly.
                 let first = c.grid.first_texel.as_vec2();
                 assert_eq!(c.clip_from_world.w_axis.x, -2.0 * first.x / 2048.0 - 1.0, "{c:?}");

@@ -243,11 +243,21 @@ impl GridRect {
     }
 }
 
-/// The grid texels of `level`'s window.
-pub fn window(level: &ClipmapLevel, resolution: u32) -> GridRect {
+/// The grid texels of a window of `resolution` texels a side starting at grid texel
+/// `first_texel` (a clipmap level's, or a scrolling cascade's, [`Cascade::grid`]).
+pub fn window(first_texel: I64Vec2, resolution: u32) -> GridRect {
     GridRect {
-        min: level.first_texel,
-        max: level.first_texel + I64Vec2::splat(i64::from(resolution)),
+        min: first_texel,
+        max: first_texel + I64Vec2::splat(i64::from(resolution)),
+    }
+}
+
+/// The grid texels (of texels `texel` wide along x and y) that the light-frame rectangle
+/// `[lo, hi]` touches, rounded out by a texel.
+pub fn covering_texels(lo: Vec2, hi: Vec2, texel: Vec2) -> GridRect {
+    GridRect {
+        min: (lo / texel).floor().as_i64vec2() - I64Vec2::ONE,
+        max: (hi / texel).ceil().as_i64vec2() + I64Vec2::ONE,
     }
 }
 

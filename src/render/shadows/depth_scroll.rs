@@ -107,34 +107,68 @@ impl DepthPass {
     ) {
         let view = &ctx.shadow_views.views[v];
         let Some(scroll) = view.scroll else { return };
-        let wrap = wrap_origin(view, self.storage(view.kind).side);
-        let origin = wrap.unwrap_or_default();
-        let whole = self.gpu_drawn[v];
-        // NOTE: the tiles the layer may hold casters in afterwards: what `draw` records, none
-        // known after a whole draw wrapped round the layer, what it held and the regions'
-        // after regions (the layer's texels stay where they are).
-        let written = if whole && origin == [0, 0] {
-            // NOTE: at the layer's first texel, cleared where the layer holds casters.
+        let origin = wrap_origin(view, self.storage(view.kind).side).unwrap_or_default();
+        let added = if self.gpu_drawn[v] {
+            self.draw_whole(ctx, encoder, v, origin)
+        } else {
+            Some(self.draw_regions(ctx, encoder, v, scroll, origin))
+        };
+        self.mark_held(ctx, v, (scroll.to, origin), added);
+    }
+
+    /// Draws claimed scrolling view `v` whole into its layer, which holds the window's first
+    /// texel at `origin`; returns the tiles it adds to what the layer held: none to add where
+    /// `draw` recorded them (at the layer's first texel, cleared only where it held casters),
+    /// None (not known) where the window wraps round the layer.
+    fn draw_whole(
+        &mut self,
+        ctx: &mut FrameContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        v: usize,
+        origin: [u32; 2],
+    ) -> Option<TileMask> {
+        if origin == [0, 0] {
             let group = &ctx.shadow_views.groups[v];
             self.draw(ctx, encoder, v, 1, group);
-            None
-        } else if whole {
-            ctx.shadow_views_drawn += 1;
-            self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
-            Some(None)
-        } else if scroll.from != scroll.to || scroll.region_count > 0 {
-            ctx.shadow_views_scrolled += 1;
-            Some(Some(self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), origin)))
-        } else {
-            Some(Some(TileMask::EMPTY))
-        };
+            return Some(TileMask::EMPTY);
+        }
+        ctx.shadow_views_drawn += 1;
+        self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
+        None
+    }
+
+    /// Draws `scroll`'s regions of view `v` into its kept layer (window's first texel at
+    /// `origin`), where its window moved or it lists any; returns the tiles drawn.
+    fn draw_regions(
+        &mut self,
+        ctx: &mut FrameContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        v: usize,
+        scroll: Scroll,
+        origin: [u32; 2],
+    ) -> TileMask {
+        if scroll.from == scroll.to && scroll.region_count == 0 {
+            return TileMask::EMPTY;
+        }
+        ctx.shadow_views_scrolled += 1;
+        self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), origin)
+    }
+
+    /// Records that `v`'s layer holds the window starting at grid texel `to` with its first
+    /// texel at `origin`, and the tiles `added` to what it held (None: which tiles hold
+    /// casters is no longer known).
+    fn mark_held(
+        &mut self,
+        ctx: &FrameContext<'_>,
+        v: usize,
+        (to, origin): (I64Vec2, [u32; 2]),
+        added: Option<TileMask>,
+    ) {
         let view = &ctx.shadow_views.views[v];
         if let Some(layer) = self.held[view.kind.storage.index()].1.get_mut(view.slot as usize) {
-            layer.window = Some(scroll.to);
+            layer.window = Some(to);
             layer.origin = origin;
-            if let Some(added) = written {
-                layer.written = layer.written.zip(added).map(|(w, a)| w.union(a));
-            }
+            layer.written = layer.written.zip(added).map(|(w, a)| w.union(a));
         }
     }
 
@@ -168,56 +202,32 @@ impl DepthPass {
                         .shift(device, queue, ctx.library, encoder, target, offset, timing)
                 })
             });
+        let origin = wrap.unwrap_or_default();
         if !shifted {
-            if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
-                // NOTE: what the layer holds cannot be kept: draw it whole whatever its version.
-                layer.version = 0;
-            }
-            if self.claim(ctx, v) {
-                match wrap {
-                    Some(origin) if origin != [0, 0] => {
-                        ctx.shadow_views_drawn += 1;
-                        self.draw_parts(ctx, encoder, v, Parts::Whole, origin);
-                    }
-                    _ => {
-                        let group = &ctx.shadow_views.groups[v];
-                        self.draw(ctx, encoder, v, 1, group);
-                    }
-                }
-            }
-            let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) else {
-                return;
+            // NOTE: what the layer holds cannot be kept: draw it whole whatever its version.
+            self.forget(ctx, v);
+            let added = match self.claim(ctx, v) {
+                true => self.draw_whole(ctx, encoder, v, origin),
+                false => Some(TileMask::EMPTY),
             };
-            layer.window = Some(scroll.to);
-            layer.origin = wrap.unwrap_or_default();
-            if wrap.is_some_and(|o| o != [0, 0]) {
-                layer.written = None;
-            }
+            self.mark_held(ctx, v, (scroll.to, origin), added);
             if !scroll.fresh {
                 // NOTE: the list was made for an earlier window and may miss casters of this
                 // one: culling makes it again next frame, and the layer, holding nothing it
                 // can keep, is drawn whole from it.
                 let view = &ctx.shadow_views.views[v];
                 ctx.scroll_resync.push((view.entity, view.kind.index));
-                *layer = Default::default();
+                if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
+                    *layer = Default::default();
+                }
             }
             return;
         }
-        let mut added = TileMask::EMPTY;
-        if moved || scroll.region_count > 0 {
-            ctx.shadow_views_scrolled += 1;
-            added = self.draw_parts(ctx, encoder, v, Parts::Regions(scroll), wrap.unwrap_or_default());
-        }
-        if let Some(layer) = self.held[kind.storage.index()].1.get_mut(slot as usize) {
-            layer.window = Some(scroll.to);
-            layer.origin = wrap.unwrap_or_default();
-            // NOTE: a wrapping layer's texels stay where they are, and the regions add theirs;
-            // what a moved layer holds is no longer the footprint of one draw.
-            layer.written = match wrap.is_some() || !moved {
-                true => layer.written.map(|w| w.union(added)),
-                false => None,
-            };
-        }
+        let added = self.draw_regions(ctx, encoder, v, scroll, origin);
+        // NOTE: a wrapping layer's texels stay where they are, and the regions add theirs;
+        // what a moved layer holds is no longer the footprint of one draw.
+        let added = (wrap.is_some() || !moved).then_some(added);
+        self.mark_held(ctx, v, (scroll.to, origin), added);
     }
 
     /// Clears and draws `parts` of scrolling view `v` into its layer, which holds the
